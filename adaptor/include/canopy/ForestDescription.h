@@ -1,0 +1,190 @@
+// Canopy's description of a simulation's AMR forest: borrowed views only.
+//
+// A forest is a rectilinear grid of root cells; some of them carry a refinement
+// tree (2^d- or 3^d-ary). The simulation keeps ownership of every pointer given
+// here (coordinates, refinement bytes, masks, slot maps, fields) and must keep
+// them alive and unchanged in shape while the vtkHyperTreeGrid built from this
+// description is in use. Canopy never writes through them.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace canopy
+{
+
+/// Scalar type of a field's values.
+enum class ValueType
+{
+  Float32,
+  Float64,
+  Int32,
+  Int64
+};
+
+/// How a field's components are laid out in simulation memory.
+enum class Layout
+{
+  AoS,    ///< tuples contiguous, components interleaved: x0 y0 z0 x1 y1 z1 ...
+  SoA,    ///< one contiguous array per component
+  Strided ///< components contiguous within a tuple, tuples tupleStrideBytes apart
+};
+
+/// Which nodes a field has values for.
+enum class Centering
+{
+  EveryNode, ///< one tuple per node (coarse and leaf), indexed by the node's storage slot
+  LeavesOnly ///< one tuple per leaf, leaves in storage order; Canopy restricts to coarse nodes
+};
+
+/// Size in bytes of one value of the given type.
+std::size_t sizeOf(ValueType type);
+
+/// The ValueType corresponding to a C++ scalar type.
+template <typename T>
+constexpr ValueType valueTypeOf();
+template <>
+constexpr ValueType valueTypeOf<float>()
+{
+  return ValueType::Float32;
+}
+template <>
+constexpr ValueType valueTypeOf<double>()
+{
+  return ValueType::Float64;
+}
+template <>
+constexpr ValueType valueTypeOf<std::int32_t>()
+{
+  return ValueType::Int32;
+}
+template <>
+constexpr ValueType valueTypeOf<std::int64_t>()
+{
+  return ValueType::Int64;
+}
+
+/// A borrowed cell field. Build one with the typed factories below.
+struct FieldDescription
+{
+  std::string name;
+  ValueType type = ValueType::Float64;
+  int components = 1;
+  Layout layout = Layout::AoS;
+  Centering centering = Centering::EveryNode;
+  /// AoS and Strided: address of component 0 of tuple 0.
+  const void* data = nullptr;
+  /// SoA: one address per component.
+  std::vector<const void*> componentData;
+  /// Strided: bytes from one tuple to the next (>= components * value size).
+  std::size_t tupleStrideBytes = 0;
+  /// How many tuples the simulation's array holds (validated against the forest).
+  std::size_t numberOfTuples = 0;
+
+  template <typename T>
+  static FieldDescription aos(std::string name, const T* data, std::size_t numberOfTuples,
+                              int components = 1, Centering centering = Centering::EveryNode)
+  {
+    FieldDescription f;
+    f.name = std::move(name);
+    f.type = valueTypeOf<T>();
+    f.components = components;
+    f.layout = Layout::AoS;
+    f.centering = centering;
+    f.data = data;
+    f.numberOfTuples = numberOfTuples;
+    return f;
+  }
+
+  template <typename T>
+  static FieldDescription soa(std::string name, const std::vector<const T*>& componentData,
+                              std::size_t numberOfTuples,
+                              Centering centering = Centering::EveryNode)
+  {
+    FieldDescription f;
+    f.name = std::move(name);
+    f.type = valueTypeOf<T>();
+    f.components = static_cast<int>(componentData.size());
+    f.layout = Layout::SoA;
+    f.centering = centering;
+    f.componentData.assign(componentData.begin(), componentData.end());
+    f.numberOfTuples = numberOfTuples;
+    return f;
+  }
+
+  /// A field inside an array of records, e.g. `&cells[0].velocity[0]` with
+  /// tupleStrideBytes = sizeof(Cell).
+  template <typename T>
+  static FieldDescription strided(std::string name, const T* firstValue,
+                                  std::size_t tupleStrideBytes, std::size_t numberOfTuples,
+                                  int components = 1, Centering centering = Centering::EveryNode)
+  {
+    FieldDescription f;
+    f.name = std::move(name);
+    f.type = valueTypeOf<T>();
+    f.components = components;
+    f.layout = Layout::Strided;
+    f.centering = centering;
+    f.data = firstValue;
+    f.tupleStrideBytes = tupleStrideBytes;
+    f.numberOfTuples = numberOfTuples;
+    return f;
+  }
+};
+
+/// One refinement tree, described breadth-first.
+///
+/// Nodes are numbered breadth-first within the tree: the root is node 0, then the
+/// root's children in child order (x fastest, then y, then z), then their
+/// children, level by level. `refinement[n]` is nonzero when node n is refined.
+/// Exactly one byte per node, the deepest level (all zeros) included.
+struct TreeDescription
+{
+  /// Index of the root cell in the root grid, i fastest, then j, then k.
+  std::int64_t rootIndex = 0;
+  /// One byte per node, breadth-first; nonzero = refined.
+  const std::uint8_t* refinement = nullptr;
+  /// Number of nodes in the tree (the length of refinement, masked and storageSlots).
+  std::size_t numberOfNodes = 0;
+  /// Optional, one byte per node, breadth-first; nonzero = masked (hidden with its subtree).
+  const std::uint8_t* masked = nullptr;
+  /// Optional node -> storage-slot map, one entry per node, breadth-first. Either every
+  /// tree of the forest has one or none does; see ForestDescription.
+  const std::int64_t* storageSlots = nullptr;
+};
+
+/// The root grid: rectilinear point coordinates per axis, not necessarily uniform.
+/// A 2D forest lies in an axis-aligned plane: exactly one axis has a single point.
+struct RootGrid
+{
+  const double* x = nullptr;
+  const double* y = nullptr;
+  const double* z = nullptr;
+  std::size_t pointsX = 0;
+  std::size_t pointsY = 0;
+  std::size_t pointsZ = 0;
+};
+
+/// A whole (rank-local) forest.
+///
+/// Storage order. By default each tree's nodes are stored breadth-first and the
+/// trees back to back in the order of `trees`: node n of the t-th tree lives in
+/// slot (nodes of trees before t) + n. A simulation that keeps its own order
+/// (depth-first, Morton, a memory pool) gives every tree a storageSlots map instead;
+/// the slots of all trees together must then be exactly 0 .. totalNodes-1.
+/// EveryNode fields are indexed by slot. LeavesOnly fields hold one tuple per leaf,
+/// leaves ordered by slot (so breadth-first, tree by tree, by default).
+struct ForestDescription
+{
+  int dimension = 3;    ///< 2 or 3
+  int branchFactor = 2; ///< 2 or 3
+  /// Number of levels any tree may have, the root level included (VTK's MaxDepth).
+  int maxLevels = 32;
+  RootGrid rootGrid;
+  std::vector<TreeDescription> trees;
+  std::vector<FieldDescription> fields;
+};
+
+} // namespace canopy

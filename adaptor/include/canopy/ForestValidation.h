@@ -1,0 +1,61 @@
+// Validation of a ForestDescription, and the per-tree layout it establishes.
+//
+// Everything a build needs to know about the shape of the forest is computed
+// here once, so the builder never re-walks the refinement bytes to find sizes,
+// and nothing is built from a description that is wrong anywhere.
+#pragma once
+
+#include "canopy/ForestDescription.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace canopy
+{
+
+/// Thrown when a ForestDescription is malformed. what() lists every problem
+/// found, one per line, each naming the tree or field concerned.
+class InvalidForest : public std::invalid_argument
+{
+public:
+  explicit InvalidForest(std::vector<std::string> problems);
+  const std::vector<std::string>& problems() const { return Problems; }
+
+private:
+  std::vector<std::string> Problems;
+};
+
+/// Shape of one validated tree.
+struct TreeLayout
+{
+  std::size_t numberOfNodes = 0;
+  std::size_t numberOfLeaves = 0;
+  /// Nodes above the deepest level: the bits VTK's breadth-first descriptor needs.
+  std::size_t descriptorBits = 0;
+  int levels = 0;
+  /// First storage slot when slots are implicit (breadth-first, trees back to back).
+  std::size_t firstSlot = 0;
+};
+
+/// Shape of a validated forest.
+struct ForestLayout
+{
+  std::vector<TreeLayout> trees; ///< same order as ForestDescription::trees
+  std::size_t totalNodes = 0;
+  std::size_t totalLeaves = 0;
+  std::size_t totalDescriptorBits = 0;
+  bool explicitSlots = false;
+  bool anyMask = false;
+  std::array<std::size_t, 3> rootCells{{0, 0, 0}}; ///< root cells per axis (1 on a flat axis)
+  std::size_t numberOfRootCells = 0;
+};
+
+/// Validates the whole description; throws InvalidForest listing every problem.
+/// Cost: one pass over the refinement bytes (and over the slot maps, if given).
+ForestLayout validateForest(const ForestDescription& forest);
+
+} // namespace canopy

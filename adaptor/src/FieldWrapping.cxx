@@ -1,0 +1,127 @@
+#include "FieldWrapping.h"
+
+#include "FieldView.h"
+#include "SimulationFieldArray.h"
+
+#include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
+#include <vtkSOADataArrayTemplate.h>
+#include <vtkTypeInt32Array.h>
+#include <vtkTypeInt64Array.h>
+
+#include <type_traits>
+
+namespace canopy
+{
+namespace
+{
+
+// The concrete AoS class VTK readers, writers and numpy expect for each type.
+template <typename T>
+struct ContiguousArray;
+template <>
+struct ContiguousArray<double>
+{
+  using type = vtkDoubleArray;
+};
+template <>
+struct ContiguousArray<float>
+{
+  using type = vtkFloatArray;
+};
+template <>
+struct ContiguousArray<std::int32_t>
+{
+  using type = vtkTypeInt32Array;
+};
+template <>
+struct ContiguousArray<std::int64_t>
+{
+  using type = vtkTypeInt64Array;
+};
+
+template <typename T>
+vtkSmartPointer<vtkDataArray> wrapTyped(const FieldDescription& field, vtkIdType tuples)
+{
+  const int nc = field.components;
+  const bool contiguous =
+    field.layout == Layout::AoS ||
+    (field.layout == Layout::Strided && field.tupleStrideBytes == sizeof(T) * nc) ||
+    (field.layout == Layout::SoA && nc == 1);
+  if (contiguous)
+  {
+    const void* first = field.layout == Layout::SoA ? field.componentData[0] : field.data;
+    auto array = vtkSmartPointer<typename ContiguousArray<T>::type>::New();
+    array->SetNumberOfComponents(nc);
+    // save = 1: VTK never frees or reallocates the simulation's memory.
+    array->SetArray(const_cast<T*>(static_cast<const T*>(first)), tuples * nc, 1);
+    return array;
+  }
+  if (field.layout == Layout::SoA)
+  {
+    auto array = vtkSmartPointer<vtkSOADataArrayTemplate<T>>::New();
+    array->SetNumberOfComponents(nc);
+    for (int c = 0; c < nc; ++c)
+    {
+      array->SetArray(c, const_cast<T*>(static_cast<const T*>(field.componentData[c])), tuples,
+                      /*updateMaxId=*/true, /*save=*/true);
+    }
+    return array;
+  }
+  auto array = vtkSmartPointer<SimulationFieldArray<T>>::New();
+  const FieldView<T> view = FieldView<T>::of(field);
+  array->borrow(view.bases, view.strideBytes, tuples);
+  return array;
+}
+
+template <typename T>
+vtkSmartPointer<vtkDataArray> wrapLeafTyped(const FieldDescription& field,
+                                            const ForestDescription& forest,
+                                            const ForestLayout& layout, const LeafTupleMap& map)
+{
+  auto array = vtkSmartPointer<SimulationFieldArray<T>>::New();
+  const FieldView<T> view = FieldView<T>::of(field);
+  array->borrowLeaves(view.bases, view.strideBytes, map.slotToTuple,
+                      restrictToCoarse<T>(forest, layout, field, map));
+  return array;
+}
+
+} // namespace
+
+vtkSmartPointer<vtkDataArray> wrapNodeField(const FieldDescription& field,
+                                            const ForestLayout& layout)
+{
+  const auto tuples = static_cast<vtkIdType>(layout.totalNodes);
+  vtkSmartPointer<vtkDataArray> array;
+  switch (field.type)
+  {
+    case ValueType::Float32:
+      array = wrapTyped<float>(field, tuples);
+      break;
+    case ValueType::Float64:
+      array = wrapTyped<double>(field, tuples);
+      break;
+    case ValueType::Int32:
+      array = wrapTyped<std::int32_t>(field, tuples);
+      break;
+    case ValueType::Int64:
+      array = wrapTyped<std::int64_t>(field, tuples);
+      break;
+  }
+  array->SetName(field.name.c_str());
+  return array;
+}
+
+vtkSmartPointer<vtkDataArray> wrapLeafField(const FieldDescription& field,
+                                            const ForestDescription& forest,
+                                            const ForestLayout& layout, const LeafTupleMap& map)
+{
+  // Validation admits only floating-point leaves-only fields.
+  vtkSmartPointer<vtkDataArray> array = field.type == ValueType::Float32
+                                          ? wrapLeafTyped<float>(field, forest, layout, map)
+                                          : wrapLeafTyped<double>(field, forest, layout, map);
+  array->SetName(field.name.c_str());
+  return array;
+}
+
+} // namespace canopy

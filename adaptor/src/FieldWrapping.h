@@ -1,0 +1,24 @@
+// Turns one borrowed FieldDescription into a vtkDataArray without copying values.
+#pragma once
+
+#include "LeafRestriction.h"
+#include "canopy/ForestDescription.h"
+#include "canopy/ForestValidation.h"
+
+#include <vtkSmartPointer.h>
+
+class vtkDataArray;
+
+namespace canopy
+{
+
+/// EveryNode field: wraps `layout.totalNodes` tuples in place.
+vtkSmartPointer<vtkDataArray> wrapNodeField(const FieldDescription& field,
+                                            const ForestLayout& layout);
+
+/// LeavesOnly field: borrows the leaf tuples, owns the coarse averages.
+vtkSmartPointer<vtkDataArray> wrapLeafField(const FieldDescription& field,
+                                            const ForestDescription& forest,
+                                            const ForestLayout& layout, const LeafTupleMap& map);
+
+} // namespace canopy

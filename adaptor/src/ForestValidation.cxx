@@ -1,0 +1,388 @@
+#include "canopy/ForestValidation.h"
+
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <set>
+#include <sstream>
+#include <unordered_set>
+
+namespace canopy
+{
+namespace
+{
+
+std::string joinLines(const std::vector<std::string>& lines)
+{
+  std::ostringstream out;
+  out << "invalid forest description:";
+  for (const auto& line : lines)
+  {
+    out << "\n  - " << line;
+  }
+  return out.str();
+}
+
+/// Collects problems; each message is prefixed with what it concerns.
+class ProblemList
+{
+public:
+  template <typename... Parts>
+  void add(const Parts&... parts)
+  {
+    std::ostringstream out;
+    (out << ... << parts);
+    Lines.push_back(out.str());
+  }
+  bool empty() const { return Lines.empty(); }
+  std::vector<std::string> take() { return std::move(Lines); }
+
+private:
+  std::vector<std::string> Lines;
+};
+
+std::string treeName(std::size_t t, const TreeDescription& tree)
+{
+  std::ostringstream out;
+  out << "tree " << t << " (root " << tree.rootIndex << ")";
+  return out.str();
+}
+
+std::size_t countNonZero(const std::uint8_t* bytes, std::size_t n)
+{
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    count += bytes[i] != 0;
+  }
+  return count;
+}
+
+void validateAxis(const char* axis, const double* coords, std::size_t points, ProblemList& problems)
+{
+  if (points == 0)
+  {
+    problems.add("root grid: axis ", axis, " has no points (a flat axis has exactly 1)");
+    return;
+  }
+  if (coords == nullptr)
+  {
+    problems.add("root grid: axis ", axis, " coordinates pointer is null");
+    return;
+  }
+  for (std::size_t i = 0; i < points; ++i)
+  {
+    if (!std::isfinite(coords[i]))
+    {
+      problems.add("root grid: axis ", axis, " coordinate ", i, " is not finite");
+      return;
+    }
+    if (i > 0 && !(coords[i] > coords[i - 1]))
+    {
+      problems.add("root grid: axis ", axis, " coordinates are not strictly increasing at point ",
+                   i, " (", coords[i - 1], " then ", coords[i], ")");
+      return;
+    }
+  }
+}
+
+void validateRootGrid(const ForestDescription& forest, ForestLayout& layout, ProblemList& problems)
+{
+  const RootGrid& grid = forest.rootGrid;
+  validateAxis("x", grid.x, grid.pointsX, problems);
+  validateAxis("y", grid.y, grid.pointsY, problems);
+  validateAxis("z", grid.z, grid.pointsZ, problems);
+  const std::array<std::size_t, 3> points{{grid.pointsX, grid.pointsY, grid.pointsZ}};
+  int flatAxes = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    flatAxes += points[a] == 1;
+    layout.rootCells[a] = points[a] > 1 ? points[a] - 1 : 1;
+  }
+  if (forest.dimension == 3 && flatAxes != 0)
+  {
+    problems.add("root grid: a 3D forest needs at least 2 points on every axis, got ", points[0],
+                 " x ", points[1], " x ", points[2]);
+  }
+  if (forest.dimension == 2 && flatAxes != 1)
+  {
+    problems.add("root grid: a 2D forest needs exactly one flat axis (1 point), got ", points[0],
+                 " x ", points[1], " x ", points[2]);
+  }
+  layout.numberOfRootCells = layout.rootCells[0] * layout.rootCells[1] * layout.rootCells[2];
+}
+
+/// Walks the breadth-first refinement bytes level by level and checks they
+/// describe exactly numberOfNodes nodes within maxLevels levels.
+bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayout& shape,
+                       ProblemList& problems)
+{
+  const TreeDescription& tree = forest.trees[t];
+  const std::size_t children = forest.dimension == 3
+                                 ? static_cast<std::size_t>(forest.branchFactor) *
+                                     forest.branchFactor * forest.branchFactor
+                                 : static_cast<std::size_t>(forest.branchFactor) *
+                                     forest.branchFactor;
+  const std::size_t n = tree.numberOfNodes;
+  std::size_t levelStart = 0;
+  std::size_t levelSize = 1;
+  std::size_t lastLevelSize = 1;
+  int levels = 0;
+  while (levelSize > 0)
+  {
+    ++levels;
+    if (levels > forest.maxLevels)
+    {
+      problems.add(treeName(t, tree), ": refined beyond maxLevels = ", forest.maxLevels,
+                   " (level ", levels - 1, " has refined nodes)");
+      return false;
+    }
+    if (levelStart + levelSize > n)
+    {
+      problems.add(treeName(t, tree), ": refinement bits describe at least ",
+                   levelStart + levelSize, " nodes but numberOfNodes is ", n);
+      return false;
+    }
+    const std::size_t refined = countNonZero(tree.refinement + levelStart, levelSize);
+    shape.numberOfLeaves += levelSize - refined;
+    lastLevelSize = levelSize;
+    levelStart += levelSize;
+    levelSize = refined * children;
+  }
+  if (levelStart != n)
+  {
+    problems.add(treeName(t, tree), ": refinement bits describe ", levelStart,
+                 " nodes but numberOfNodes is ", n, " (", n - levelStart, " bytes too many)");
+    return false;
+  }
+  // vtkHyperTree stores child offsets as unsigned int.
+  if (n >= std::numeric_limits<unsigned int>::max())
+  {
+    problems.add(treeName(t, tree), ": ", n, " nodes exceed what one vtkHyperTree can index");
+    return false;
+  }
+  shape.numberOfNodes = n;
+  shape.levels = levels;
+  shape.descriptorBits = n - lastLevelSize;
+  return true;
+}
+
+void validateTrees(const ForestDescription& forest, ForestLayout& layout, ProblemList& problems)
+{
+  std::vector<bool> rootUsed(layout.numberOfRootCells, false);
+  std::size_t withSlots = 0;
+  layout.trees.resize(forest.trees.size());
+  bool shapesValid = true;
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    const TreeDescription& tree = forest.trees[t];
+    TreeLayout& shape = layout.trees[t];
+    if (tree.rootIndex < 0 || static_cast<std::size_t>(tree.rootIndex) >= layout.numberOfRootCells)
+    {
+      problems.add(treeName(t, tree), ": root index out of range [0, ", layout.numberOfRootCells,
+                   ")");
+      shapesValid = false;
+    }
+    else if (rootUsed[static_cast<std::size_t>(tree.rootIndex)])
+    {
+      problems.add(treeName(t, tree), ": duplicate root, another tree already uses root cell ",
+                   tree.rootIndex);
+      shapesValid = false;
+    }
+    else
+    {
+      rootUsed[static_cast<std::size_t>(tree.rootIndex)] = true;
+    }
+    withSlots += tree.storageSlots != nullptr;
+    layout.anyMask = layout.anyMask || tree.masked != nullptr;
+    if (tree.numberOfNodes == 0)
+    {
+      problems.add(treeName(t, tree), ": numberOfNodes is 0 (a tree has at least its root)");
+      shapesValid = false;
+      continue;
+    }
+    if (tree.refinement == nullptr)
+    {
+      problems.add(treeName(t, tree), ": refinement pointer is null");
+      shapesValid = false;
+      continue;
+    }
+    if (!validateTreeShape(forest, t, shape, problems))
+    {
+      shapesValid = false;
+      continue;
+    }
+    shape.firstSlot = layout.totalNodes;
+    layout.totalNodes += shape.numberOfNodes;
+    layout.totalLeaves += shape.numberOfLeaves;
+    layout.totalDescriptorBits += shape.descriptorBits;
+  }
+  layout.explicitSlots = withSlots > 0;
+  if (withSlots != 0 && withSlots != forest.trees.size())
+  {
+    problems.add("storage slots: ", withSlots, " of ", forest.trees.size(),
+                 " trees have a storageSlots map; either every tree has one or none does");
+    return;
+  }
+  if (!layout.explicitSlots || !shapesValid)
+  {
+    return;
+  }
+  // Slots of all trees together must be a permutation of 0 .. totalNodes-1.
+  std::vector<bool> slotUsed(layout.totalNodes, false);
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    const TreeDescription& tree = forest.trees[t];
+    for (std::size_t n = 0; n < tree.numberOfNodes; ++n)
+    {
+      const std::int64_t slot = tree.storageSlots[n];
+      if (slot < 0 || static_cast<std::size_t>(slot) >= layout.totalNodes)
+      {
+        problems.add(treeName(t, tree), ": node ", n, " has storage slot ", slot,
+                     " outside [0, ", layout.totalNodes, ")");
+        return;
+      }
+      if (slotUsed[static_cast<std::size_t>(slot)])
+      {
+        problems.add(treeName(t, tree), ": node ", n, " reuses storage slot ", slot,
+                     " of another node");
+        return;
+      }
+      slotUsed[static_cast<std::size_t>(slot)] = true;
+    }
+  }
+}
+
+void validateFields(const ForestDescription& forest, const ForestLayout& layout,
+                    ProblemList& problems)
+{
+  std::set<std::string> names;
+  for (std::size_t f = 0; f < forest.fields.size(); ++f)
+  {
+    const FieldDescription& field = forest.fields[f];
+    std::ostringstream label;
+    label << "field " << f << " '" << field.name << "'";
+    const std::string name = label.str();
+    if (field.name.empty())
+    {
+      problems.add(name, ": empty name");
+    }
+    else if (!names.insert(field.name).second)
+    {
+      problems.add(name, ": duplicate field name");
+    }
+    if (field.components < 1)
+    {
+      problems.add(name, ": components must be >= 1, got ", field.components);
+      continue;
+    }
+    const std::size_t valueSize = sizeOf(field.type);
+    if (valueSize == 0)
+    {
+      problems.add(name, ": unknown value type");
+      continue;
+    }
+    switch (field.layout)
+    {
+      case Layout::AoS:
+        if (field.data == nullptr)
+        {
+          problems.add(name, ": data pointer is null");
+        }
+        break;
+      case Layout::Strided:
+        if (field.data == nullptr)
+        {
+          problems.add(name, ": data pointer is null");
+        }
+        if (field.tupleStrideBytes < valueSize * static_cast<std::size_t>(field.components))
+        {
+          problems.add(name, ": tupleStrideBytes ", field.tupleStrideBytes,
+                       " is smaller than one tuple (",
+                       valueSize * static_cast<std::size_t>(field.components), " bytes)");
+        }
+        else if (field.tupleStrideBytes % valueSize != 0)
+        {
+          problems.add(name, ": tupleStrideBytes ", field.tupleStrideBytes,
+                       " is not a multiple of the value size ", valueSize);
+        }
+        break;
+      case Layout::SoA:
+        if (field.componentData.size() != static_cast<std::size_t>(field.components))
+        {
+          problems.add(name, ": SoA field has ", field.componentData.size(),
+                       " component pointers for ", field.components, " components");
+        }
+        for (std::size_t c = 0; c < field.componentData.size(); ++c)
+        {
+          if (field.componentData[c] == nullptr)
+          {
+            problems.add(name, ": component ", c, " pointer is null");
+          }
+        }
+        break;
+      default:
+        problems.add(name, ": unknown layout");
+        continue;
+    }
+    const bool leavesOnly = field.centering == Centering::LeavesOnly;
+    if (leavesOnly && field.type != ValueType::Float32 && field.type != ValueType::Float64)
+    {
+      problems.add(name, ": a leaves-only field must be floating point, coarse values are "
+                         "volume averages");
+    }
+    const std::size_t needed = leavesOnly ? layout.totalLeaves : layout.totalNodes;
+    if (field.numberOfTuples < needed)
+    {
+      problems.add(name, ": ", field.numberOfTuples, " tuples given but the forest has ", needed,
+                   leavesOnly ? " leaves" : " nodes");
+    }
+  }
+}
+
+} // namespace
+
+InvalidForest::InvalidForest(std::vector<std::string> problems)
+  : std::invalid_argument(joinLines(problems))
+  , Problems(std::move(problems))
+{
+}
+
+ForestLayout validateForest(const ForestDescription& forest)
+{
+  ProblemList problems;
+  ForestLayout layout;
+  if (forest.dimension != 2 && forest.dimension != 3)
+  {
+    problems.add("dimension must be 2 or 3, got ", forest.dimension);
+  }
+  if (forest.branchFactor != 2 && forest.branchFactor != 3)
+  {
+    problems.add("branchFactor must be 2 or 3, got ", forest.branchFactor);
+  }
+  if (forest.maxLevels < 1 || forest.maxLevels > 64)
+  {
+    problems.add("maxLevels must be in [1, 64], got ", forest.maxLevels);
+  }
+  if (!problems.empty())
+  {
+    // Every later check depends on these three.
+    throw InvalidForest(problems.take());
+  }
+  validateRootGrid(forest, layout, problems);
+  if (problems.empty())
+  {
+    validateTrees(forest, layout, problems);
+  }
+  if (problems.empty())
+  {
+    validateFields(forest, layout, problems);
+  }
+  if (!problems.empty())
+  {
+    throw InvalidForest(problems.take());
+  }
+  return layout;
+}
+
+} // namespace canopy

@@ -1,0 +1,45 @@
+// Coarse values of leaves-only fields, by volume-weighted restriction.
+//
+// A simulation that stores values only on leaves still gets a complete
+// vtkHyperTreeGrid: every coarse node shows the volume average of its unmasked
+// children (all children if all are masked), computed bottom-up. Children of a
+// node split it into equal volumes, so the volume average is the plain mean.
+// These coarse values are what level-of-detail rendering shows.
+#pragma once
+
+#include "canopy/ForestDescription.h"
+#include "canopy/ForestValidation.h"
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace canopy
+{
+
+/// For every storage slot: the leaf tuple it reads (>= 0) or -(coarse index) - 1.
+/// Leaves and coarse nodes are each numbered in slot order.
+struct LeafTupleMap
+{
+  std::shared_ptr<const std::vector<std::int64_t>> slotToTuple;
+  std::size_t numberOfCoarse = 0;
+
+  static LeafTupleMap build(const ForestDescription& forest, const ForestLayout& layout);
+};
+
+/// Volume averages for the coarse nodes of one leaves-only field, AoS, indexed by
+/// coarse index (as in LeafTupleMap).
+template <typename T>
+std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLayout& layout,
+                                const FieldDescription& field, const LeafTupleMap& map);
+
+extern template std::vector<float> restrictToCoarse<float>(const ForestDescription&,
+                                                           const ForestLayout&,
+                                                           const FieldDescription&,
+                                                           const LeafTupleMap&);
+extern template std::vector<double> restrictToCoarse<double>(const ForestDescription&,
+                                                             const ForestLayout&,
+                                                             const FieldDescription&,
+                                                             const LeafTupleMap&);
+
+} // namespace canopy

@@ -1,0 +1,199 @@
+// A vtkDataArray that reads a simulation field where it lives.
+//
+// VTK 9.2 can wrap contiguous AoS and SoA buffers (vtkAOSDataArrayTemplate,
+// vtkSOADataArrayTemplate) but nothing else. This array covers the rest without
+// copying the simulation's values:
+//  - strided fields (a member of an array of records): component c of tuple i is
+//    at componentBase[c] + i * tupleStrideBytes;
+//  - leaves-only fields: tuple i (a storage slot) maps through a shared table
+//    either to a leaf tuple in simulation memory or to a coarse value that
+//    Canopy computed and this array owns.
+// The simulation's memory is never written: any write (VTK filters write only to
+// arrays they created with NewInstance, which start owned) or a request for a raw
+// pointer first detaches the array into an owned AoS copy.
+#pragma once
+
+#include <vtkGenericDataArray.h>
+#include <vtkObjectFactory.h>
+
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace canopy
+{
+
+template <typename T>
+class SimulationFieldArray : public vtkGenericDataArray<SimulationFieldArray<T>, T>
+{
+  using GenericBase = vtkGenericDataArray<SimulationFieldArray<T>, T>;
+
+public:
+  using SelfType = SimulationFieldArray<T>;
+  vtkTemplateTypeMacro(SelfType, GenericBase);
+  using ValueType = typename Superclass::ValueType;
+
+  /// Slot -> leaf tuple (>= 0) or -(coarse tuple) - 1 (< 0).
+  using TupleMap = std::vector<std::int64_t>;
+
+  static SimulationFieldArray* New() { VTK_STANDARD_NEW_BODY(SimulationFieldArray<T>); }
+
+  /// Borrows `numberOfTuples` tuples whose component c starts at componentBase[c]
+  /// and which are tupleStrideBytes apart. Sets the number of components.
+  void borrow(const std::vector<const T*>& componentBase, std::size_t tupleStrideBytes,
+              vtkIdType numberOfTuples)
+  {
+    this->Owned.clear();
+    this->Owned.shrink_to_fit();
+    this->Bases.assign(componentBase.begin(), componentBase.end());
+    this->Stride = tupleStrideBytes;
+    this->Map.reset();
+    this->Coarse.clear();
+    this->NumberOfComponents = static_cast<int>(componentBase.size());
+    this->Size = numberOfTuples * this->NumberOfComponents;
+    this->MaxId = this->Size - 1;
+    this->DataChanged();
+  }
+
+  /// Like borrow(), but tuple i is read through map[i]: leaf tuples from the borrowed
+  /// view, coarse tuples from `coarseValues` (AoS, owned by this array).
+  void borrowLeaves(const std::vector<const T*>& componentBase, std::size_t tupleStrideBytes,
+                    std::shared_ptr<const TupleMap> map, std::vector<T> coarseValues)
+  {
+    const auto tuples = static_cast<vtkIdType>(map->size());
+    this->borrow(componentBase, tupleStrideBytes, tuples);
+    this->Map = std::move(map);
+    this->Coarse = std::move(coarseValues);
+  }
+
+  /// True while values are read from simulation memory.
+  bool isBorrowing() const { return !this->Bases.empty(); }
+
+  ValueType GetValue(vtkIdType valueIdx) const
+  {
+    const int nc = this->NumberOfComponents;
+    return this->GetTypedComponent(valueIdx / nc, static_cast<int>(valueIdx % nc));
+  }
+
+  void SetValue(vtkIdType valueIdx, ValueType value)
+  {
+    const int nc = this->NumberOfComponents;
+    this->SetTypedComponent(valueIdx / nc, static_cast<int>(valueIdx % nc), value);
+  }
+
+  void GetTypedTuple(vtkIdType tupleIdx, ValueType* tuple) const
+  {
+    for (int c = 0; c < this->NumberOfComponents; ++c)
+    {
+      tuple[c] = this->GetTypedComponent(tupleIdx, c);
+    }
+  }
+
+  void SetTypedTuple(vtkIdType tupleIdx, const ValueType* tuple)
+  {
+    this->detach();
+    std::copy(tuple, tuple + this->NumberOfComponents,
+              this->Owned.data() + tupleIdx * this->NumberOfComponents);
+  }
+
+  ValueType GetTypedComponent(vtkIdType tupleIdx, int comp) const
+  {
+    if (this->Bases.empty())
+    {
+      return this->Owned[static_cast<std::size_t>(tupleIdx * this->NumberOfComponents + comp)];
+    }
+    std::int64_t source = tupleIdx;
+    if (this->Map)
+    {
+      source = (*this->Map)[static_cast<std::size_t>(tupleIdx)];
+      if (source < 0)
+      {
+        const auto coarse = static_cast<std::size_t>(-source - 1);
+        return this->Coarse[coarse * static_cast<std::size_t>(this->NumberOfComponents) +
+                            static_cast<std::size_t>(comp)];
+      }
+    }
+    const auto* address = reinterpret_cast<const unsigned char*>(this->Bases[comp]) +
+                          static_cast<std::size_t>(source) * this->Stride;
+    ValueType value;
+    std::memcpy(&value, address, sizeof(ValueType));
+    return value;
+  }
+
+  void SetTypedComponent(vtkIdType tupleIdx, int comp, ValueType value)
+  {
+    this->detach();
+    this->Owned[static_cast<std::size_t>(tupleIdx * this->NumberOfComponents + comp)] = value;
+  }
+
+  /// Raw pointers need contiguous AoS memory: detach into an owned copy (as
+  /// vtkSOADataArrayTemplate does). Later simulation updates are then not seen.
+  void* GetVoidPointer(vtkIdType valueIdx) override
+  {
+    this->detach();
+    return this->Owned.data() + valueIdx;
+  }
+
+protected:
+  SimulationFieldArray() = default;
+  ~SimulationFieldArray() override = default;
+
+  bool AllocateTuples(vtkIdType numTuples)
+  {
+    this->dropBorrow();
+    this->Owned.assign(static_cast<std::size_t>(numTuples * this->NumberOfComponents),
+                       ValueType());
+    return true;
+  }
+
+  bool ReallocateTuples(vtkIdType numTuples)
+  {
+    this->detach();
+    this->Owned.resize(static_cast<std::size_t>(numTuples * this->NumberOfComponents));
+    return true;
+  }
+
+  friend GenericBase;
+
+private:
+  SimulationFieldArray(const SimulationFieldArray&) = delete;
+  void operator=(const SimulationFieldArray&) = delete;
+
+  void dropBorrow()
+  {
+    this->Bases.clear();
+    this->Map.reset();
+    this->Coarse.clear();
+  }
+
+  /// Copies the borrowed view into owned memory so a write never reaches the simulation.
+  void detach()
+  {
+    if (this->Bases.empty())
+    {
+      return;
+    }
+    const vtkIdType tuples = this->GetNumberOfTuples();
+    std::vector<ValueType> copy(static_cast<std::size_t>(this->Size));
+    for (vtkIdType t = 0; t < tuples; ++t)
+    {
+      for (int c = 0; c < this->NumberOfComponents; ++c)
+      {
+        copy[static_cast<std::size_t>(t * this->NumberOfComponents + c)] =
+          this->GetTypedComponent(t, c);
+      }
+    }
+    this->dropBorrow();
+    this->Owned = std::move(copy);
+  }
+
+  std::vector<const T*> Bases;
+  std::size_t Stride = 0;
+  std::shared_ptr<const TupleMap> Map;
+  std::vector<ValueType> Coarse;
+  std::vector<ValueType> Owned;
+};
+
+} // namespace canopy
