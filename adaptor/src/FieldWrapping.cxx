@@ -54,7 +54,11 @@ vtkSmartPointer<vtkDataArray> wrapTyped(const FieldDescription& field, vtkIdType
     auto array = vtkSmartPointer<typename ContiguousArray<T>::type>::New();
     array->SetNumberOfComponents(nc);
     // save = 1: VTK never frees or reallocates the simulation's memory.
-    array->SetArray(const_cast<T*>(static_cast<const T*>(first)), tuples * nc, 1);
+    // vtkTypeInt64Array stores long long while std::int64_t may be long: same
+    // size and representation, so the reinterpretation is exact.
+    using Stored = typename ContiguousArray<T>::type::ValueType;
+    static_assert(sizeof(Stored) == sizeof(T), "VTK value type must match the field's");
+    array->SetArray(reinterpret_cast<Stored*>(const_cast<void*>(first)), tuples * nc, 1);
     return array;
   }
   if (field.layout == Layout::SoA)

@@ -1,0 +1,215 @@
+// Paper cases A and B described through Canopy's API must equal, node by node,
+// what vtkHyperTreeGridSource builds from the same descriptor strings.
+#include "PaperCaseDefinitions.h"
+
+#include "canopy/HtgBuilder.h"
+
+#include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
+#include <vtkHyperTreeGridSource.h>
+#include <vtkNew.h>
+
+#include <string>
+
+namespace canopy::testing
+{
+namespace
+{
+
+vtkSmartPointer<vtkHyperTreeGrid> buildWithVtkSource(const SourceParameters& p)
+{
+  vtkNew<vtkHyperTreeGridSource> source;
+  source->SetDimensions(p.dimensions[0], p.dimensions[1], p.dimensions[2]);
+  source->SetGridScale(p.gridScale[0], p.gridScale[1], p.gridScale[2]);
+  source->SetBranchFactor(p.branchFactor);
+  source->SetMaxDepth(p.maxDepth);
+  source->SetDescriptor(p.descriptor.c_str());
+  if (!p.mask.empty())
+  {
+    source->SetUseMask(true);
+    source->SetMask(p.mask.c_str());
+  }
+  source->Update();
+  vtkSmartPointer<vtkHyperTreeGrid> htg = source->GetHyperTreeGridOutput();
+  return htg;
+}
+
+struct WalkTotals
+{
+  std::size_t nodes = 0;
+  std::size_t leaves = 0;
+  std::size_t unmaskedLeaves = 0;
+};
+
+/// Walks both trees together and compares every node.
+void compareSubtrees(vtkHyperTreeGridNonOrientedGeometryCursor* canopy,
+                     vtkHyperTreeGridNonOrientedGeometryCursor* reference,
+                     vtkDataArray* canopyDepth, vtkDataArray* referenceDepth, bool masked,
+                     WalkTotals& totals, const std::string& where)
+{
+  ++totals.nodes;
+  ASSERT_EQ(canopy->IsLeaf(), reference->IsLeaf()) << where;
+  ASSERT_EQ(canopy->GetLevel(), reference->GetLevel()) << where;
+  if (masked)
+  {
+    ASSERT_EQ(canopy->IsMasked(), reference->IsMasked()) << where;
+  }
+  double canopyBounds[6];
+  double referenceBounds[6];
+  canopy->GetBounds(canopyBounds);
+  reference->GetBounds(referenceBounds);
+  for (int i = 0; i < 6; ++i)
+  {
+    ASSERT_DOUBLE_EQ(canopyBounds[i], referenceBounds[i]) << where << " bound " << i;
+  }
+  ASSERT_EQ(canopyDepth->GetTuple1(canopy->GetGlobalNodeIndex()),
+            referenceDepth->GetTuple1(reference->GetGlobalNodeIndex()))
+    << where;
+  if (canopy->IsLeaf())
+  {
+    ++totals.leaves;
+    totals.unmaskedLeaves += masked && canopy->IsMasked() ? 0 : 1;
+    return;
+  }
+  for (unsigned char c = 0; c < canopy->GetNumberOfChildren(); ++c)
+  {
+    canopy->ToChild(c);
+    reference->ToChild(c);
+    compareSubtrees(canopy, reference, canopyDepth, referenceDepth, masked, totals,
+                    where + "/" + std::to_string(c));
+    canopy->ToParent();
+    reference->ToParent();
+  }
+}
+
+/// A leaf under a masked ancestor is hidden even when its own mask bit is 0.
+std::size_t countVisibleLeaves(vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
+{
+  if (cursor->IsMasked())
+  {
+    return 0;
+  }
+  if (cursor->IsLeaf())
+  {
+    return 1;
+  }
+  std::size_t visible = 0;
+  for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
+  {
+    cursor->ToChild(c);
+    visible += countVisibleLeaves(cursor);
+    cursor->ToParent();
+  }
+  return visible;
+}
+
+WalkTotals compareGrids(vtkHyperTreeGrid* canopy, vtkHyperTreeGrid* reference, bool masked)
+{
+  WalkTotals totals;
+  EXPECT_EQ(canopy->GetDimension(), reference->GetDimension());
+  EXPECT_EQ(canopy->GetBranchFactor(), reference->GetBranchFactor());
+  EXPECT_EQ(canopy->GetMaxNumberOfTrees(), reference->GetMaxNumberOfTrees());
+  EXPECT_EQ(canopy->GetNumberOfLevels(), reference->GetNumberOfLevels());
+  EXPECT_EQ(canopy->GetNumberOfCells(), reference->GetNumberOfCells());
+  EXPECT_EQ(canopy->HasMask(), reference->HasMask());
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    EXPECT_EQ(canopy->GetDimensions()[axis], reference->GetDimensions()[axis]);
+  }
+  vtkDataArray* canopyDepth = canopy->GetCellData()->GetArray("Depth");
+  vtkDataArray* referenceDepth = reference->GetCellData()->GetArray("Depth");
+  EXPECT_NE(canopyDepth, nullptr);
+  EXPECT_NE(referenceDepth, nullptr);
+  if (!canopyDepth || !referenceDepth)
+  {
+    return totals;
+  }
+  vtkHyperTreeGrid::vtkHyperTreeGridIterator trees;
+  reference->InitializeTreeIterator(trees);
+  vtkIdType index = 0;
+  std::size_t referenceTrees = 0;
+  while (trees.GetNextTree(index))
+  {
+    ++referenceTrees;
+    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> canopyCursor;
+    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> referenceCursor;
+    EXPECT_NE(canopy->GetTree(index), nullptr) << "tree " << index << " missing in Canopy's grid";
+    if (!canopy->GetTree(index))
+    {
+      continue;
+    }
+    canopy->InitializeNonOrientedGeometryCursor(canopyCursor, index);
+    reference->InitializeNonOrientedGeometryCursor(referenceCursor, index);
+    compareSubtrees(canopyCursor, referenceCursor, canopyDepth, referenceDepth, masked, totals,
+                    "tree " + std::to_string(index));
+  }
+  return totals;
+}
+
+std::size_t visibleLeavesOf(vtkHyperTreeGrid* htg)
+{
+  std::size_t visible = 0;
+  vtkHyperTreeGrid::vtkHyperTreeGridIterator trees;
+  htg->InitializeTreeIterator(trees);
+  vtkIdType index = 0;
+  while (trees.GetNextTree(index))
+  {
+    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
+    htg->InitializeNonOrientedGeometryCursor(cursor, index);
+    visible += countVisibleLeaves(cursor);
+  }
+  return visible;
+}
+
+TEST(PaperCases, CaseAEqualsVtkSource)
+{
+  DescriptorForest forest(paperCaseA(false));
+  EXPECT_EQ(forest.numberOfNodes(), 98u);
+  EXPECT_EQ(forest.numberOfLeaves(), 75u);
+  auto canopy = buildHyperTreeGrid(forest.description());
+  auto reference = buildWithVtkSource(paperCaseA(false));
+  const WalkTotals totals = compareGrids(canopy, reference, false);
+  EXPECT_EQ(totals.nodes, 98u);
+  EXPECT_EQ(totals.leaves, 75u);
+}
+
+TEST(PaperCases, CaseAWithMaskEqualsVtkSource)
+{
+  DescriptorForest forest(paperCaseA(true));
+  auto canopy = buildHyperTreeGrid(forest.description());
+  auto reference = buildWithVtkSource(paperCaseA(true));
+  const WalkTotals totals = compareGrids(canopy, reference, true);
+  EXPECT_EQ(totals.nodes, 98u);
+  EXPECT_EQ(visibleLeavesOf(canopy), 62u);
+  EXPECT_EQ(visibleLeavesOf(reference), 62u);
+  EXPECT_EQ(forest.numberOfUnmaskedLeaves(), 62u);
+}
+
+TEST(PaperCases, CaseBEqualsVtkSource)
+{
+  DescriptorForest forest(paperCaseB(false));
+  EXPECT_EQ(forest.numberOfLeaves(), 954u);
+  auto canopy = buildHyperTreeGrid(forest.description());
+  auto reference = buildWithVtkSource(paperCaseB(false));
+  const WalkTotals totals = compareGrids(canopy, reference, false);
+  EXPECT_EQ(totals.nodes, forest.numberOfNodes());
+  EXPECT_EQ(totals.leaves, 954u);
+}
+
+TEST(PaperCases, CaseBWithMaskEqualsVtkSource)
+{
+  DescriptorForest forest(paperCaseB(true));
+  auto canopy = buildHyperTreeGrid(forest.description());
+  auto reference = buildWithVtkSource(paperCaseB(true));
+  const WalkTotals totals = compareGrids(canopy, reference, true);
+  EXPECT_EQ(totals.leaves, 954u);
+  EXPECT_EQ(visibleLeavesOf(canopy), 844u);
+  EXPECT_EQ(visibleLeavesOf(reference), 844u);
+  EXPECT_EQ(forest.numberOfUnmaskedLeaves(), 844u);
+}
+
+} // namespace
+} // namespace canopy::testing
