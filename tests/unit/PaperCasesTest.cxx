@@ -74,6 +74,10 @@ void compareSubtrees(vtkHyperTreeGridNonOrientedGeometryCursor* canopy,
     totals.unmaskedLeaves += masked && canopy->IsMasked() ? 0 : 1;
     return;
   }
+  if (canopy->IsMasked())
+  {
+    return; // VTK's cursors do not descend below a masked node
+  }
   for (unsigned char c = 0; c < canopy->GetNumberOfChildren(); ++c)
   {
     canopy->ToChild(c);

@@ -1,0 +1,51 @@
+// Walks a vtkHyperTreeGrid tree with a cursor while tracking each node's
+// breadth-first number, so tests can compare VTK's view with the simulation's.
+#pragma once
+
+#include <vtkHyperTreeGrid.h>
+#include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
+#include <vtkNew.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace canopy::testing
+{
+
+/// Calls visit(cursor, breadthFirstNode) for every node of the tree at rootIndex
+/// that a cursor can reach: VTK's cursors never descend below a masked node.
+/// `refinement` is the simulation's breadth-first refinement bytes for that tree.
+template <typename Visit>
+void forEachNode(vtkHyperTreeGrid* htg, vtkIdType rootIndex,
+                 const std::vector<std::uint8_t>& refinement, std::size_t children, Visit&& visit)
+{
+  std::vector<std::size_t> firstChild(refinement.size(), 0);
+  std::size_t next = 1;
+  for (std::size_t n = 0; n < refinement.size(); ++n)
+  {
+    if (refinement[n])
+    {
+      firstChild[n] = next;
+      next += children;
+    }
+  }
+  vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
+  htg->InitializeNonOrientedGeometryCursor(cursor, rootIndex);
+  // Explicit recursion through a small lambda keeps the cursor shared.
+  auto walk = [&](auto& self, std::size_t node) -> void {
+    visit(cursor.GetPointer(), node);
+    if (cursor->IsLeaf() || cursor->IsMasked())
+    {
+      return;
+    }
+    for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
+    {
+      cursor->ToChild(c);
+      self(self, firstChild[node] + c);
+      cursor->ToParent();
+    }
+  };
+  walk(walk, 0);
+}
+
+} // namespace canopy::testing
