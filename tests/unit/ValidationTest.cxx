@@ -1,0 +1,275 @@
+// A malformed description is rejected before anything is built, with a message
+// that names the tree or field and the problem.
+#include "PaperCaseDefinitions.h"
+
+#include "canopy/HtgBuilder.h"
+
+#include <gtest/gtest.h>
+#include <vtkHyperTreeGrid.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+
+namespace canopy::testing
+{
+namespace
+{
+
+/// Case A with a mask and a "Depth" field: valid as given.
+class Validation : public ::testing::Test
+{
+protected:
+  Validation()
+    : Forest(paperCaseA(true))
+  {
+  }
+
+  ForestDescription& d() { return Forest.description(); }
+
+  /// Expects the current description to be rejected with every fragment in the message.
+  void expectRejected(const std::vector<std::string>& fragments)
+  {
+    try
+    {
+      buildHyperTreeGrid(d());
+      FAIL() << "the description should have been rejected";
+    }
+    catch (const InvalidForest& e)
+    {
+      const std::string message = e.what();
+      EXPECT_FALSE(e.problems().empty());
+      for (const auto& fragment : fragments)
+      {
+        EXPECT_NE(message.find(fragment), std::string::npos)
+          << "expected '" << fragment << "' in:\n"
+          << message;
+      }
+    }
+  }
+
+  DescriptorForest Forest;
+};
+
+TEST_F(Validation, TheUnmodifiedForestIsValid)
+{
+  EXPECT_NO_THROW(validateForest(d()));
+  const ForestLayout layout = validateForest(d());
+  EXPECT_EQ(layout.totalNodes, 98u);
+  EXPECT_EQ(layout.totalLeaves, 75u);
+  EXPECT_EQ(layout.numberOfRootCells, 6u);
+  EXPECT_TRUE(layout.anyMask);
+  EXPECT_FALSE(layout.explicitSlots);
+}
+
+TEST_F(Validation, BadDimension)
+{
+  d().dimension = 4;
+  expectRejected({"dimension must be 2 or 3, got 4"});
+}
+
+TEST_F(Validation, BadBranchFactor)
+{
+  d().branchFactor = 4;
+  expectRejected({"branchFactor must be 2 or 3, got 4"});
+}
+
+TEST_F(Validation, TooFewNodesForTheRefinementBits)
+{
+  d().trees[1].numberOfNodes -= 4; // the bits describe more children than declared
+  expectRejected({"tree 1 (root 1)", "refinement bits describe at least"});
+}
+
+TEST_F(Validation, MoreNodesThanTheRefinementBitsDescribe)
+{
+  // Tree 5 is a single leaf; claim two nodes.
+  d().trees[5].numberOfNodes = 2;
+  expectRejected({"tree 5 (root 5)", "refinement bits describe 1 nodes but numberOfNodes is 2"});
+}
+
+TEST_F(Validation, DepthBeyondTheStatedMaximum)
+{
+  d().maxLevels = 4; // case A has 6 levels
+  expectRejected({"refined beyond maxLevels = 4"});
+}
+
+TEST_F(Validation, TooFewFieldValues)
+{
+  d().fields[0].numberOfTuples = 97;
+  expectRejected({"field 0 'Depth'", "97 tuples given but the forest has 98 nodes"});
+}
+
+TEST_F(Validation, TooFewLeafValues)
+{
+  static const std::vector<double> leaves(74, 1.0);
+  d().fields.push_back(
+    FieldDescription::aos("energy", leaves.data(), leaves.size(), 1, Centering::LeavesOnly));
+  expectRejected({"field 1 'energy'", "74 tuples given but the forest has 75 leaves"});
+}
+
+TEST_F(Validation, NullFieldPointer)
+{
+  d().fields[0].data = nullptr;
+  expectRejected({"field 0 'Depth'", "data pointer is null"});
+}
+
+TEST_F(Validation, NullRefinementPointer)
+{
+  d().trees[2].refinement = nullptr;
+  expectRejected({"tree 2 (root 2)", "refinement pointer is null"});
+}
+
+TEST_F(Validation, NullCoordinates)
+{
+  d().rootGrid.y = nullptr;
+  expectRejected({"axis y coordinates pointer is null"});
+}
+
+TEST_F(Validation, SoAComponentCountMismatch)
+{
+  static const std::vector<double> u(98), v(98);
+  FieldDescription f = FieldDescription::soa<double>("uv", {u.data(), v.data()}, 98);
+  f.components = 3;
+  d().fields.push_back(f);
+  expectRejected({"field 1 'uv'", "2 component pointers for 3 components"});
+}
+
+TEST_F(Validation, SoANullComponent)
+{
+  static const std::vector<double> u(98);
+  d().fields.push_back(FieldDescription::soa<double>("uv", {u.data(), nullptr}, 98));
+  expectRejected({"field 1 'uv'", "component 1 pointer is null"});
+}
+
+TEST_F(Validation, StrideSmallerThanATuple)
+{
+  static const std::vector<double> records(3 * 98);
+  d().fields.push_back(FieldDescription::strided("m", records.data(), 16, 98, 3));
+  expectRejected({"field 1 'm'", "tupleStrideBytes 16 is smaller than one tuple (24 bytes)"});
+}
+
+TEST_F(Validation, RootIndexOutOfRange)
+{
+  d().trees[3].rootIndex = 6;
+  expectRejected({"tree 3 (root 6)", "root index out of range [0, 6)"});
+}
+
+TEST_F(Validation, NegativeRootIndex)
+{
+  d().trees[0].rootIndex = -1;
+  expectRejected({"tree 0 (root -1)", "root index out of range"});
+}
+
+TEST_F(Validation, DuplicateRoot)
+{
+  d().trees[4].rootIndex = 1;
+  expectRejected({"tree 4 (root 1)", "duplicate root", "root cell 1"});
+}
+
+TEST_F(Validation, EmptyTree)
+{
+  d().trees[0].numberOfNodes = 0;
+  expectRejected({"tree 0 (root 0)", "numberOfNodes is 0"});
+}
+
+TEST_F(Validation, CoordinatesNotIncreasing)
+{
+  static const std::vector<double> x{0.0, 1.5, 1.5};
+  d().rootGrid.x = x.data();
+  expectRejected({"axis x coordinates are not strictly increasing at point 2"});
+}
+
+TEST_F(Validation, NonFiniteCoordinate)
+{
+  static const std::vector<double> y{0.0, 1.0, std::nan(""), 3.0};
+  d().rootGrid.y = y.data();
+  expectRejected({"axis y coordinate 2 is not finite"});
+}
+
+TEST_F(Validation, TwoDimensionalForestWithoutAFlatAxis)
+{
+  static const std::vector<double> z{0.0, 10.0};
+  d().rootGrid.z = z.data();
+  d().rootGrid.pointsZ = 2;
+  expectRejected({"a 2D forest needs exactly one flat axis"});
+}
+
+TEST_F(Validation, DuplicateFieldName)
+{
+  d().fields.push_back(d().fields[0]);
+  expectRejected({"field 1 'Depth'", "duplicate field name"});
+}
+
+TEST_F(Validation, LeavesOnlyIntegerField)
+{
+  static const std::vector<std::int32_t> ids(75);
+  d().fields.push_back(
+    FieldDescription::aos("ids", ids.data(), ids.size(), 1, Centering::LeavesOnly));
+  expectRejected({"field 1 'ids'", "leaves-only field must be floating point"});
+}
+
+TEST_F(Validation, StorageSlotsOnSomeTreesOnly)
+{
+  static const std::int64_t slot = 0;
+  d().trees[5].storageSlots = &slot;
+  expectRejected({"storage slots: 1 of 6 trees", "either every tree has one or none does"});
+}
+
+TEST_F(Validation, StorageSlotOutOfRangeOrReused)
+{
+  std::vector<std::vector<std::int64_t>> slots;
+  std::int64_t next = 0;
+  for (auto& tree : d().trees)
+  {
+    slots.emplace_back();
+    for (std::size_t n = 0; n < tree.numberOfNodes; ++n)
+    {
+      slots.back().push_back(next++);
+    }
+  }
+  for (std::size_t t = 0; t < slots.size(); ++t)
+  {
+    d().trees[t].storageSlots = slots[t].data();
+  }
+  EXPECT_NO_THROW(validateForest(d()));
+  slots[2][3] = 98;
+  expectRejected({"tree 2 (root 2)", "node 3 has storage slot 98 outside [0, 98)"});
+  slots[2][3] = 5;
+  expectRejected({"tree 2 (root 2)", "node 3 reuses storage slot 5"});
+}
+
+TEST_F(Validation, EveryTreeProblemIsListedAtOnce)
+{
+  d().trees[4].rootIndex = 1;
+  d().trees[2].refinement = nullptr;
+  d().dimension = 2;
+  try
+  {
+    validateForest(d());
+    FAIL() << "should throw";
+  }
+  catch (const InvalidForest& e)
+  {
+    ASSERT_EQ(e.problems().size(), 2u) << e.what();
+    EXPECT_NE(e.problems()[0].find("tree 2 (root 2): refinement pointer is null"),
+              std::string::npos);
+    EXPECT_NE(e.problems()[1].find("tree 4 (root 1): duplicate root"), std::string::npos);
+  }
+}
+
+TEST_F(Validation, UnknownRequestedField)
+{
+  try
+  {
+    buildHyperTreeGrid(d(), FieldRequest::only({"Density"}));
+    FAIL() << "should throw";
+  }
+  catch (const InvalidForest& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("requested field 'Density' is not in the forest"),
+              std::string::npos);
+  }
+}
+
+} // namespace
+} // namespace canopy::testing
