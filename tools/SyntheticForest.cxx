@@ -113,9 +113,17 @@ SyntheticForest::SyntheticForest(const SyntheticForestOptions& o)
         firstChild.push_back(0);
       }
     }
-    // The simulation's own order: depth-first (pre-order).
+    // The simulation's own order: depth-first (pre-order), or breadth-first.
     std::vector<std::int64_t> slots(boxes.size());
-    std::vector<std::size_t> stack{0};
+    for (std::size_t node = 0; node < boxes.size(); ++node)
+    {
+      slots[node] = static_cast<std::int64_t>(slotOffset + node);
+    }
+    std::vector<std::size_t> stack;
+    if (o.depthFirstStorage)
+    {
+      stack.push_back(0);
+    }
     std::size_t next = slotOffset;
     while (!stack.empty())
     {
@@ -176,7 +184,7 @@ SyntheticForest::SyntheticForest(const SyntheticForestOptions& o)
     tree.refinement = Refinement[t].data();
     tree.numberOfNodes = Refinement[t].size();
     tree.masked = o.cutaway ? Masked[t].data() : nullptr;
-    tree.storageSlots = Slots[t].data();
+    tree.storageSlots = o.depthFirstStorage ? Slots[t].data() : nullptr;
     Description.trees.push_back(tree);
   }
   const std::size_t stride = sizeof(CellRecord);

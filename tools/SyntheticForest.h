@@ -20,6 +20,8 @@ struct SyntheticForestOptions
   int rootsPerAxis = 6;
   int maxLevels = 6;
   bool cutaway = true; ///< mask the octant (quadrant in 2D) facing +x +y (+z)
+  /// Store nodes depth-first with a slot map (true) or breadth-first without one.
+  bool depthFirstStorage = true;
 };
 
 /// The "simulation" state: owns every array the description borrows.
