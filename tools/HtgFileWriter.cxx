@@ -49,7 +49,7 @@ std::string writeHtgFile(vtkHyperTreeGrid* htg, const std::string& fileName)
     for (int c = 0; c < components; ++c)
     {
       vtkSmartPointer<vtkDataArray> scalar =
-        vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(vector->GetDataType()));
+          vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(vector->GetDataType()));
       scalar->SetName(componentArrayName(name, c, components).c_str());
       scalar->SetNumberOfComponents(1);
       scalar->SetNumberOfTuples(tuples);

@@ -63,24 +63,26 @@ SyntheticForest::SyntheticForest(const SyntheticForestOptions& o)
     }
   }
   const std::size_t rootsZ = o.dimension == 3 ? static_cast<std::size_t>(n) : 1;
-  const std::size_t children = static_cast<std::size_t>(
-    o.dimension == 3 ? o.branchFactor * o.branchFactor * o.branchFactor
-                     : o.branchFactor * o.branchFactor);
+  const std::size_t children =
+      static_cast<std::size_t>(o.dimension == 3 ? o.branchFactor * o.branchFactor * o.branchFactor
+                                                : o.branchFactor * o.branchFactor);
 
   Description.dimension = o.dimension;
   Description.branchFactor = o.branchFactor;
   Description.maxLevels = o.maxLevels;
-  Description.rootGrid = {Coordinates[0].data(),  Coordinates[1].data(),  Coordinates[2].data(),
+  Description.rootGrid = {Coordinates[0].data(), Coordinates[1].data(), Coordinates[2].data(),
                           Coordinates[0].size(), Coordinates[1].size(), Coordinates[2].size()};
 
   std::size_t slotOffset = 0;
   const auto roots = static_cast<std::size_t>(n) * static_cast<std::size_t>(n) * rootsZ;
   for (std::size_t root = 0; root < roots; ++root)
   {
-    const std::size_t i = root % n, j = (root / n) % n, k = root / (static_cast<std::size_t>(n) * n);
-    Box rootBox{{{Coordinates[0][i], Coordinates[1][j], o.dimension == 3 ? Coordinates[2][k] : 0.0}},
-                {{Coordinates[0][i + 1], Coordinates[1][j + 1],
-                  o.dimension == 3 ? Coordinates[2][k + 1] : 0.0}}};
+    const std::size_t i = root % n, j = (root / n) % n,
+                      k = root / (static_cast<std::size_t>(n) * n);
+    Box rootBox{
+        {{Coordinates[0][i], Coordinates[1][j], o.dimension == 3 ? Coordinates[2][k] : 0.0}},
+        {{Coordinates[0][i + 1], Coordinates[1][j + 1],
+          o.dimension == 3 ? Coordinates[2][k + 1] : 0.0}}};
     // Breadth-first refinement, as the description wants it.
     std::vector<std::uint8_t> refinement{0};
     std::vector<Box> boxes{rootBox};
@@ -153,7 +155,8 @@ SyntheticForest::SyntheticForest(const SyntheticForestOptions& o)
       }
       cell.refinementLevel = levels[node];
       const Box& b = boxes[node];
-      masked[node] = o.cutaway && b.low[0] >= 0 && b.low[1] >= 0 && (o.dimension == 2 || b.low[2] >= 0);
+      masked[node] =
+          o.cutaway && b.low[0] >= 0 && b.low[1] >= 0 && (o.dimension == 2 || b.low[2] >= 0);
     }
     slotOffset += boxes.size();
     Refinement.push_back(std::move(refinement));
@@ -189,11 +192,11 @@ SyntheticForest::SyntheticForest(const SyntheticForestOptions& o)
   }
   const std::size_t stride = sizeof(CellRecord);
   Description.fields.push_back(
-    FieldDescription::strided("density", &Cells[0].density, stride, Cells.size()));
+      FieldDescription::strided("density", &Cells[0].density, stride, Cells.size()));
   Description.fields.push_back(
-    FieldDescription::strided("velocity", &Cells[0].velocity[0], stride, Cells.size(), 3));
+      FieldDescription::strided("velocity", &Cells[0].velocity[0], stride, Cells.size(), 3));
   Description.fields.push_back(FieldDescription::strided(
-    "refinementLevel", &Cells[0].refinementLevel, stride, Cells.size()));
+      "refinementLevel", &Cells[0].refinementLevel, stride, Cells.size()));
   Description.fields.push_back(FieldDescription::aos("pressure", Pressure.data(), Pressure.size(),
                                                      1, Centering::LeavesOnly));
 }

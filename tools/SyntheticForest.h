@@ -50,8 +50,8 @@ private:
   std::vector<std::vector<std::uint8_t>> Refinement;
   std::vector<std::vector<std::uint8_t>> Masked;
   std::vector<std::vector<std::int64_t>> Slots;
-  std::vector<CellRecord> Cells;  ///< every node, depth-first, trees back to back
-  std::vector<double> Pressure;   ///< leaves only, in slot order
+  std::vector<CellRecord> Cells; ///< every node, depth-first, trees back to back
+  std::vector<double> Pressure;  ///< leaves only, in slot order
   ForestDescription Description;
 };
 

@@ -37,9 +37,7 @@ int main(int argc, char** argv)
   {
     const std::string arg = argv[i];
     const bool hasValue = i + 1 < argc;
-    auto number = [&](int& target) {
-      target = std::atoi(argv[++i]);
-    };
+    auto number = [&](int& target) { target = std::atoi(argv[++i]); };
     if (arg == "--output" && hasValue)
       output = argv[++i];
     else if (arg == "--dimension" && hasValue)
@@ -70,7 +68,7 @@ int main(int argc, char** argv)
     const auto start = std::chrono::steady_clock::now();
     vtkSmartPointer<vtkHyperTreeGrid> htg = canopy::buildHyperTreeGrid(forest.description());
     const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
     std::filesystem::create_directories(output);
     const std::filesystem::path file = output / "synthetic_forest.htg";

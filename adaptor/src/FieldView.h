@@ -26,24 +26,24 @@ struct FieldView
     const auto nc = static_cast<std::size_t>(field.components);
     switch (field.layout)
     {
-      case Layout::AoS:
-      case Layout::Strided:
+    case Layout::AoS:
+    case Layout::Strided:
+    {
+      const T* first = static_cast<const T*>(field.data);
+      for (std::size_t c = 0; c < nc; ++c)
       {
-        const T* first = static_cast<const T*>(field.data);
-        for (std::size_t c = 0; c < nc; ++c)
-        {
-          view.bases.push_back(first + c);
-        }
-        view.strideBytes = field.layout == Layout::AoS ? nc * sizeof(T) : field.tupleStrideBytes;
-        break;
+        view.bases.push_back(first + c);
       }
-      case Layout::SoA:
-        for (const void* component : field.componentData)
-        {
-          view.bases.push_back(static_cast<const T*>(component));
-        }
-        view.strideBytes = sizeof(T);
-        break;
+      view.strideBytes = field.layout == Layout::AoS ? nc * sizeof(T) : field.tupleStrideBytes;
+      break;
+    }
+    case Layout::SoA:
+      for (const void* component : field.componentData)
+      {
+        view.bases.push_back(static_cast<const T*>(component));
+      }
+      view.strideBytes = sizeof(T);
+      break;
     }
     return view;
   }

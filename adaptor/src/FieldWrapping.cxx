@@ -45,9 +45,9 @@ vtkSmartPointer<vtkDataArray> wrapTyped(const FieldDescription& field, vtkIdType
 {
   const int nc = field.components;
   const bool contiguous =
-    field.layout == Layout::AoS ||
-    (field.layout == Layout::Strided && field.tupleStrideBytes == sizeof(T) * nc) ||
-    (field.layout == Layout::SoA && nc == 1);
+      field.layout == Layout::AoS ||
+      (field.layout == Layout::Strided && field.tupleStrideBytes == sizeof(T) * nc) ||
+      (field.layout == Layout::SoA && nc == 1);
   if (contiguous)
   {
     const void* first = field.layout == Layout::SoA ? field.componentData[0] : field.data;
@@ -99,18 +99,18 @@ vtkSmartPointer<vtkDataArray> wrapNodeField(const FieldDescription& field,
   vtkSmartPointer<vtkDataArray> array;
   switch (field.type)
   {
-    case ValueType::Float32:
-      array = wrapTyped<float>(field, tuples);
-      break;
-    case ValueType::Float64:
-      array = wrapTyped<double>(field, tuples);
-      break;
-    case ValueType::Int32:
-      array = wrapTyped<std::int32_t>(field, tuples);
-      break;
-    case ValueType::Int64:
-      array = wrapTyped<std::int64_t>(field, tuples);
-      break;
+  case ValueType::Float32:
+    array = wrapTyped<float>(field, tuples);
+    break;
+  case ValueType::Float64:
+    array = wrapTyped<double>(field, tuples);
+    break;
+  case ValueType::Int32:
+    array = wrapTyped<std::int32_t>(field, tuples);
+    break;
+  case ValueType::Int64:
+    array = wrapTyped<std::int64_t>(field, tuples);
+    break;
   }
   array->SetName(field.name.c_str());
   return array;
@@ -122,8 +122,8 @@ vtkSmartPointer<vtkDataArray> wrapLeafField(const FieldDescription& field,
 {
   // Validation admits only floating-point leaves-only fields.
   vtkSmartPointer<vtkDataArray> array = field.type == ValueType::Float32
-                                          ? wrapLeafTyped<float>(field, forest, layout, map)
-                                          : wrapLeafTyped<double>(field, forest, layout, map);
+                                            ? wrapLeafTyped<float>(field, forest, layout, map)
+                                            : wrapLeafTyped<double>(field, forest, layout, map);
   array->SetName(field.name.c_str());
   return array;
 }

@@ -118,11 +118,10 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
                        ProblemList& problems)
 {
   const TreeDescription& tree = forest.trees[t];
-  const std::size_t children = forest.dimension == 3
-                                 ? static_cast<std::size_t>(forest.branchFactor) *
-                                     forest.branchFactor * forest.branchFactor
-                                 : static_cast<std::size_t>(forest.branchFactor) *
-                                     forest.branchFactor;
+  const std::size_t children =
+      forest.dimension == 3 ? static_cast<std::size_t>(forest.branchFactor) * forest.branchFactor *
+                                  forest.branchFactor
+                            : static_cast<std::size_t>(forest.branchFactor) * forest.branchFactor;
   const std::size_t n = tree.numberOfNodes;
   std::size_t levelStart = 0;
   std::size_t levelSize = 1;
@@ -133,8 +132,8 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
     ++levels;
     if (levels > forest.maxLevels)
     {
-      problems.add(treeName(t, tree), ": refined beyond maxLevels = ", forest.maxLevels,
-                   " (level ", levels - 1, " has refined nodes)");
+      problems.add(treeName(t, tree), ": refined beyond maxLevels = ", forest.maxLevels, " (level ",
+                   levels - 1, " has refined nodes)");
       return false;
     }
     if (levelStart + levelSize > n)
@@ -238,8 +237,8 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
       const std::int64_t slot = tree.storageSlots[n];
       if (slot < 0 || static_cast<std::size_t>(slot) >= layout.totalNodes)
       {
-        problems.add(treeName(t, tree), ": node ", n, " has storage slot ", slot,
-                     " outside [0, ", layout.totalNodes, ")");
+        problems.add(treeName(t, tree), ": node ", n, " has storage slot ", slot, " outside [0, ",
+                     layout.totalNodes, ")");
         return;
       }
       if (slotUsed[static_cast<std::size_t>(slot)])
@@ -284,46 +283,46 @@ void validateFields(const ForestDescription& forest, const ForestLayout& layout,
     }
     switch (field.layout)
     {
-      case Layout::AoS:
-        if (field.data == nullptr)
+    case Layout::AoS:
+      if (field.data == nullptr)
+      {
+        problems.add(name, ": data pointer is null");
+      }
+      break;
+    case Layout::Strided:
+      if (field.data == nullptr)
+      {
+        problems.add(name, ": data pointer is null");
+      }
+      if (field.tupleStrideBytes < valueSize * static_cast<std::size_t>(field.components))
+      {
+        problems.add(name, ": tupleStrideBytes ", field.tupleStrideBytes,
+                     " is smaller than one tuple (",
+                     valueSize * static_cast<std::size_t>(field.components), " bytes)");
+      }
+      else if (field.tupleStrideBytes % valueSize != 0)
+      {
+        problems.add(name, ": tupleStrideBytes ", field.tupleStrideBytes,
+                     " is not a multiple of the value size ", valueSize);
+      }
+      break;
+    case Layout::SoA:
+      if (field.componentData.size() != static_cast<std::size_t>(field.components))
+      {
+        problems.add(name, ": SoA field has ", field.componentData.size(),
+                     " component pointers for ", field.components, " components");
+      }
+      for (std::size_t c = 0; c < field.componentData.size(); ++c)
+      {
+        if (field.componentData[c] == nullptr)
         {
-          problems.add(name, ": data pointer is null");
+          problems.add(name, ": component ", c, " pointer is null");
         }
-        break;
-      case Layout::Strided:
-        if (field.data == nullptr)
-        {
-          problems.add(name, ": data pointer is null");
-        }
-        if (field.tupleStrideBytes < valueSize * static_cast<std::size_t>(field.components))
-        {
-          problems.add(name, ": tupleStrideBytes ", field.tupleStrideBytes,
-                       " is smaller than one tuple (",
-                       valueSize * static_cast<std::size_t>(field.components), " bytes)");
-        }
-        else if (field.tupleStrideBytes % valueSize != 0)
-        {
-          problems.add(name, ": tupleStrideBytes ", field.tupleStrideBytes,
-                       " is not a multiple of the value size ", valueSize);
-        }
-        break;
-      case Layout::SoA:
-        if (field.componentData.size() != static_cast<std::size_t>(field.components))
-        {
-          problems.add(name, ": SoA field has ", field.componentData.size(),
-                       " component pointers for ", field.components, " components");
-        }
-        for (std::size_t c = 0; c < field.componentData.size(); ++c)
-        {
-          if (field.componentData[c] == nullptr)
-          {
-            problems.add(name, ": component ", c, " pointer is null");
-          }
-        }
-        break;
-      default:
-        problems.add(name, ": unknown layout");
-        continue;
+      }
+      break;
+    default:
+      problems.add(name, ": unknown layout");
+      continue;
     }
     const bool leavesOnly = field.centering == Centering::LeavesOnly;
     if (leavesOnly && field.type != ValueType::Float32 && field.type != ValueType::Float64)
@@ -343,8 +342,7 @@ void validateFields(const ForestDescription& forest, const ForestLayout& layout,
 } // namespace
 
 InvalidForest::InvalidForest(std::vector<std::string> problems)
-  : std::invalid_argument(joinLines(problems))
-  , Problems(std::move(problems))
+    : std::invalid_argument(joinLines(problems)), Problems(std::move(problems))
 {
 }
 

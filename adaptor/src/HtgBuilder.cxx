@@ -86,7 +86,8 @@ vtkSmartPointer<vtkBitArray> packDescriptors(const ForestDescription& forest,
     for (std::size_t n = 0; n < count; ++n, ++position)
     {
       // vtkBitArray stores the most significant bit first.
-      bytes[position >> 3] |= static_cast<unsigned char>((refinement[n] != 0) << (7 - (position & 7)));
+      bytes[position >> 3] |=
+          static_cast<unsigned char>((refinement[n] != 0) << (7 - (position & 7)));
     }
   }
   return bits;

@@ -81,9 +81,10 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
           const std::int64_t tuple = table[storageSlot(tree, shape, child)];
           for (std::size_t c = 0; c < nc; ++c)
           {
-            sum[c] += tuple >= 0
-                        ? static_cast<double>(leaves.at(static_cast<std::size_t>(tuple), c))
-                        : static_cast<double>(coarse[static_cast<std::size_t>(-tuple - 1) * nc + c]);
+            sum[c] +=
+                tuple >= 0
+                    ? static_cast<double>(leaves.at(static_cast<std::size_t>(tuple), c))
+                    : static_cast<double>(coarse[static_cast<std::size_t>(-tuple - 1) * nc + c]);
           }
           ++used;
         }
@@ -100,9 +101,7 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
 
 template std::vector<float> restrictToCoarse<float>(const ForestDescription&, const ForestLayout&,
                                                     const FieldDescription&, const LeafTupleMap&);
-template std::vector<double> restrictToCoarse<double>(const ForestDescription&,
-                                                      const ForestLayout&,
-                                                      const FieldDescription&,
-                                                      const LeafTupleMap&);
+template std::vector<double> restrictToCoarse<double>(const ForestDescription&, const ForestLayout&,
+                                                      const FieldDescription&, const LeafTupleMap&);
 
 } // namespace canopy

@@ -143,8 +143,7 @@ protected:
   bool AllocateTuples(vtkIdType numTuples)
   {
     this->dropBorrow();
-    this->Owned.assign(static_cast<std::size_t>(numTuples * this->NumberOfComponents),
-                       ValueType());
+    this->Owned.assign(static_cast<std::size_t>(numTuples * this->NumberOfComponents), ValueType());
     return true;
   }
 
@@ -182,7 +181,7 @@ private:
       for (int c = 0; c < this->NumberOfComponents; ++c)
       {
         copy[static_cast<std::size_t>(t * this->NumberOfComponents + c)] =
-          this->GetTypedComponent(t, c);
+            this->GetTypedComponent(t, c);
       }
     }
     this->dropBorrow();

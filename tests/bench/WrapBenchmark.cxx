@@ -62,8 +62,9 @@ vtkSmartPointer<vtkHyperTreeGrid> buildByCursorAndCopy(const SyntheticForest& fo
     vtkNew<vtkDoubleArray> coords;
     coords->SetNumberOfTuples(static_cast<vtkIdType>(n));
     std::copy(c, c + n, coords->GetPointer(0));
-    a == 0 ? htg->SetXCoordinates(coords) : a == 1 ? htg->SetYCoordinates(coords)
-                                                   : htg->SetZCoordinates(coords);
+    a == 0   ? htg->SetXCoordinates(coords)
+    : a == 1 ? htg->SetYCoordinates(coords)
+             : htg->SetZCoordinates(coords);
   }
   const auto total = static_cast<vtkIdType>(forest.numberOfNodes());
   vtkNew<vtkDoubleArray> density;
@@ -96,7 +97,8 @@ vtkSmartPointer<vtkHyperTreeGrid> buildByCursorAndCopy(const SyntheticForest& fo
     }
     htg->InitializeNonOrientedCursor(cursor, tree.rootIndex, /*create=*/true);
     cursor->SetGlobalIndexStart(offset);
-    auto visit = [&](auto& self, std::size_t n) -> void {
+    auto visit = [&](auto& self, std::size_t n) -> void
+    {
       const vtkIdType global = cursor->GetGlobalNodeIndex();
       const std::size_t slot = tree.storageSlots ? static_cast<std::size_t>(tree.storageSlots[n])
                                                  : static_cast<std::size_t>(offset) + n;
@@ -200,7 +202,8 @@ bool sameContent(vtkHyperTreeGrid* a, vtkHyperTreeGrid* b)
   {
     a->InitializeNonOrientedCursor(ca, index);
     b->InitializeNonOrientedCursor(cb, index);
-    auto walk = [&](auto& self) -> void {
+    auto walk = [&](auto& self) -> void
+    {
       for (const auto& name : Fields)
       {
         vtkDataArray* fa = a->GetCellData()->GetArray(name.c_str());
@@ -208,7 +211,7 @@ bool sameContent(vtkHyperTreeGrid* a, vtkHyperTreeGrid* b)
         for (int c = 0; c < fa->GetNumberOfComponents(); ++c)
         {
           same = same && fa->GetComponent(ca->GetGlobalNodeIndex(), c) ==
-                           fb->GetComponent(cb->GetGlobalNodeIndex(), c);
+                             fb->GetComponent(cb->GetGlobalNodeIndex(), c);
         }
       }
       ++checked;
@@ -236,17 +239,16 @@ bool sameContent(vtkHyperTreeGrid* a, vtkHyperTreeGrid* b)
 /// explicit global-index table (first fill and overwrite).
 void printVtkFloor()
 {
-  const int coarse = 37449;  // full octree of 7 levels: nodes above the deepest level
-  const int nodes = 299593;  // all nodes
+  const int coarse = 37449; // full octree of 7 levels: nodes above the deepest level
+  const int nodes = 299593; // all nodes
   vtkNew<vtkBitArray> bits;
   bits->SetNumberOfValues(coarse);
   for (int i = 0; i < coarse; ++i)
   {
     bits->SetValue(i, 1);
   }
-  auto ns = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::nano>(b - a).count();
-  };
+  auto ns = [](Clock::time_point a, Clock::time_point b)
+  { return std::chrono::duration<double, std::nano>(b - a).count(); };
   vtkNew<vtkHyperTreeGrid> one;
   one->SetDimensions(2, 2, 2);
   one->SetBranchFactor(2);
@@ -336,9 +338,9 @@ int main(int argc, char** argv)
 
       const auto request = canopy::FieldRequest::only(Fields);
       const Measurement canopyBuild = measure(
-        forest, reps, [&] { return canopy::buildHyperTreeGrid(forest.description(), request); });
+          forest, reps, [&] { return canopy::buildHyperTreeGrid(forest.description(), request); });
       const Measurement cursorBuild =
-        measure(forest, reps, [&] { return buildByCursorAndCopy(forest); });
+          measure(forest, reps, [&] { return buildByCursorAndCopy(forest); });
       auto a = canopy::buildHyperTreeGrid(forest.description(), request);
       auto b = buildByCursorAndCopy(forest);
       if (!sameContent(a, b))
@@ -349,12 +351,11 @@ int main(int argc, char** argv)
       const double speedup = cursorBuild.nsPerCell / canopyBuild.nsPerCell;
       const char* storage = depthFirst ? "depth-first + slot map" : "breadth-first";
       std::cout << std::fixed << "| " << storage << " | " << forest.numberOfNodes() << " | "
-                << std::setprecision(2) << canopyBuild.nsPerCell << " | "
-                << cursorBuild.nsPerCell << " | " << std::setprecision(1) << speedup << "x | "
-                << std::setprecision(2) << canopyBuild.bytesPerCell << " | "
-                << cursorBuild.bytesPerCell << " | " << std::setprecision(0)
-                << canopyBuild.fieldBytesPerCell << " / " << cursorBuild.fieldBytesPerCell
-                << " |" << std::endl;
+                << std::setprecision(2) << canopyBuild.nsPerCell << " | " << cursorBuild.nsPerCell
+                << " | " << std::setprecision(1) << speedup << "x | " << std::setprecision(2)
+                << canopyBuild.bytesPerCell << " | " << cursorBuild.bytesPerCell << " | "
+                << std::setprecision(0) << canopyBuild.fieldBytesPerCell << " / "
+                << cursorBuild.fieldBytesPerCell << " |" << std::endl;
       if (csv)
       {
         csv << (depthFirst ? "depth-first" : "breadth-first") << "," << levels << ","

@@ -24,8 +24,7 @@ int main()
   forest.rootGrid = {x.data(), y.data(), z.data(), x.size(), y.size(), z.size()};
   forest.trees.push_back({0, refined0.data(), refined0.size(), nullptr, nullptr});
   forest.trees.push_back({1, refined1.data(), refined1.size(), nullptr, nullptr});
-  forest.fields.push_back(
-    canopy::FieldDescription::aos("density", density.data(), density.size()));
+  forest.fields.push_back(canopy::FieldDescription::aos("density", density.data(), density.size()));
 
   vtkSmartPointer<vtkHyperTreeGrid> htg = canopy::buildHyperTreeGrid(forest);
   vtkDataArray* array = htg->GetCellData()->GetArray("density");

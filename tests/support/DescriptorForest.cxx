@@ -109,7 +109,7 @@ DescriptorForest::DescriptorForest(const SourceParameters& p)
   Description.dimension = dimension;
   Description.branchFactor = p.branchFactor;
   Description.maxLevels = p.maxDepth;
-  Description.rootGrid = {Coordinates[0].data(),  Coordinates[1].data(),  Coordinates[2].data(),
+  Description.rootGrid = {Coordinates[0].data(), Coordinates[1].data(), Coordinates[2].data(),
                           Coordinates[0].size(), Coordinates[1].size(), Coordinates[2].size()};
   for (std::size_t t = 0; t < trees; ++t)
   {
@@ -168,12 +168,10 @@ std::size_t DescriptorForest::numberOfUnmaskedLeaves() const
 {
   // A leaf is visible when neither it nor an ancestor is masked.
   std::size_t visible = 0;
-  const std::size_t children =
-    static_cast<std::size_t>(Description.dimension == 2 ? Description.branchFactor *
-                                                            Description.branchFactor
-                                                        : Description.branchFactor *
-                                                            Description.branchFactor *
-                                                            Description.branchFactor);
+  const std::size_t children = static_cast<std::size_t>(
+      Description.dimension == 2
+          ? Description.branchFactor * Description.branchFactor
+          : Description.branchFactor * Description.branchFactor * Description.branchFactor);
   for (std::size_t t = 0; t < Refinement.size(); ++t)
   {
     const auto& refinement = Refinement[t];

@@ -32,7 +32,8 @@ void forEachNode(vtkHyperTreeGrid* htg, vtkIdType rootIndex,
   vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
   htg->InitializeNonOrientedGeometryCursor(cursor, rootIndex);
   // Explicit recursion through a small lambda keeps the cursor shared.
-  auto walk = [&](auto& self, std::size_t node) -> void {
+  auto walk = [&](auto& self, std::size_t node) -> void
+  {
     visit(cursor.GetPointer(), node);
     if (cursor->IsLeaf() || cursor->IsMasked())
     {

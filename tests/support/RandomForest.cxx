@@ -44,7 +44,7 @@ RandomForest::RandomForest(const RandomForestOptions& o)
   Description.dimension = o.dimension;
   Description.branchFactor = o.branchFactor;
   Description.maxLevels = o.maxLevels;
-  Description.rootGrid = {Coordinates[0].data(),  Coordinates[1].data(),  Coordinates[2].data(),
+  Description.rootGrid = {Coordinates[0].data(), Coordinates[1].data(), Coordinates[2].data(),
                           Coordinates[0].size(), Coordinates[1].size(), Coordinates[2].size()};
 
   for (std::size_t root = 0; root < trees; ++root)

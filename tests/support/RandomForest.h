@@ -23,7 +23,7 @@ struct RandomForestOptions
   int dimension = 3;
   int branchFactor = 2;
   std::array<std::size_t, 3> rootCells{{2, 2, 2}}; ///< the flat axis of a 2D forest is ignored
-  int flatAxis = 2;                                 ///< 2D only: the axis with a single point
+  int flatAxis = 2;                                ///< 2D only: the axis with a single point
   int maxLevels = 4;
   double refineProbability = 0.5;
   double maskProbability = 0.0; ///< 0: no mask arrays at all

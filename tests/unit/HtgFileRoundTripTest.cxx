@@ -48,13 +48,13 @@ void compare(vtkHyperTreeGridNonOrientedGeometryCursor* a,
     for (int c = 0; c < components; ++c)
     {
       const std::string fileName =
-        components == 1 ? name : tools::componentArrayName(name, c, components);
+          components == 1 ? name : tools::componentArrayName(name, c, components);
       vtkDataArray* vb = gb->GetCellData()->GetArray(fileName.c_str());
       ASSERT_NE(vb, nullptr) << fileName;
       ASSERT_EQ(vb->GetNumberOfComponents(), 1);
       ASSERT_EQ(va->GetComponent(a->GetGlobalNodeIndex(), c),
                 vb->GetComponent(b->GetGlobalNodeIndex(), 0))
-        << fileName;
+          << fileName;
     }
   }
   if (a->IsMasked())

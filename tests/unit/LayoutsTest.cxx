@@ -8,8 +8,8 @@
 #include "canopy/HtgBuilder.h"
 
 #include <gtest/gtest.h>
-#include <vtkCellData.h>
 #include <vtkBitArray.h>
+#include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkHyperTree.h>
 
@@ -62,27 +62,27 @@ struct VectorStorage
   {
     switch (layout)
     {
-      case Layout::AoS:
-        aos.resize(3 * n);
-        for (std::size_t s = 0; s < n; ++s)
-          for (int c = 0; c < 3; ++c)
-            aos[3 * s + c] = valueAt(static_cast<std::int64_t>(s), c);
-        return FieldDescription::aos("vector", aos.data(), n, 3);
-      case Layout::SoA:
+    case Layout::AoS:
+      aos.resize(3 * n);
+      for (std::size_t s = 0; s < n; ++s)
         for (int c = 0; c < 3; ++c)
-        {
-          soa[c].resize(n);
-          for (std::size_t s = 0; s < n; ++s)
-            soa[c][s] = valueAt(static_cast<std::int64_t>(s), c);
-        }
-        return FieldDescription::soa<double>("vector", {soa[0].data(), soa[1].data(), soa[2].data()},
-                                             n);
-      case Layout::Strided:
-        records.resize(n);
+          aos[3 * s + c] = valueAt(static_cast<std::int64_t>(s), c);
+      return FieldDescription::aos("vector", aos.data(), n, 3);
+    case Layout::SoA:
+      for (int c = 0; c < 3; ++c)
+      {
+        soa[c].resize(n);
         for (std::size_t s = 0; s < n; ++s)
-          for (int c = 0; c < 3; ++c)
-            records[s].vector[c] = valueAt(static_cast<std::int64_t>(s), c);
-        return FieldDescription::strided("vector", &records[0].vector[0], sizeof(Record), n, 3);
+          soa[c][s] = valueAt(static_cast<std::int64_t>(s), c);
+      }
+      return FieldDescription::soa<double>("vector", {soa[0].data(), soa[1].data(), soa[2].data()},
+                                           n);
+    case Layout::Strided:
+      records.resize(n);
+      for (std::size_t s = 0; s < n; ++s)
+        for (int c = 0; c < 3; ++c)
+          records[s].vector[c] = valueAt(static_cast<std::int64_t>(s), c);
+      return FieldDescription::strided("vector", &records[0].vector[0], sizeof(Record), n, 3);
     }
     return {};
   }
@@ -98,8 +98,8 @@ std::array<double, 6> expectedBounds(const RandomForest& forest, const LayoutCas
   {
     cells[a] = coords[a].size() > 1 ? coords[a].size() - 1 : 1;
   }
-  std::array<std::size_t, 3> ijk{{rootIndex % cells[0], (rootIndex / cells[0]) % cells[1],
-                                  rootIndex / (cells[0] * cells[1])}};
+  std::array<std::size_t, 3> ijk{
+      {rootIndex % cells[0], (rootIndex / cells[0]) % cells[1], rootIndex / (cells[0] * cells[1])}};
   std::array<double, 6> b;
   for (int a = 0; a < 3; ++a)
   {
@@ -192,7 +192,8 @@ TEST_P(Layouts, EveryNodeMatchesTheSimulation)
       ASSERT_EQ(htg->GetMask()->GetValue(nodes[n].slot), forest.masked()[t][n]);
     }
     forEachNode(htg, root, refinement, forest.childrenPerNode(),
-                [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor, std::size_t n) {
+                [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor, std::size_t n)
+                {
                   ++visited;
                   ASSERT_LT(n, nodes.size());
                   EXPECT_EQ(cursor->IsLeaf(), refinement[n] == 0);
@@ -211,7 +212,7 @@ TEST_P(Layouts, EveryNodeMatchesTheSimulation)
                   for (int i = 0; i < 6; ++i)
                   {
                     ASSERT_NEAR(bounds[i], expected[i], 1e-9 * (1 + std::abs(expected[i])))
-                      << "bound " << i << " of tree " << t << " node " << n;
+                        << "bound " << i << " of tree " << t << " node " << n;
                   }
                 });
   }
@@ -252,7 +253,8 @@ std::vector<LayoutCase> allCases()
 }
 
 INSTANTIATE_TEST_SUITE_P(AllLayouts, Layouts, ::testing::ValuesIn(allCases()),
-                         [](const ::testing::TestParamInfo<LayoutCase>& info) {
+                         [](const ::testing::TestParamInfo<LayoutCase>& info)
+                         {
                            std::ostringstream name;
                            name << info.param;
                            return name.str();

@@ -53,15 +53,15 @@ TEST(LeavesOnly, CoarseValuesAreVolumeAveragesBreadthFirst)
   ForestDescription d = tree.describe(false, false);
   // Leaves in slot order (breadth-first): nodes 1, 3, 4, 5, 6, 7, 8.
   const std::vector<double> energy{1, 2, 3, 10, 20, 30, 40};
-  d.fields.push_back(FieldDescription::aos("energy", energy.data(), energy.size(), 1,
-                                           Centering::LeavesOnly));
+  d.fields.push_back(
+      FieldDescription::aos("energy", energy.data(), energy.size(), 1, Centering::LeavesOnly));
   auto htg = buildHyperTreeGrid(d);
   vtkDataArray* e = htg->GetCellData()->GetArray("energy");
   ASSERT_NE(e, nullptr);
   ASSERT_EQ(e->GetNumberOfTuples(), 9);
   // Global index = breadth-first node number here.
-  EXPECT_EQ(e->GetTuple1(2), 25.0);                    // (10 + 20 + 30 + 40) / 4
-  EXPECT_EQ(e->GetTuple1(0), (1.0 + 25 + 2 + 3) / 4);  // 7.75
+  EXPECT_EQ(e->GetTuple1(2), 25.0);                   // (10 + 20 + 30 + 40) / 4
+  EXPECT_EQ(e->GetTuple1(0), (1.0 + 25 + 2 + 3) / 4); // 7.75
   EXPECT_EQ(e->GetTuple1(1), 1.0);
   EXPECT_EQ(e->GetTuple1(3), 2.0);
   EXPECT_EQ(e->GetTuple1(4), 3.0);
@@ -76,15 +76,15 @@ TEST(LeavesOnly, CoarseValuesSkipMaskedChildrenInDepthFirstStorage)
   ForestDescription d = tree.describe(true, true);
   // Leaves in slot order (depth-first): nodes 1, 5, 6, 7, 8, 3, 4.
   const std::vector<double> energy{1, 10, 20, 30, 40, 2, 3};
-  d.fields.push_back(FieldDescription::aos("energy", energy.data(), energy.size(), 1,
-                                           Centering::LeavesOnly));
+  d.fields.push_back(
+      FieldDescription::aos("energy", energy.data(), energy.size(), 1, Centering::LeavesOnly));
   auto htg = buildHyperTreeGrid(d);
   vtkDataArray* e = htg->GetCellData()->GetArray("energy");
   const double node2 = (10.0 + 30 + 40) / 3;
-  EXPECT_DOUBLE_EQ(e->GetTuple1(2), node2);             // slot of node 2 is 2
+  EXPECT_DOUBLE_EQ(e->GetTuple1(2), node2);                 // slot of node 2 is 2
   EXPECT_DOUBLE_EQ(e->GetTuple1(0), (1.0 + node2 + 3) / 3); // node 3 (value 2) masked
-  EXPECT_EQ(e->GetTuple1(3), 10.0);                     // slot 3 = node 5
-  EXPECT_EQ(e->GetTuple1(7), 2.0);                      // slot 7 = node 3, still readable
+  EXPECT_EQ(e->GetTuple1(3), 10.0);                         // slot 3 = node 5
+  EXPECT_EQ(e->GetTuple1(7), 2.0);                          // slot 7 = node 3, still readable
   // The leaf values are still read in place.
   auto& mutableEnergy = const_cast<std::vector<double>&>(energy);
   mutableEnergy[6] = -5.0; // node 4
@@ -100,8 +100,8 @@ TEST(LeavesOnly, AllChildrenMaskedFallsBackToEveryChild)
   }
   ForestDescription d = tree.describe(true, false);
   const std::vector<float> energy{1, 2, 3, 10, 20, 30, 40};
-  d.fields.push_back(FieldDescription::aos("energy", energy.data(), energy.size(), 1,
-                                           Centering::LeavesOnly));
+  d.fields.push_back(
+      FieldDescription::aos("energy", energy.data(), energy.size(), 1, Centering::LeavesOnly));
   auto htg = buildHyperTreeGrid(d);
   vtkDataArray* e = htg->GetCellData()->GetArray("energy");
   EXPECT_EQ(e->GetDataType(), VTK_FLOAT);
@@ -119,10 +119,10 @@ TEST(LeavesOnly, VectorFieldInRecordsIsAveragedPerComponent)
     double v;
     int id;
   };
-  const std::vector<Leaf> leaves{{1, -1, 0},  {2, -2, 0},  {3, -3, 0}, {10, -10, 0},
+  const std::vector<Leaf> leaves{{1, -1, 0},   {2, -2, 0},   {3, -3, 0},  {10, -10, 0},
                                  {20, -20, 0}, {30, -30, 0}, {40, -40, 0}};
-  d.fields.push_back(FieldDescription::strided("uv", &leaves[0].u, sizeof(Leaf), leaves.size(),
-                                               2, Centering::LeavesOnly));
+  d.fields.push_back(FieldDescription::strided("uv", &leaves[0].u, sizeof(Leaf), leaves.size(), 2,
+                                               Centering::LeavesOnly));
   auto htg = buildHyperTreeGrid(d);
   vtkDataArray* uv = htg->GetCellData()->GetArray("uv");
   ASSERT_EQ(uv->GetNumberOfComponents(), 2);
@@ -162,7 +162,7 @@ TEST(LeavesOnly, ThreeDimensionalTernaryAverageMatchesBruteForce)
     fineSum += k < 26 ? 0 : v;
   }
   d.fields.push_back(
-    FieldDescription::aos("f", values.data(), values.size(), 1, Centering::LeavesOnly));
+      FieldDescription::aos("f", values.data(), values.size(), 1, Centering::LeavesOnly));
   auto htg = buildHyperTreeGrid(d);
   vtkDataArray* f = htg->GetCellData()->GetArray("f");
   EXPECT_NEAR(f->GetTuple1(0), weighted, 1e-12 * 100);

@@ -67,7 +67,7 @@ void compareSubtrees(vtkHyperTreeGridNonOrientedGeometryCursor* canopy,
   }
   ASSERT_EQ(canopyDepth->GetTuple1(canopy->GetGlobalNodeIndex()),
             referenceDepth->GetTuple1(reference->GetGlobalNodeIndex()))
-    << where;
+      << where;
   if (canopy->IsLeaf())
   {
     ++totals.leaves;

@@ -20,10 +20,7 @@ namespace
 class Validation : public ::testing::Test
 {
 protected:
-  Validation()
-    : Forest(paperCaseA(true))
-  {
-  }
+  Validation() : Forest(paperCaseA(true)) {}
 
   ForestDescription& d() { return Forest.description(); }
 
@@ -42,8 +39,8 @@ protected:
       for (const auto& fragment : fragments)
       {
         EXPECT_NE(message.find(fragment), std::string::npos)
-          << "expected '" << fragment << "' in:\n"
-          << message;
+            << "expected '" << fragment << "' in:\n"
+            << message;
       }
     }
   }
@@ -103,7 +100,7 @@ TEST_F(Validation, TooFewLeafValues)
 {
   static const std::vector<double> leaves(74, 1.0);
   d().fields.push_back(
-    FieldDescription::aos("energy", leaves.data(), leaves.size(), 1, Centering::LeavesOnly));
+      FieldDescription::aos("energy", leaves.data(), leaves.size(), 1, Centering::LeavesOnly));
   expectRejected({"field 1 'energy'", "74 tuples given but the forest has 75 leaves"});
 }
 
@@ -204,7 +201,7 @@ TEST_F(Validation, LeavesOnlyIntegerField)
 {
   static const std::vector<std::int32_t> ids(75);
   d().fields.push_back(
-    FieldDescription::aos("ids", ids.data(), ids.size(), 1, Centering::LeavesOnly));
+      FieldDescription::aos("ids", ids.data(), ids.size(), 1, Centering::LeavesOnly));
   expectRejected({"field 1 'ids'", "leaves-only field must be floating point"});
 }
 

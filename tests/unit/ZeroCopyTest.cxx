@@ -80,7 +80,7 @@ TEST(ZeroCopy, SimulationUpdatesAreSeenThroughTheGrid)
   d.fields.push_back(FieldDescription::aos("pressure", pressure.data(), n));
   d.fields.push_back(FieldDescription::soa<double>("uv", {u.data(), v.data()}, n));
   d.fields.push_back(
-    FieldDescription::strided("momentum", &cells[0].momentum[0], sizeof(Cell), n, 2));
+      FieldDescription::strided("momentum", &cells[0].momentum[0], sizeof(Cell), n, 2));
   d.fields.push_back(FieldDescription::strided("density", &cells[0].density, sizeof(Cell), n));
   auto htg = buildHyperTreeGrid(d);
 
@@ -126,10 +126,11 @@ TEST(ZeroCopy, BuildNeverWritesSimulationMemory)
   auto& d = forest.description();
   d.fields.push_back(FieldDescription::aos("pressure", pressure.data(), n));
   d.fields.push_back(
-    FieldDescription::aos("energy", energy.data(), leaves, 1, Centering::LeavesOnly));
+      FieldDescription::aos("energy", energy.data(), leaves, 1, Centering::LeavesOnly));
   d.fields.push_back(FieldDescription::strided("m", &cells[0].m[0], sizeof(Cell), n, 3));
 
-  auto sum = [&] {
+  auto sum = [&]
+  {
     std::uint64_t h = checksum(pressure.data(), n * sizeof(double));
     h ^= checksum(energy.data(), leaves * sizeof(double)) * 3;
     h ^= checksum(cells.data(), n * sizeof(Cell)) * 5;

@@ -32,11 +32,7 @@ public:
   const std::vector<std::string>& names() const { return Names; }
 
 private:
-  FieldRequest(bool all, std::vector<std::string> names)
-    : All(all)
-    , Names(std::move(names))
-  {
-  }
+  FieldRequest(bool all, std::vector<std::string> names) : All(all), Names(std::move(names)) {}
   bool All;
   std::vector<std::string> Names;
 };
@@ -53,8 +49,9 @@ private:
 ///   the leaf values and own only the coarse averages (see docs/api.md).
 /// - Root coordinates are wrapped in place too. The mask is built (Canopy owns it).
 /// The returned grid borrows simulation memory: use it while that memory is valid.
-vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& forest,
-                                                     const FieldRequest& request = FieldRequest::all());
+vtkSmartPointer<vtkHyperTreeGrid>
+buildHyperTreeGrid(const ForestDescription& forest,
+                   const FieldRequest& request = FieldRequest::all());
 
 /// Same, with a layout already returned by validateForest(forest) for this forest.
 vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& forest,
