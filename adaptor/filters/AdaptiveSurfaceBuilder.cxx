@@ -1,0 +1,526 @@
+#include "AdaptiveSurfaceBuilder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace canopy
+{
+
+void SurfacePieces::append(const SurfacePieces& other)
+{
+  points.insert(points.end(), other.points.begin(), other.points.end());
+  cellIds.insert(cellIds.end(), other.cellIds.begin(), other.cellIds.end());
+  levels.insert(levels.end(), other.levels.begin(), other.levels.end());
+}
+
+namespace
+{
+
+using Index3 = std::array<std::int64_t, 3>;
+
+/// Integer position of a node inside its tree, at its level, and its box.
+struct NodeFrame
+{
+  vtkIdType node;
+  int level;
+  Index3 ijk; ///< along each axis, in [0, f^level)
+};
+
+/// Powers of the branch factor up to the deepest supported level.
+class Powers
+{
+public:
+  explicit Powers(int f)
+  {
+    std::int64_t p = 1;
+    for (int l = 0; l < 40 && p < (std::int64_t(1) << 61) / f; ++l)
+    {
+      Values.push_back(p);
+      p *= f;
+    }
+    Values.push_back(p);
+  }
+  std::int64_t operator[](int l) const { return Values[static_cast<std::size_t>(l)]; }
+
+private:
+  std::vector<std::int64_t> Values;
+};
+
+/// Lower corner and upper corner of a node.
+void nodeBox(const TreeAccess& tree, const NodeFrame& n, const Powers& powers, Vec3& lo, Vec3& hi)
+{
+  const double cells = static_cast<double>(powers[n.level]);
+  for (int a = 0; a < 3; ++a)
+  {
+    if (tree.size[a] == 0)
+    {
+      lo[a] = hi[a] = tree.origin[a];
+      continue;
+    }
+    lo[a] = tree.origin[a] + tree.size[a] * (static_cast<double>(n.ijk[a]) / cells);
+    // The last node of a row ends exactly at the root's upper corner.
+    hi[a] = n.ijk[a] + 1 == powers[n.level]
+              ? tree.origin[a] + tree.size[a]
+              : tree.origin[a] + tree.size[a] * (static_cast<double>(n.ijk[a] + 1) / cells);
+  }
+}
+
+std::array<Vec3, 8> boxCorners(const Vec3& lo, const Vec3& hi)
+{
+  std::array<Vec3, 8> c;
+  for (int k = 0; k < 8; ++k)
+  {
+    c[k] = {{(k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]}};
+  }
+  return c;
+}
+
+/// Child position -> per-axis digit: active axes in increasing order, first fastest.
+Index3 childIndex(const NodeFrame& parent, int child, const HyperTreeAccess& grid)
+{
+  Index3 ijk = parent.ijk;
+  const int f = grid.branchFactor();
+  for (int axis : grid.activeAxes())
+  {
+    ijk[axis] = ijk[axis] * f + child % f;
+    child /= f;
+  }
+  return ijk;
+}
+
+/// The view restricted to the plane of a 2D grid, clipped to the grid's bounds:
+/// a convex polygon in (u, v) = (first active axis, second active axis).
+class PlaneRegion
+{
+public:
+  PlaneRegion(const HyperTreeAccess& grid, const ViewVolume& view)
+  {
+    U = grid.activeAxes()[0];
+    V = grid.activeAxes()[1];
+    const int w = grid.flatAxis();
+    const auto& b = grid.bounds();
+    std::vector<std::array<double, 2>> polygon{{{b[2 * U], b[2 * V]}},
+                                               {{b[2 * U + 1], b[2 * V]}},
+                                               {{b[2 * U + 1], b[2 * V + 1]}},
+                                               {{b[2 * U], b[2 * V + 1]}}};
+    for (const HalfSpace& h : view.halfSpaces())
+    {
+      // n . p <= c with p = (u, v, flat): nu u + nv v <= c - nw * flat
+      const double nu = h.normal[U];
+      const double nv = h.normal[V];
+      const double c = h.offset - h.normal[w] * grid.flatCoordinate();
+      polygon = clip(polygon, nu, nv, c);
+      if (polygon.empty())
+      {
+        break;
+      }
+    }
+    Polygon = polygon;
+    double area = 0;
+    for (std::size_t i = 0; i < Polygon.size(); ++i)
+    {
+      const auto& p = Polygon[i];
+      const auto& q = Polygon[(i + 1) % Polygon.size()];
+      area += p[0] * q[1] - q[0] * p[1];
+    }
+    Empty = Polygon.size() < 3 || !(std::abs(area) > 0);
+    // Separating axes: u, v and the polygon's edge normals.
+    Axes.push_back({{1, 0}});
+    Axes.push_back({{0, 1}});
+    for (std::size_t i = 0; i < Polygon.size() && !Empty; ++i)
+    {
+      const auto& p = Polygon[i];
+      const auto& q = Polygon[(i + 1) % Polygon.size()];
+      const double du = q[0] - p[0];
+      const double dv = q[1] - p[1];
+      if (du != 0 || dv != 0)
+      {
+        Axes.push_back({{-dv, du}});
+      }
+    }
+    for (const auto& a : Axes)
+    {
+      double lo = 1e300;
+      double hi = -1e300;
+      for (const auto& p : Polygon)
+      {
+        const double x = a[0] * p[0] + a[1] * p[1];
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+      }
+      Intervals.push_back({{lo, hi}});
+    }
+  }
+
+  /// Positive-area overlap of [u0, u1] x [v0, v1] with the region.
+  bool overlaps(double u0, double u1, double v0, double v1) const
+  {
+    if (Empty)
+    {
+      return false;
+    }
+    for (std::size_t i = 0; i < Axes.size(); ++i)
+    {
+      const auto& a = Axes[i];
+      const double rmin = a[0] * (a[0] >= 0 ? u0 : u1) + a[1] * (a[1] >= 0 ? v0 : v1);
+      const double rmax = a[0] * (a[0] >= 0 ? u1 : u0) + a[1] * (a[1] >= 0 ? v1 : v0);
+      if (std::max(rmin, Intervals[i][0]) >= std::min(rmax, Intervals[i][1]))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  int u() const { return U; }
+  int v() const { return V; }
+
+  /// Sutherland-Hodgman against nu u + nv v <= c.
+  static std::vector<std::array<double, 2>> clip(const std::vector<std::array<double, 2>>& in,
+                                                 double nu, double nv, double c)
+  {
+    std::vector<std::array<double, 2>> out;
+    if (nu == 0 && nv == 0)
+    {
+      return c >= 0 ? in : out;
+    }
+    for (std::size_t i = 0; i < in.size(); ++i)
+    {
+      const auto& p = in[i];
+      const auto& q = in[(i + 1) % in.size()];
+      const double fp = nu * p[0] + nv * p[1] - c;
+      const double fq = nu * q[0] + nv * q[1] - c;
+      if (fp <= 0)
+      {
+        out.push_back(p);
+      }
+      if ((fp < 0 && fq > 0) || (fp > 0 && fq < 0))
+      {
+        const double t = fp / (fp - fq);
+        out.push_back({{p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])}});
+      }
+    }
+    return out;
+  }
+
+private:
+  int U = 0;
+  int V = 1;
+  bool Empty = true;
+  std::vector<std::array<double, 2>> Polygon;
+  std::vector<std::array<double, 2>> Axes;
+  std::vector<std::array<double, 2>> Intervals;
+};
+
+void emitQuad(SurfacePieces& out, const std::array<Vec3, 4>& corners, vtkIdType cellId, int level)
+{
+  for (const Vec3& c : corners)
+  {
+    out.points.insert(out.points.end(), c.begin(), c.end());
+  }
+  out.cellIds.push_back(cellId);
+  out.levels.push_back(static_cast<unsigned char>(level));
+}
+
+/// Shared traversal state of one tree.
+struct TreeWalk
+{
+  const HyperTreeAccess& grid;
+  const TreeAccess& tree;
+  const SurfaceOptions& options;
+  const Powers& powers;
+  const PlaneRegion* region; ///< 2D culling, when a view is given
+  SurfacePieces& out;
+
+  bool lodStops(const Vec3& lo, const Vec3& hi) const
+  {
+    if (!options.view || !options.levelOfDetail)
+    {
+      return false;
+    }
+    return options.view->footprintInPixels(boxCorners(lo, hi)) <= options.pixelThreshold;
+  }
+
+  bool visible(const Vec3& lo, const Vec3& hi) const
+  {
+    if (!options.view || !options.cullOutsideView)
+    {
+      return true;
+    }
+    if (region)
+    {
+      return region->overlaps(lo[region->u()], hi[region->u()], lo[region->v()], hi[region->v()]);
+    }
+    return options.view->overlapsBox(lo, hi);
+  }
+
+  void walk()
+  {
+    std::vector<NodeFrame> stack{{0, 0, {{0, 0, 0}}}};
+    Vec3 lo;
+    Vec3 hi;
+    while (!stack.empty())
+    {
+      const NodeFrame n = stack.back();
+      stack.pop_back();
+      const vtkIdType global = tree.globalIndex(n.node);
+      if (grid.isMasked(global))
+      {
+        continue;
+      }
+      nodeBox(tree, n, powers, lo, hi);
+      if (!visible(lo, hi))
+      {
+        continue;
+      }
+      if (tree.isLeaf(n.node) || lodStops(lo, hi))
+      {
+        if (grid.dimension() == 2)
+        {
+          emitPlaneQuad(lo, hi, global, n.level);
+        }
+        else
+        {
+          emitExposedFaces(n, lo, hi, global);
+        }
+        continue;
+      }
+      const vtkIdType first = tree.firstChild(n.node);
+      // Push in reverse so children are visited in order (deterministic output).
+      for (int c = grid.childrenPerNode(); c-- > 0;)
+      {
+        stack.push_back({first + c, n.level + 1, childIndex(n, c, grid)});
+      }
+    }
+  }
+
+  void emitPlaneQuad(const Vec3& lo, const Vec3& hi, vtkIdType global, int level)
+  {
+    const int u = grid.activeAxes()[0];
+    const int v = grid.activeAxes()[1];
+    std::array<Vec3, 4> c;
+    c.fill(lo);
+    c[1][u] = hi[u];
+    c[2][u] = hi[u];
+    c[2][v] = hi[v];
+    c[3][v] = hi[v];
+    emitQuad(out, c, global, level);
+  }
+
+  /// Face of [lo, hi] normal to `axis` on side `side` (0 low, 1 high), restricted
+  /// on the two other axes to [plo, phi], outward-oriented.
+  void emitFace(int axis, int side, const Vec3& lo, const Vec3& hi, const Vec3& plo,
+                const Vec3& phi, vtkIdType global, int level)
+  {
+    const int b = (axis + 1) % 3;
+    const int c = (axis + 2) % 3;
+    const double x = side ? hi[axis] : lo[axis];
+    if (options.view && options.skipBackFaces)
+    {
+      Vec3 normal{{0, 0, 0}};
+      normal[axis] = side ? 1.0 : -1.0;
+      const Vec3& f = options.view->directionOfProjection();
+      double facing = 0;
+      if (options.view->parallel())
+      {
+        facing = normal[0] * f[0] + normal[1] * f[1] + normal[2] * f[2];
+      }
+      else
+      {
+        const Vec3& e = options.view->position();
+        facing = normal[axis] * (x - e[axis]);
+      }
+      if (facing >= 0)
+      {
+        return;
+      }
+    }
+    std::array<Vec3, 4> q;
+    for (auto& p : q)
+    {
+      p[axis] = x;
+    }
+    q[0][b] = plo[b];
+    q[0][c] = plo[c];
+    q[1][b] = phi[b];
+    q[1][c] = plo[c];
+    q[2][b] = phi[b];
+    q[2][c] = phi[c];
+    q[3][b] = plo[b];
+    q[3][c] = phi[c];
+    if (!side)
+    {
+      std::swap(q[1], q[3]);
+    }
+    emitQuad(out, q, global, level);
+  }
+
+  /// For each of the six faces of a node where descent stopped: the parts not
+  /// covered by unmasked (or solid-by-level-of-detail) nodes on the other side.
+  void emitExposedFaces(const NodeFrame& n, const Vec3& lo, const Vec3& hi, vtkIdType global)
+  {
+    const std::int64_t cells = powers[n.level];
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      for (int side = 0; side < 2; ++side)
+      {
+        // The same-level position across the face, possibly in the next tree.
+        Index3 across = n.ijk;
+        std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
+                                  static_cast<long>(tree.rootIJK[1]),
+                                  static_cast<long>(tree.rootIJK[2])}};
+        across[axis] += side ? 1 : -1;
+        if (across[axis] < 0)
+        {
+          across[axis] = cells - 1;
+          root[axis] -= 1;
+        }
+        else if (across[axis] >= cells)
+        {
+          across[axis] = 0;
+          root[axis] += 1;
+        }
+        const TreeAccess* neighbour = grid.treeAt(root[0], root[1], root[2]);
+        if (!neighbour)
+        {
+          emitFace(axis, side, lo, hi, lo, hi, global, n.level);
+          continue;
+        }
+        // Descend the neighbour tree towards `across` at level n.level.
+        NodeFrame m{0, 0, {{0, 0, 0}}};
+        bool covered = false;
+        bool exposed = false;
+        while (true)
+        {
+          const vtkIdType mg = neighbour->globalIndex(m.node);
+          if (grid.isMasked(mg))
+          {
+            exposed = true;
+            break;
+          }
+          if (m.level == n.level)
+          {
+            break;
+          }
+          if (neighbour->isLeaf(m.node))
+          {
+            covered = true;
+            break;
+          }
+          if (lodStops(*neighbour, m))
+          {
+            covered = true;
+            break;
+          }
+          const int f = grid.branchFactor();
+          const std::int64_t scale = powers[n.level - m.level - 1];
+          int child = 0;
+          int weight = 1;
+          for (int a : grid.activeAxes())
+          {
+            child += static_cast<int>((across[a] / scale) % f) * weight;
+            weight *= f;
+          }
+          m = {neighbour->firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
+        }
+        if (exposed)
+        {
+          emitFace(axis, side, lo, hi, lo, hi, global, n.level);
+        }
+        else if (!covered)
+        {
+          // Same-level neighbour, unmasked: exposed where its descendants touching
+          // the face are masked.
+          emitExposedParts(*neighbour, m, axis, side, lo, hi, global, n.level);
+        }
+      }
+    }
+  }
+
+  bool lodStops(const TreeAccess& t, const NodeFrame& m) const
+  {
+    if (!options.view || !options.levelOfDetail)
+    {
+      return false;
+    }
+    Vec3 mlo;
+    Vec3 mhi;
+    nodeBox(t, m, powers, mlo, mhi);
+    return lodStops(mlo, mhi);
+  }
+
+  /// m: an unmasked node across the face of our node (same level or finer).
+  void emitExposedParts(const TreeAccess& t, const NodeFrame& m, int axis, int side,
+                        const Vec3& lo, const Vec3& hi, vtkIdType global, int level)
+  {
+    if (t.isLeaf(m.node) || lodStops(t, m))
+    {
+      return; // covered
+    }
+    const int f = grid.branchFactor();
+    const vtkIdType first = t.firstChild(m.node);
+    for (int c = 0; c < grid.childrenPerNode(); ++c)
+    {
+      // Only children touching our face: on the near side along `axis`.
+      int digit = c;
+      int along = 0;
+      for (int a : grid.activeAxes())
+      {
+        if (a == axis)
+        {
+          along = digit % f;
+        }
+        digit /= f;
+      }
+      if (along != (side ? 0 : f - 1))
+      {
+        continue;
+      }
+      const NodeFrame child{first + c, m.level + 1, childIndex(m, c, grid)};
+      if (grid.isMasked(t.globalIndex(child.node)))
+      {
+        Vec3 clo;
+        Vec3 chi;
+        nodeBox(t, child, powers, clo, chi);
+        emitFace(axis, side, lo, hi, clo, chi, global, level);
+        continue;
+      }
+      emitExposedParts(t, child, axis, side, lo, hi, global, level);
+    }
+  }
+};
+
+} // namespace
+
+void buildTreeSurface(const HyperTreeAccess& grid, const TreeAccess& tree,
+                      const SurfaceOptions& options, SurfacePieces& out)
+{
+  const Powers powers(grid.branchFactor());
+  std::unique_ptr<PlaneRegion> region;
+  if (grid.dimension() == 2 && options.view && options.cullOutsideView)
+  {
+    region = std::make_unique<PlaneRegion>(grid, *options.view);
+  }
+  TreeWalk walk{grid, tree, options, powers, region.get(), out};
+  walk.walk();
+}
+
+SurfacePieces buildAdaptiveSurface(const HyperTreeAccess& grid, const SurfaceOptions& options)
+{
+  const Powers powers(grid.branchFactor());
+  std::unique_ptr<PlaneRegion> region;
+  if (grid.dimension() == 2 && options.view && options.cullOutsideView)
+  {
+    region = std::make_unique<PlaneRegion>(grid, *options.view);
+  }
+  SurfacePieces out;
+  for (const TreeAccess& tree : grid.trees())
+  {
+    TreeWalk walk{grid, tree, options, powers, region.get(), out};
+    walk.walk();
+  }
+  return out;
+}
+
+} // namespace canopy

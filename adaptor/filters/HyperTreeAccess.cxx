@@ -1,0 +1,94 @@
+#include "HyperTreeAccess.h"
+
+#include <vtkDataArray.h>
+
+#include <stdexcept>
+
+namespace canopy
+{
+
+HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
+{
+  Dimension = static_cast<int>(htg->GetDimension());
+  BranchFactor = static_cast<int>(htg->GetBranchFactor());
+  Children = static_cast<int>(htg->GetNumberOfChildren());
+  if (htg->GetTransposedRootIndexing())
+  {
+    throw std::invalid_argument("grids with transposed root indexing are not supported");
+  }
+  const unsigned int* dims = htg->GetDimensions();
+  vtkDataArray* coords[3] = {htg->GetXCoordinates(), htg->GetYCoordinates(),
+                             htg->GetZCoordinates()};
+  for (int a = 0; a < 3; ++a)
+  {
+    if (coords[a] == nullptr || coords[a]->GetNumberOfTuples() < 1)
+    {
+      throw std::invalid_argument("the grid has no coordinates along an axis");
+    }
+    RootCells[a] = dims[a] > 1 ? dims[a] - 1 : 1;
+    Bounds[2 * a] = coords[a]->GetComponent(0, 0);
+    Bounds[2 * a + 1] = coords[a]->GetComponent(coords[a]->GetNumberOfTuples() - 1, 0);
+    if (dims[a] > 1)
+    {
+      ActiveAxes.push_back(a);
+    }
+    else
+    {
+      FlatAxis = a;
+      FlatCoordinate = Bounds[2 * a];
+    }
+  }
+  if (static_cast<int>(ActiveAxes.size()) != Dimension)
+  {
+    throw std::invalid_argument("only 2D and 3D grids with one point on each unused axis are "
+                                "supported");
+  }
+  Mask = htg->HasMask() ? htg->GetMask() : nullptr;
+
+  TreeAtRoot.assign(static_cast<std::size_t>(RootCells[0]) * RootCells[1] * RootCells[2], -1);
+  vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
+  htg->InitializeTreeIterator(it);
+  vtkIdType index = 0;
+  while (vtkHyperTree* tree = it.GetNextTree(index))
+  {
+    TreeAccess access;
+    access.treeIndex = index;
+    access.tree = tree;
+    access.elderChild = tree->GetElderChildIndexArray(access.elderChildSize);
+    access.implicitGlobalIndex = tree->IsGlobalIndexImplicit();
+    access.globalIndexStart = access.implicitGlobalIndex ? tree->GetGlobalIndexStart() : 0;
+    unsigned int ijk[3];
+    htg->GetLevelZeroCoordinatesFromIndex(index, ijk[0], ijk[1], ijk[2]);
+    for (int a = 0; a < 3; ++a)
+    {
+      access.rootIJK[a] = ijk[a];
+      if (dims[a] > 1)
+      {
+        access.origin[a] = coords[a]->GetComponent(ijk[a], 0);
+        access.size[a] = coords[a]->GetComponent(ijk[a] + 1, 0) - access.origin[a];
+      }
+      else
+      {
+        access.origin[a] = coords[a]->GetComponent(0, 0);
+        access.size[a] = 0;
+      }
+    }
+    TreeAtRoot[static_cast<std::size_t>(index)] = static_cast<std::int64_t>(Trees.size());
+    Trees.push_back(access);
+  }
+}
+
+const TreeAccess* HyperTreeAccess::treeAt(long i, long j, long k) const
+{
+  if (i < 0 || j < 0 || k < 0 || i >= RootCells[0] || j >= RootCells[1] || k >= RootCells[2])
+  {
+    return nullptr;
+  }
+  const std::size_t root = static_cast<std::size_t>(i) +
+                           RootCells[0] * (static_cast<std::size_t>(j) +
+                                           RootCells[1] * static_cast<std::size_t>(k));
+  const std::int64_t t = TreeAtRoot[root];
+  return t < 0 ? nullptr : &Trees[static_cast<std::size_t>(t)];
+}
+
+} // namespace canopy

@@ -1,0 +1,87 @@
+// Direct, read-only access to a vtkHyperTreeGrid's trees for fast traversals.
+//
+// VTK's cursors cost a virtual call (and, in Debian's build, unoptimized code)
+// per step; the filters instead read each tree's elder-child table and compute
+// geometry themselves. A node is a leaf when it has no entry in the table or
+// its entry is UINT_MAX; its children are elderChild .. elderChild + n - 1.
+#pragma once
+
+#include <vtkBitArray.h>
+#include <vtkHyperTree.h>
+#include <vtkHyperTreeGrid.h>
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace canopy
+{
+
+struct TreeAccess
+{
+  vtkIdType treeIndex = 0;
+  vtkHyperTree* tree = nullptr;
+  const unsigned int* elderChild = nullptr;
+  std::size_t elderChildSize = 0;
+  bool implicitGlobalIndex = true;
+  vtkIdType globalIndexStart = 0;
+  std::array<double, 3> origin{{0, 0, 0}}; ///< lower corner of the root cell
+  std::array<double, 3> size{{0, 0, 0}};   ///< root cell size (0 on the flat axis of 2D)
+  std::array<unsigned int, 3> rootIJK{{0, 0, 0}};
+
+  bool isLeaf(vtkIdType node) const
+  {
+    return static_cast<std::size_t>(node) >= elderChildSize ||
+           elderChild[node] == std::numeric_limits<unsigned int>::max();
+  }
+  vtkIdType firstChild(vtkIdType node) const { return elderChild[node]; }
+  vtkIdType globalIndex(vtkIdType node) const
+  {
+    return implicitGlobalIndex ? globalIndexStart + node : tree->GetGlobalIndexFromLocal(node);
+  }
+};
+
+/// The shape of a grid as the filters need it.
+class HyperTreeAccess
+{
+public:
+  explicit HyperTreeAccess(vtkHyperTreeGrid* htg);
+
+  int dimension() const { return Dimension; }
+  int branchFactor() const { return BranchFactor; }
+  int childrenPerNode() const { return Children; }
+  /// Axes along which cells have extent (2 in 2D, 3 in 3D), increasing.
+  const std::vector<int>& activeAxes() const { return ActiveAxes; }
+  /// 2D only: the axis with a single point, and its coordinate.
+  int flatAxis() const { return FlatAxis; }
+  double flatCoordinate() const { return FlatCoordinate; }
+  /// Root cells per axis (1 on the flat axis).
+  const std::array<unsigned int, 3>& rootCells() const { return RootCells; }
+  /// Bounds of the whole root grid.
+  const std::array<double, 6>& bounds() const { return Bounds; }
+
+  const std::vector<TreeAccess>& trees() const { return Trees; }
+  /// Tree at root cell (i, j, k), or nullptr when absent or out of range.
+  const TreeAccess* treeAt(long i, long j, long k) const;
+
+  bool isMasked(vtkIdType globalIndex) const
+  {
+    return Mask != nullptr && Mask->GetValue(globalIndex) != 0;
+  }
+
+private:
+  int Dimension = 0;
+  int BranchFactor = 2;
+  int Children = 4;
+  std::vector<int> ActiveAxes;
+  int FlatAxis = -1;
+  double FlatCoordinate = 0;
+  std::array<unsigned int, 3> RootCells{{1, 1, 1}};
+  std::array<double, 6> Bounds{{0, 0, 0, 0, 0, 0}};
+  std::vector<TreeAccess> Trees;
+  std::vector<std::int64_t> TreeAtRoot; ///< root cell -> position in Trees, or -1
+  vtkBitArray* Mask = nullptr;
+};
+
+} // namespace canopy

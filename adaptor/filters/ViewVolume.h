@@ -1,0 +1,118 @@
+// The region of space a camera sees and how it maps to pixels.
+//
+// Built from plain camera parameters so the filter works with a vtkCamera, with
+// ParaView's render view, or with explicit numbers. The view volume is the
+// camera's frustum without near and far planes (VTK resets its clipping range
+// to the data, so nothing in front of the camera is clipped in depth).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace canopy
+{
+
+using Vec3 = std::array<double, 3>;
+
+struct CameraParameters
+{
+  Vec3 position{{0, 0, 1}};
+  Vec3 focalPoint{{0, 0, 0}};
+  Vec3 viewUp{{0, 1, 0}};
+  bool parallelProjection = true;
+  double parallelScale = 1.0; ///< half the view height in world units (parallel)
+  double viewAngle = 30.0;    ///< full vertical angle in degrees (perspective)
+  int viewportWidth = 512;    ///< pixels
+  int viewportHeight = 512;   ///< pixels
+};
+
+/// A half-space n . p <= offset.
+struct HalfSpace
+{
+  Vec3 normal;
+  double offset;
+};
+
+class ViewVolume
+{
+public:
+  /// Returns an empty string when the parameters describe a usable view,
+  /// otherwise what is wrong with them.
+  static std::string validate(const CameraParameters& camera);
+
+  /// Precondition: validate(camera) is empty.
+  explicit ViewVolume(const CameraParameters& camera);
+
+  /// The half-spaces bounding the view: 4 for parallel projection, 5 for
+  /// perspective (the fifth keeps what is in front of the camera).
+  const std::vector<HalfSpace>& halfSpaces() const { return HalfSpaces; }
+
+  /// Largest extent, in pixels, of the screen-space bounding box of the given
+  /// points; +infinity when a point is at or behind the camera (perspective).
+  template <std::size_t N>
+  double footprintInPixels(const std::array<Vec3, N>& points) const;
+
+  /// Pixel coordinates (x right, y up, origin at the lower-left corner) of a point
+  /// in front of the camera.
+  std::array<double, 2> toPixels(const Vec3& p) const;
+
+  /// True when the axis-aligned box [lo, hi] and the view volume share a region
+  /// of positive volume. Exact (separating-axis test on the box's and the
+  /// frustum's face normals and edge cross products), not a bounding sphere.
+  bool overlapsBox(const Vec3& lo, const Vec3& hi) const;
+
+  /// Depth along the direction of projection, from the camera (perspective) or
+  /// from the focal point (parallel).
+  double depth(const Vec3& p) const;
+
+  const Vec3& directionOfProjection() const { return Forward; }
+  const Vec3& position() const { return Camera.position; }
+  bool parallel() const { return Camera.parallelProjection; }
+  /// World size of one pixel at the focal plane (parallel) .
+  double pixelSizeAtFocalPlane() const;
+  const CameraParameters& camera() const { return Camera; }
+
+private:
+  CameraParameters Camera;
+  Vec3 Forward; ///< unit direction of projection
+  Vec3 Up;      ///< unit, orthogonal to Forward
+  Vec3 Right;   ///< Forward x Up
+  double HalfWidth = 0;     ///< parallel: world units; perspective: tangent
+  double HalfHeight = 0;    ///< same
+  std::vector<HalfSpace> HalfSpaces;
+  /// Parallel: the four corners of the view rectangle at the focal point.
+  /// Perspective: the four corner ray directions from the camera.
+  std::array<Vec3, 4> Corners;
+  std::vector<Vec3> SeparatingAxes; ///< frustum face normals and edge x box edge
+};
+
+template <std::size_t N>
+double ViewVolume::footprintInPixels(const std::array<Vec3, N>& points) const
+{
+  double lo[2] = {1e300, 1e300};
+  double hi[2] = {-1e300, -1e300};
+  for (const Vec3& p : points)
+  {
+    if (!Camera.parallelProjection)
+    {
+      const Vec3 q{{p[0] - Camera.position[0], p[1] - Camera.position[1],
+                    p[2] - Camera.position[2]}};
+      if (q[0] * Forward[0] + q[1] * Forward[1] + q[2] * Forward[2] <= 0)
+      {
+        return 1e300;
+      }
+    }
+    const auto px = toPixels(p);
+    for (int a = 0; a < 2; ++a)
+    {
+      lo[a] = px[a] < lo[a] ? px[a] : lo[a];
+      hi[a] = px[a] > hi[a] ? px[a] : hi[a];
+    }
+  }
+  const double dx = hi[0] - lo[0];
+  const double dy = hi[1] - lo[1];
+  return dx > dy ? dx : dy;
+}
+
+} // namespace canopy
