@@ -1,0 +1,408 @@
+// The adaptive surface on 3D grids against a voxelization at the finest level:
+// the output must cover exactly the boundary of the union of unmasked leaves
+// (per-axis area equal to the exposed voxel faces, every quad with an occupied
+// voxel behind it and an empty one in front, closed-surface volume identity),
+// and culling must only ever remove pieces of that surface.
+#include "PaperCaseDefinitions.h"
+#include "RandomForest.h"
+
+#include "canopy/HtgBuilder.h"
+#include "vtkCanopyAdaptiveSurface.h"
+
+#include <gtest/gtest.h>
+#include <vtkCamera.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+
+namespace canopy::testing
+{
+namespace
+{
+
+using Point = std::array<double, 3>;
+
+/// Occupancy of the finest-level voxels by unmasked leaves (VTK's cursors).
+class Voxels
+{
+public:
+  explicit Voxels(vtkHyperTreeGrid* htg)
+  {
+    const unsigned int levels = htg->GetNumberOfLevels();
+    PerRoot = 1;
+    for (unsigned int l = 1; l < levels; ++l)
+    {
+      PerRoot *= static_cast<long>(htg->GetBranchFactor());
+    }
+    vtkDataArray* coords[3] = {htg->GetXCoordinates(), htg->GetYCoordinates(),
+                               htg->GetZCoordinates()};
+    for (int a = 0; a < 3; ++a)
+    {
+      for (vtkIdType i = 0; i < coords[a]->GetNumberOfTuples(); ++i)
+      {
+        Coords[a].push_back(coords[a]->GetComponent(i, 0));
+      }
+      Count[a] = (static_cast<long>(Coords[a].size()) - 1) * PerRoot;
+    }
+    Occupied.assign(static_cast<std::size_t>(Count[0] * Count[1] * Count[2]), 0);
+    vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
+    htg->InitializeTreeIterator(it);
+    vtkIdType index = 0;
+    while (it.GetNextTree(index))
+    {
+      vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
+      htg->InitializeNonOrientedGeometryCursor(cursor, index);
+      auto walk = [&](auto& self) -> void {
+        if (cursor->IsMasked())
+        {
+          return;
+        }
+        if (cursor->IsLeaf())
+        {
+          double b[6];
+          cursor->GetBounds(b);
+          std::array<long, 3> lo;
+          std::array<long, 3> hi;
+          for (int a = 0; a < 3; ++a)
+          {
+            lo[a] = voxelAt(a, b[2 * a], +1);
+            hi[a] = voxelAt(a, b[2 * a + 1], -1) + 1;
+          }
+          for (long k = lo[2]; k < hi[2]; ++k)
+            for (long j = lo[1]; j < hi[1]; ++j)
+              for (long i = lo[0]; i < hi[0]; ++i)
+                Occupied[static_cast<std::size_t>(i + Count[0] * (j + Count[1] * k))] = 1;
+          return;
+        }
+        for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
+        {
+          cursor->ToChild(c);
+          self(self);
+          cursor->ToParent();
+        }
+      };
+      walk(walk);
+    }
+  }
+
+  /// Voxel index along `axis` containing x (nudged inward by `bias` voxels * 1e-6).
+  long voxelAt(int axis, double x, int bias) const
+  {
+    const auto& c = Coords[axis];
+    long root = static_cast<long>(std::upper_bound(c.begin(), c.end(), x) - c.begin()) - 1;
+    root = std::clamp(root, 0L, static_cast<long>(c.size()) - 2);
+    const double t = (x - c[root]) / (c[root + 1] - c[root]) * PerRoot + bias * 1e-6;
+    return std::clamp(root * PerRoot + static_cast<long>(std::floor(t)), 0L, Count[axis] - 1);
+  }
+
+  bool occupiedAt(const Point& p) const
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      if (p[a] < Coords[a].front() || p[a] > Coords[a].back())
+      {
+        return false;
+      }
+    }
+    const long i = voxelAt(0, p[0], 0);
+    const long j = voxelAt(1, p[1], 0);
+    const long k = voxelAt(2, p[2], 0);
+    return Occupied[static_cast<std::size_t>(i + Count[0] * (j + Count[1] * k))] != 0;
+  }
+
+  double size(int axis, long i) const
+  {
+    const long root = i / PerRoot;
+    return (Coords[axis][root + 1] - Coords[axis][root]) / PerRoot;
+  }
+  double lower(int axis, long i) const
+  {
+    const long root = i / PerRoot;
+    return Coords[axis][root] + size(axis, i) * static_cast<double>(i % PerRoot);
+  }
+
+  /// Exposed area per axis and the occupied volume.
+  void boundary(std::array<double, 3>& area, double& volume) const
+  {
+    area = {{0, 0, 0}};
+    volume = 0;
+    auto occupied = [&](long i, long j, long k) {
+      if (i < 0 || j < 0 || k < 0 || i >= Count[0] || j >= Count[1] || k >= Count[2])
+      {
+        return false;
+      }
+      return Occupied[static_cast<std::size_t>(i + Count[0] * (j + Count[1] * k))] != 0;
+    };
+    for (long k = 0; k < Count[2]; ++k)
+      for (long j = 0; j < Count[1]; ++j)
+        for (long i = 0; i < Count[0]; ++i)
+        {
+          if (!occupied(i, j, k))
+          {
+            continue;
+          }
+          const double dx = size(0, i), dy = size(1, j), dz = size(2, k);
+          volume += dx * dy * dz;
+          area[0] += (!occupied(i - 1, j, k) + !occupied(i + 1, j, k)) * dy * dz;
+          area[1] += (!occupied(i, j - 1, k) + !occupied(i, j + 1, k)) * dx * dz;
+          area[2] += (!occupied(i, j, k - 1) + !occupied(i, j, k + 1)) * dx * dy;
+        }
+  }
+
+  double smallestVoxel() const
+  {
+    double s = 1e300;
+    for (int a = 0; a < 3; ++a)
+      for (long i = 0; i < Count[a]; i += PerRoot)
+        s = std::min(s, size(a, i));
+    return s;
+  }
+
+private:
+  std::array<std::vector<double>, 3> Coords;
+  std::array<long, 3> Count{{0, 0, 0}};
+  long PerRoot = 1;
+  std::vector<unsigned char> Occupied;
+};
+
+struct Quad
+{
+  std::array<Point, 4> p;
+  int axis;     ///< axis of the normal
+  double sign;  ///< +1 or -1: outward direction along the axis
+  double area;
+};
+
+std::vector<Quad> quadsOf(vtkPolyData* surface)
+{
+  std::vector<Quad> quads;
+  for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
+  {
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    surface->GetCellPoints(c, n, ids);
+    EXPECT_EQ(n, 4);
+    Quad q;
+    for (int k = 0; k < 4; ++k)
+    {
+      surface->GetPoint(ids[k], q.p[k].data());
+    }
+    Point e1, e2;
+    for (int a = 0; a < 3; ++a)
+    {
+      e1[a] = q.p[1][a] - q.p[0][a];
+      e2[a] = q.p[3][a] - q.p[0][a];
+    }
+    const Point normal{{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]}};
+    q.axis = 0;
+    for (int a = 1; a < 3; ++a)
+    {
+      if (std::abs(normal[a]) > std::abs(normal[q.axis]))
+      {
+        q.axis = a;
+      }
+    }
+    q.sign = normal[q.axis] > 0 ? 1.0 : -1.0;
+    q.area = std::abs(normal[q.axis]);
+    quads.push_back(q);
+  }
+  return quads;
+}
+
+/// Checks the surface against the voxelization; returns the number of quads.
+std::size_t expectExactBoundary(vtkHyperTreeGrid* htg, vtkPolyData* surface,
+                                const std::string& label)
+{
+  Voxels voxels(htg);
+  std::array<double, 3> expectedArea;
+  double expectedVolume = 0;
+  voxels.boundary(expectedArea, expectedVolume);
+  const double eps = 1e-3 * voxels.smallestVoxel();
+  std::array<double, 3> area{{0, 0, 0}};
+  std::array<double, 3> volume{{0, 0, 0}};
+  int misplaced = 0;
+  for (const Quad& q : quadsOf(surface))
+  {
+    area[q.axis] += q.area;
+    volume[q.axis] += q.sign * q.p[0][q.axis] * q.area;
+    Point centre{{0, 0, 0}};
+    for (const Point& p : q.p)
+      for (int a = 0; a < 3; ++a)
+        centre[a] += p[a] / 4;
+    Point inside = centre;
+    Point outside = centre;
+    inside[q.axis] -= q.sign * eps;
+    outside[q.axis] += q.sign * eps;
+    misplaced += !(voxels.occupiedAt(inside) && !voxels.occupiedAt(outside));
+  }
+  EXPECT_EQ(misplaced, 0) << label << ": quads not on the boundary or facing inward";
+  for (int a = 0; a < 3; ++a)
+  {
+    EXPECT_NEAR(area[a], expectedArea[a], 1e-9 * expectedArea[a] + 1e-12)
+      << label << ": area normal to axis " << a;
+    EXPECT_NEAR(volume[a], expectedVolume, 1e-9 * expectedVolume + 1e-12)
+      << label << ": volume identity along axis " << a;
+  }
+  return quadsOf(surface).size();
+}
+
+vtkSmartPointer<vtkPolyData> fullSurface(vtkHyperTreeGrid* htg)
+{
+  vtkNew<vtkCanopyAdaptiveSurface> filter;
+  filter->SetInputData(htg);
+  filter->ViewDependentOff();
+  filter->Update();
+  return filter->GetPolyDataOutput();
+}
+
+TEST(AdaptiveSurface3D, CaseBFullSurfaceIsExactlyTheBoundary)
+{
+  DescriptorForest plain(paperCaseB(false));
+  auto htg = buildHyperTreeGrid(plain.description());
+  const std::size_t outer = expectExactBoundary(htg, fullSurface(htg), "case B");
+  EXPECT_EQ(outer, 466u); // faces with no neighbour (paper_cases.md)
+
+  DescriptorForest masked(paperCaseB(true));
+  auto maskedHtg = buildHyperTreeGrid(masked.description());
+  const std::size_t withMask =
+    expectExactBoundary(maskedHtg, fullSurface(maskedHtg), "case B with mask");
+  std::cout << "case B: " << outer << " faces; with mask: " << withMask << " faces\n";
+}
+
+TEST(AdaptiveSurface3D, RandomForestsFullSurfaceIsExactlyTheBoundary)
+{
+  for (std::uint64_t seed = 1; seed <= 12; ++seed)
+  {
+    RandomForestOptions o;
+    o.dimension = 3;
+    o.branchFactor = seed % 3 == 0 ? 3 : 2;
+    o.rootCells = {{3, 2, 2}};
+    o.maxLevels = o.branchFactor == 2 ? 5 : 3;
+    o.refineProbability = 0.4;
+    o.maskProbability = 0.15;
+    o.skipEveryOtherRoot = seed % 4 == 1; // absent trees expose their neighbours
+    o.origin = {{-7.5, 1e3, 3.25}};
+    o.seed = seed;
+    RandomForest forest(o);
+    auto htg = buildHyperTreeGrid(forest.description());
+    expectExactBoundary(htg, fullSurface(htg), "seed " + std::to_string(seed));
+  }
+}
+
+using QuadKey = std::array<long long, 12>;
+
+std::set<QuadKey> quadKeys(vtkPolyData* surface)
+{
+  std::set<QuadKey> keys;
+  for (const Quad& q : quadsOf(surface))
+  {
+    std::array<std::array<long long, 3>, 4> corners;
+    for (int k = 0; k < 4; ++k)
+      for (int a = 0; a < 3; ++a)
+        corners[k][a] = std::llround(q.p[k][a] * 1e9);
+    std::sort(corners.begin(), corners.end());
+    QuadKey key;
+    for (int k = 0; k < 4; ++k)
+      for (int a = 0; a < 3; ++a)
+        key[3 * k + a] = corners[k][a];
+    keys.insert(key);
+  }
+  return keys;
+}
+
+vtkSmartPointer<vtkPolyData> viewSurface(vtkHyperTreeGrid* htg, vtkCamera* camera, int w, int h,
+                                         bool lod, bool backFaces = false)
+{
+  vtkNew<vtkCanopyAdaptiveSurface> filter;
+  filter->SetInputData(htg);
+  filter->SetCamera(camera);
+  filter->SetViewportSize(w, h);
+  filter->SetLevelOfDetail(lod);
+  filter->SetSkipBackFaces(backFaces);
+  filter->Update();
+  return filter->GetPolyDataOutput();
+}
+
+TEST(AdaptiveSurface3D, WholeGridInViewEqualsTheFullSurface)
+{
+  for (bool withMask : {false, true})
+  {
+    DescriptorForest forest(paperCaseB(withMask));
+    auto htg = buildHyperTreeGrid(forest.description());
+    vtkNew<vtkCamera> camera;
+    camera->SetFocalPoint(2.25, 1.5, 0.7);
+    camera->SetPosition(2.25 + 6, 1.5 - 7, 0.7 + 5);
+    camera->SetViewUp(0, 0, 1);
+    camera->SetViewAngle(30);
+    const auto full = quadKeys(fullSurface(htg));
+    const auto seen = quadKeys(viewSurface(htg, camera, 800, 600, true));
+    EXPECT_EQ(seen, full) << (withMask ? "with mask" : "without mask");
+  }
+}
+
+TEST(AdaptiveSurface3D, CulledSurfaceIsASubsetOfTheFullSurface)
+{
+  DescriptorForest forest(paperCaseB(true));
+  auto htg = buildHyperTreeGrid(forest.description());
+  const auto full = quadKeys(fullSurface(htg));
+  std::mt19937_64 random(42);
+  std::uniform_real_distribution<double> unit(0, 1);
+  int partial = 0;
+  for (int v = 0; v < 20; ++v)
+  {
+    vtkNew<vtkCamera> camera;
+    camera->SetFocalPoint(4.5 * unit(random), 3 * unit(random), 1.4 * unit(random));
+    camera->SetPosition(10 * unit(random) - 3, 10 * unit(random) - 3, 6 * unit(random) - 2);
+    camera->SetViewUp(0, 0, 1);
+    camera->OrthogonalizeViewUp();
+    camera->SetParallelProjection(v % 2);
+    camera->SetParallelScale(0.2 + unit(random));
+    camera->SetViewAngle(15 + 30 * unit(random));
+    const auto seen = quadKeys(viewSurface(htg, camera, 640, 480, false));
+    std::vector<QuadKey> extra;
+    std::set_difference(seen.begin(), seen.end(), full.begin(), full.end(),
+                        std::back_inserter(extra));
+    EXPECT_TRUE(extra.empty()) << "view " << v << ": " << extra.size() << " quads not in the full surface";
+    partial += seen.size() < full.size() && !seen.empty();
+    // Back faces skipped: a subset again.
+    const auto front = quadKeys(viewSurface(htg, camera, 640, 480, false, true));
+    EXPECT_TRUE(std::includes(seen.begin(), seen.end(), front.begin(), front.end()));
+    EXPECT_LT(front.size(), seen.size() + (seen.empty() ? 1 : 0));
+  }
+  EXPECT_GE(partial, 5) << "most views should cull something";
+}
+
+TEST(AdaptiveSurface3D, SkippedBackFacesFaceAwayFromTheCamera)
+{
+  DescriptorForest forest(paperCaseB(false));
+  auto htg = buildHyperTreeGrid(forest.description());
+  vtkNew<vtkCamera> camera;
+  camera->SetFocalPoint(2.25, 1.5, 0.7);
+  camera->SetPosition(2.25 + 6, 1.5 - 7, 0.7 + 5);
+  camera->SetViewUp(0, 0, 1);
+  camera->ParallelProjectionOn();
+  camera->SetParallelScale(3);
+  double dop[3];
+  camera->GetDirectionOfProjection(dop);
+  auto surface = viewSurface(htg, camera, 640, 480, false, true);
+  ASSERT_GT(surface->GetNumberOfCells(), 0);
+  for (const Quad& q : quadsOf(surface))
+  {
+    EXPECT_LT(q.sign * dop[q.axis], 0);
+  }
+}
+
+} // namespace
+} // namespace canopy::testing
