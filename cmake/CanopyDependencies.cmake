@@ -5,28 +5,53 @@
 # imported targets (Freetype::Freetype, X11::X11, GLEW::GLEW, ...) that its own
 # config does not create. They must be found before find_package(ParaView).
 # Never find Debian's standalone VTK 9.1: two VTKs in one process crash.
+#
+# Not include-guarded on purpose: imported targets are directory-scoped, so a
+# consumer calling find_package(Canopy) in two directories needs both runs.
 
-include_guard(GLOBAL)
-
-set(_canopy_pv_vtk_modules "/usr/lib/x86_64-linux-gnu/cmake/paraview-5.11/vtk")
-if(EXISTS "${_canopy_pv_vtk_modules}")
-  list(PREPEND CMAKE_MODULE_PATH "${_canopy_pv_vtk_modules}")
+# In a package config, a missing dependency makes find_package(Canopy) fail
+# gracefully (Canopy_FOUND false); in the project build it is an error.
+macro(_canopy_find_dependency)
+  if(CANOPY_FINDING_PACKAGE)
+    find_dependency(${ARGV})
+  else()
+    find_package(${ARGV} REQUIRED)
+  endif()
+endmacro()
+if(CANOPY_FINDING_PACKAGE)
+  include(CMakeFindDependencyMacro)
 endif()
 
-find_package(Freetype REQUIRED)
-find_package(X11 REQUIRED)
-find_package(GLEW REQUIRED)
-find_package(LibXml2 REQUIRED)
-find_package(Boost REQUIRED)
-find_package(HDF5 REQUIRED COMPONENTS C HL)
-find_package(NetCDF REQUIRED)
-find_package(MPI REQUIRED COMPONENTS C CXX)
+# ParaView ships Find modules (FindNetCDF, ...) next to its VTK config; use
+# them for this discovery only, then restore the caller's module path.
+set(_canopy_saved_module_path "${CMAKE_MODULE_PATH}")
+find_path(_canopy_pv_find_modules FindNetCDF.cmake
+  PATHS
+    "/usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/paraview-5.11/vtk"
+    "/usr/lib/cmake/paraview-5.11/vtk"
+    "/usr/local/lib/cmake/paraview-5.11/vtk"
+  NO_DEFAULT_PATH)
+if(_canopy_pv_find_modules)
+  list(PREPEND CMAKE_MODULE_PATH "${_canopy_pv_find_modules}")
+endif()
 
+_canopy_find_dependency(Freetype)
+_canopy_find_dependency(X11)
+_canopy_find_dependency(GLEW)
+_canopy_find_dependency(LibXml2)
+_canopy_find_dependency(Boost)
+_canopy_find_dependency(HDF5 COMPONENTS C HL)
+_canopy_find_dependency(NetCDF)
+_canopy_find_dependency(MPI COMPONENTS C CXX)
 # Ask for explicit components: a bare find_package(ParaView) requires Qt5.
-find_package(ParaView 5.11 REQUIRED
+# Catalyst is what the in-situ driver links; the filters need only VTK.
+_canopy_find_dependency(ParaView 5.11
   COMPONENTS Catalyst PythonCatalyst RemotingCore RemotingServerManager)
 
-if(NOT TARGET VTK::CommonDataModel)
+set(CMAKE_MODULE_PATH "${_canopy_saved_module_path}")
+unset(_canopy_saved_module_path)
+
+if(NOT CANOPY_FINDING_PACKAGE AND NOT TARGET VTK::CommonDataModel)
   message(FATAL_ERROR "ParaView was found but VTK::CommonDataModel is missing; "
                       "is paraview-dev installed?")
 endif()

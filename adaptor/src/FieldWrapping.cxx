@@ -40,6 +40,22 @@ struct ContiguousArray<std::int64_t>
   using type = vtkTypeInt64Array;
 };
 
+/// The VTK value type used for a simulation type (same size and representation).
+template <typename T>
+using VtkValue = std::conditional_t<std::is_same_v<T, std::int64_t>, vtkTypeInt64, T>;
+
+template <typename T>
+std::vector<const VtkValue<T>*> storedBases(const std::vector<const T*>& bases)
+{
+  static_assert(sizeof(VtkValue<T>) == sizeof(T), "VTK value type must match the field's");
+  std::vector<const VtkValue<T>*> stored;
+  for (const T* base : bases)
+  {
+    stored.push_back(reinterpret_cast<const VtkValue<T>*>(base));
+  }
+  return stored;
+}
+
 template <typename T>
 vtkSmartPointer<vtkDataArray> wrapTyped(const FieldDescription& field, vtkIdType tuples)
 {
@@ -61,20 +77,22 @@ vtkSmartPointer<vtkDataArray> wrapTyped(const FieldDescription& field, vtkIdType
     array->SetArray(reinterpret_cast<Stored*>(const_cast<void*>(first)), tuples * nc, 1);
     return array;
   }
+  // 64-bit integers as VTK's own 64-bit type (long long) in every layout.
+  using Stored = VtkValue<T>;
   if (field.layout == Layout::SoA)
   {
-    auto array = vtkSmartPointer<vtkSOADataArrayTemplate<T>>::New();
+    auto array = vtkSmartPointer<vtkSOADataArrayTemplate<Stored>>::New();
     array->SetNumberOfComponents(nc);
     for (int c = 0; c < nc; ++c)
     {
-      array->SetArray(c, const_cast<T*>(static_cast<const T*>(field.componentData[c])), tuples,
-                      /*updateMaxId=*/true, /*save=*/true);
+      array->SetArray(c, reinterpret_cast<Stored*>(const_cast<void*>(field.componentData[c])),
+                      tuples, /*updateMaxId=*/true, /*save=*/true);
     }
     return array;
   }
-  auto array = vtkSmartPointer<SimulationFieldArray<T>>::New();
+  auto array = vtkSmartPointer<SimulationFieldArray<Stored>>::New();
   const FieldView<T> view = FieldView<T>::of(field);
-  array->borrow(view.bases, view.strideBytes, tuples);
+  array->borrow(storedBases<T>(view.bases), view.strideBytes, tuples);
   return array;
 }
 

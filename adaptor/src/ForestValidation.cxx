@@ -1,6 +1,7 @@
 #include "canopy/ForestValidation.h"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <set>
@@ -133,7 +134,7 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
     if (levels > forest.maxLevels)
     {
       problems.add(treeName(t, tree), ": refined beyond maxLevels = ", forest.maxLevels, " (level ",
-                   levels - 1, " has refined nodes)");
+                   levels - 2, " has refined nodes)");
       return false;
     }
     if (levelStart + levelSize > n)
@@ -252,6 +253,11 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
   }
 }
 
+bool misaligned(const void* pointer, std::size_t valueSize)
+{
+  return pointer != nullptr && reinterpret_cast<std::uintptr_t>(pointer) % valueSize != 0;
+}
+
 void validateFields(const ForestDescription& forest, const ForestLayout& layout,
                     ProblemList& problems)
 {
@@ -324,6 +330,22 @@ void validateFields(const ForestDescription& forest, const ForestLayout& layout,
       problems.add(name, ": unknown layout");
       continue;
     }
+    // Values are read as T: pointers must be aligned to the value size.
+    if (field.layout == Layout::SoA)
+    {
+      for (std::size_t c = 0; c < field.componentData.size(); ++c)
+      {
+        if (misaligned(field.componentData[c], valueSize))
+        {
+          problems.add(name, ": component ", c, " pointer is not aligned to its ", valueSize,
+                       "-byte values");
+        }
+      }
+    }
+    else if (misaligned(field.data, valueSize))
+    {
+      problems.add(name, ": data pointer is not aligned to its ", valueSize, "-byte values");
+    }
     const bool leavesOnly = field.centering == Centering::LeavesOnly;
     if (leavesOnly && field.type != ValueType::Float32 && field.type != ValueType::Float64)
     {
@@ -381,6 +403,34 @@ ForestLayout validateForest(const ForestDescription& forest)
     throw InvalidForest(problems.take());
   }
   return layout;
+}
+
+void validateFields(const ForestDescription& forest, const ForestLayout& layout)
+{
+  ProblemList problems;
+  if (layout.trees.size() != forest.trees.size())
+  {
+    problems.add("layout has ", layout.trees.size(), " trees but the forest has ",
+                 forest.trees.size(), "; validate the forest again after changing its trees");
+    throw InvalidForest(problems.take());
+  }
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    if (layout.trees[t].numberOfNodes != forest.trees[t].numberOfNodes ||
+        forest.trees[t].refinement == nullptr)
+    {
+      problems.add(treeName(t, forest.trees[t]),
+                   ": does not match the layout; validate the forest again after changing it");
+    }
+  }
+  if (problems.empty())
+  {
+    validateFields(forest, layout, problems);
+  }
+  if (!problems.empty())
+  {
+    throw InvalidForest(problems.take());
+  }
 }
 
 } // namespace canopy

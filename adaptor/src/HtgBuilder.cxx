@@ -160,6 +160,8 @@ vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& fo
                                                      const ForestLayout& layout,
                                                      const FieldRequest& request)
 {
+  // The layout may be from an earlier step: the fields must still be checked.
+  validateFields(forest, layout);
   const std::vector<const FieldDescription*> fields = selectFields(forest, request);
 
   auto htg = vtkSmartPointer<vtkHyperTreeGrid>::New();

@@ -16,6 +16,7 @@
 #include <vtkGenericDataArray.h>
 #include <vtkObjectFactory.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <memory>
@@ -32,7 +33,10 @@ class SimulationFieldArray : public vtkGenericDataArray<SimulationFieldArray<T>,
 
 public:
   using SelfType = SimulationFieldArray<T>;
-  vtkTemplateTypeMacro(SelfType, GenericBase);
+  vtkAbstractTemplateTypeMacro(SelfType, GenericBase);
+  // NewInstance gives a plain AoS array of the same type: filters that copy this
+  // array's structure get ordinary, writable VTK memory.
+  vtkAOSArrayNewInstanceMacro(SelfType);
   using ValueType = typename Superclass::ValueType;
 
   /// Slot -> leaf tuple (>= 0) or -(coarse tuple) - 1 (< 0).
@@ -47,11 +51,11 @@ public:
   {
     this->Owned.clear();
     this->Owned.shrink_to_fit();
+    this->dropBorrow();
+    // Through the base class: it also sizes VTK's scratch tuple used by GetTuple.
+    this->GenericBase::SetNumberOfComponents(static_cast<int>(componentBase.size()));
     this->Bases.assign(componentBase.begin(), componentBase.end());
     this->Stride = tupleStrideBytes;
-    this->Map.reset();
-    this->Coarse.clear();
-    this->NumberOfComponents = static_cast<int>(componentBase.size());
     this->Size = numberOfTuples * this->NumberOfComponents;
     this->MaxId = this->Size - 1;
     this->DataChanged();
@@ -128,6 +132,25 @@ public:
     this->Owned[static_cast<std::size_t>(tupleIdx * this->NumberOfComponents + comp)] = value;
   }
 
+  /// Changing the tuple shape ends the borrow first (the values are kept, owned).
+  void SetNumberOfComponents(int num) override
+  {
+    if (num != this->NumberOfComponents)
+    {
+      this->detach();
+    }
+    this->GenericBase::SetNumberOfComponents(num);
+  }
+
+  /// Releases everything without copying the borrowed values first.
+  void Initialize() override
+  {
+    this->dropBorrow();
+    this->Owned.clear();
+    this->Owned.shrink_to_fit();
+    this->GenericBase::Initialize();
+  }
+
   /// Raw pointers need contiguous AoS memory: detach into an owned copy (as
   /// vtkSOADataArrayTemplate does). Later simulation updates are then not seen.
   void* GetVoidPointer(vtkIdType valueIdx) override
@@ -176,9 +199,10 @@ private:
     }
     const vtkIdType tuples = this->GetNumberOfTuples();
     std::vector<ValueType> copy(static_cast<std::size_t>(this->Size));
+    const int components = std::min(this->NumberOfComponents, static_cast<int>(this->Bases.size()));
     for (vtkIdType t = 0; t < tuples; ++t)
     {
-      for (int c = 0; c < this->NumberOfComponents; ++c)
+      for (int c = 0; c < components; ++c)
       {
         copy[static_cast<std::size_t>(t * this->NumberOfComponents + c)] =
             this->GetTypedComponent(t, c);

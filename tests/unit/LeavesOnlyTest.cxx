@@ -1,6 +1,8 @@
 // Leaves-only fields: leaf values are read in place, coarse values are volume
 // averages of the unmasked children (all children when every child is masked),
 // computed bottom-up. Expected values below are worked out by hand.
+#include "RandomForest.h"
+
 #include "canopy/HtgBuilder.h"
 
 #include <gtest/gtest.h>
@@ -96,17 +98,20 @@ TEST(LeavesOnly, AllChildrenMaskedFallsBackToEveryChild)
   TwoLevelTree tree;
   for (int n = 5; n <= 8; ++n)
   {
-    tree.masked[n] = 1;
+    tree.masked[n] = 1; // every child of node 2
   }
+  tree.masked[3] = 1; // a leaf child of the root (value 2)
   ForestDescription d = tree.describe(true, false);
   const std::vector<float> energy{1, 2, 3, 10, 20, 30, 40};
-  d.fields.push_back(
-      FieldDescription::aos("energy", energy.data(), energy.size(), 1, Centering::LeavesOnly));
+  d.fields.push_back(FieldDescription::aos("energy", energy.data(), energy.size(), 1,
+                                           Centering::LeavesOnly));
   auto htg = buildHyperTreeGrid(d);
   vtkDataArray* e = htg->GetCellData()->GetArray("energy");
   EXPECT_EQ(e->GetDataType(), VTK_FLOAT);
+  // Node 2: all children masked, so all of them are used.
   EXPECT_EQ(e->GetTuple1(2), 25.0f);
-  EXPECT_EQ(e->GetTuple1(0), 7.75f);
+  // Root: node 3 (masked) is left out: (1 + 25 + 3) / 3; ignoring masks would give 7.75.
+  EXPECT_FLOAT_EQ(static_cast<float>(e->GetTuple1(0)), (1.0f + 25.0f + 3.0f) / 3.0f);
 }
 
 TEST(LeavesOnly, VectorFieldInRecordsIsAveragedPerComponent)
@@ -167,6 +172,79 @@ TEST(LeavesOnly, ThreeDimensionalTernaryAverageMatchesBruteForce)
   vtkDataArray* f = htg->GetCellData()->GetArray("f");
   EXPECT_NEAR(f->GetTuple1(0), weighted, 1e-12 * 100);
   EXPECT_NEAR(f->GetTuple1(14), fineSum / 27, 1e-12 * 100);
+}
+
+TEST(LeavesOnly, SoAVectorOverManyTreesMatchesBruteForceVolumeAverages)
+{
+  for (StorageOrder order : {StorageOrder::BreadthFirst, StorageOrder::DepthFirst})
+  {
+    RandomForestOptions o;
+    o.dimension = 3;
+    o.branchFactor = 2;
+    o.rootCells = {{3, 2, 2}};
+    o.maxLevels = 4;
+    o.maskProbability = 0.2;
+    o.order = order;
+    o.seed = 77;
+    RandomForest forest(o);
+    // Leaves in slot order; two components.
+    std::vector<std::int64_t> leafOfSlot(forest.numberOfNodes(), -1);
+    for (std::size_t t = 0; t < forest.nodes().size(); ++t)
+      for (std::size_t n = 0; n < forest.nodes()[t].size(); ++n)
+        if (!forest.refinement()[t][n])
+          leafOfSlot[static_cast<std::size_t>(forest.nodes()[t][n].slot)] = 0;
+    std::int64_t next = 0;
+    for (auto& l : leafOfSlot)
+      if (l == 0)
+        l = next++;
+    std::vector<double> a(static_cast<std::size_t>(next)), b(static_cast<std::size_t>(next));
+    for (std::size_t i = 0; i < a.size(); ++i)
+    {
+      a[i] = std::sin(1.7 * i);
+      b[i] = std::cos(0.3 * i) * 10;
+    }
+    auto& d = forest.description();
+    d.fields.push_back(FieldDescription::soa<double>("ab", {a.data(), b.data()}, a.size(),
+                                                     Centering::LeavesOnly));
+    auto htg = buildHyperTreeGrid(d);
+    vtkDataArray* ab = htg->GetCellData()->GetArray("ab");
+    // Brute force, recursively from each root: the mean of the (unmasked, or all
+    // if all masked) children's values.
+    for (std::size_t t = 0; t < forest.nodes().size(); ++t)
+    {
+      const auto& nodes = forest.nodes()[t];
+      const auto& masked = forest.masked()[t];
+      std::vector<std::vector<std::size_t>> children(nodes.size());
+      for (std::size_t n = 1; n < nodes.size(); ++n)
+        children[static_cast<std::size_t>(nodes[n].parent)].push_back(n);
+      auto value = [&](auto& self, std::size_t n, int c) -> double {
+        if (children[n].empty())
+        {
+          const auto leaf = leafOfSlot[static_cast<std::size_t>(nodes[n].slot)];
+          return c == 0 ? a[static_cast<std::size_t>(leaf)] : b[static_cast<std::size_t>(leaf)];
+        }
+        double sum = 0;
+        int used = 0;
+        for (std::size_t k : children[n])
+          if (!masked[k])
+          {
+            sum += self(self, k, c);
+            ++used;
+          }
+        if (used == 0)
+          for (std::size_t k : children[n])
+          {
+            sum += self(self, k, c);
+            ++used;
+          }
+        return sum / used;
+      };
+      for (std::size_t n = 0; n < nodes.size(); ++n)
+        for (int c = 0; c < 2; ++c)
+          ASSERT_NEAR(ab->GetComponent(nodes[n].slot, c), value(value, n, c), 1e-12)
+            << "tree " << t << " node " << n;
+    }
+  }
 }
 
 } // namespace

@@ -45,12 +45,21 @@ struct WalkTotals
 };
 
 /// Walks both trees together and compares every node.
+/// Where Canopy must have put each node: slot = tree offset + breadth-first number.
+struct ExpectedSlots
+{
+  std::size_t offset;
+  std::vector<std::size_t> firstChild;
+};
+
 void compareSubtrees(vtkHyperTreeGridNonOrientedGeometryCursor* canopy,
                      vtkHyperTreeGridNonOrientedGeometryCursor* reference,
                      vtkDataArray* canopyDepth, vtkDataArray* referenceDepth, bool masked,
-                     WalkTotals& totals, const std::string& where)
+                     WalkTotals& totals, const std::string& where, const ExpectedSlots& slots,
+                     std::size_t node)
 {
   ++totals.nodes;
+  ASSERT_EQ(canopy->GetGlobalNodeIndex(), static_cast<vtkIdType>(slots.offset + node)) << where;
   ASSERT_EQ(canopy->IsLeaf(), reference->IsLeaf()) << where;
   ASSERT_EQ(canopy->GetLevel(), reference->GetLevel()) << where;
   if (masked)
@@ -83,7 +92,7 @@ void compareSubtrees(vtkHyperTreeGridNonOrientedGeometryCursor* canopy,
     canopy->ToChild(c);
     reference->ToChild(c);
     compareSubtrees(canopy, reference, canopyDepth, referenceDepth, masked, totals,
-                    where + "/" + std::to_string(c));
+                    where + "/" + std::to_string(c), slots, slots.firstChild[node] + c);
     canopy->ToParent();
     reference->ToParent();
   }
@@ -110,7 +119,8 @@ std::size_t countVisibleLeaves(vtkHyperTreeGridNonOrientedGeometryCursor* cursor
   return visible;
 }
 
-WalkTotals compareGrids(vtkHyperTreeGrid* canopy, vtkHyperTreeGrid* reference, bool masked)
+WalkTotals compareGrids(vtkHyperTreeGrid* canopy, vtkHyperTreeGrid* reference, bool masked,
+                        const DescriptorForest& forest)
 {
   WalkTotals totals;
   EXPECT_EQ(canopy->GetDimension(), reference->GetDimension());
@@ -147,8 +157,26 @@ WalkTotals compareGrids(vtkHyperTreeGrid* canopy, vtkHyperTreeGrid* reference, b
     }
     canopy->InitializeNonOrientedGeometryCursor(canopyCursor, index);
     reference->InitializeNonOrientedGeometryCursor(referenceCursor, index);
+    ExpectedSlots slots{0, {}};
+    const auto& refinement = forest.refinement();
+    for (vtkIdType t = 0; t < index; ++t)
+    {
+      slots.offset += refinement[static_cast<std::size_t>(t)].size();
+    }
+    const auto& tree = refinement[static_cast<std::size_t>(index)];
+    const std::size_t children = canopy->GetNumberOfChildren();
+    std::size_t next = 1;
+    slots.firstChild.assign(tree.size(), 0);
+    for (std::size_t n = 0; n < tree.size(); ++n)
+    {
+      if (tree[n])
+      {
+        slots.firstChild[n] = next;
+        next += children;
+      }
+    }
     compareSubtrees(canopyCursor, referenceCursor, canopyDepth, referenceDepth, masked, totals,
-                    "tree " + std::to_string(index));
+                    "tree " + std::to_string(index), slots, 0);
   }
   return totals;
 }
@@ -175,7 +203,7 @@ TEST(PaperCases, CaseAEqualsVtkSource)
   EXPECT_EQ(forest.numberOfLeaves(), 75u);
   auto canopy = buildHyperTreeGrid(forest.description());
   auto reference = buildWithVtkSource(paperCaseA(false));
-  const WalkTotals totals = compareGrids(canopy, reference, false);
+  const WalkTotals totals = compareGrids(canopy, reference, false, forest);
   EXPECT_EQ(totals.nodes, 98u);
   EXPECT_EQ(totals.leaves, 75u);
 }
@@ -185,7 +213,7 @@ TEST(PaperCases, CaseAWithMaskEqualsVtkSource)
   DescriptorForest forest(paperCaseA(true));
   auto canopy = buildHyperTreeGrid(forest.description());
   auto reference = buildWithVtkSource(paperCaseA(true));
-  const WalkTotals totals = compareGrids(canopy, reference, true);
+  const WalkTotals totals = compareGrids(canopy, reference, true, forest);
   EXPECT_EQ(totals.nodes, 98u);
   EXPECT_EQ(visibleLeavesOf(canopy), 62u);
   EXPECT_EQ(visibleLeavesOf(reference), 62u);
@@ -198,7 +226,7 @@ TEST(PaperCases, CaseBEqualsVtkSource)
   EXPECT_EQ(forest.numberOfLeaves(), 954u);
   auto canopy = buildHyperTreeGrid(forest.description());
   auto reference = buildWithVtkSource(paperCaseB(false));
-  const WalkTotals totals = compareGrids(canopy, reference, false);
+  const WalkTotals totals = compareGrids(canopy, reference, false, forest);
   EXPECT_EQ(totals.nodes, forest.numberOfNodes());
   EXPECT_EQ(totals.leaves, 954u);
 }
@@ -208,7 +236,7 @@ TEST(PaperCases, CaseBWithMaskEqualsVtkSource)
   DescriptorForest forest(paperCaseB(true));
   auto canopy = buildHyperTreeGrid(forest.description());
   auto reference = buildWithVtkSource(paperCaseB(true));
-  const WalkTotals totals = compareGrids(canopy, reference, true);
+  const WalkTotals totals = compareGrids(canopy, reference, true, forest);
   EXPECT_EQ(totals.leaves, 954u);
   EXPECT_EQ(visibleLeavesOf(canopy), 844u);
   EXPECT_EQ(visibleLeavesOf(reference), 844u);

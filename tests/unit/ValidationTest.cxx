@@ -239,7 +239,6 @@ TEST_F(Validation, EveryTreeProblemIsListedAtOnce)
 {
   d().trees[4].rootIndex = 1;
   d().trees[2].refinement = nullptr;
-  d().dimension = 2;
   try
   {
     validateForest(d());
@@ -251,6 +250,60 @@ TEST_F(Validation, EveryTreeProblemIsListedAtOnce)
     EXPECT_NE(e.problems()[0].find("tree 2 (root 2): refinement pointer is null"),
               std::string::npos);
     EXPECT_NE(e.problems()[1].find("tree 4 (root 1): duplicate root"), std::string::npos);
+  }
+}
+
+TEST_F(Validation, StrideNotAMultipleOfTheValueSize)
+{
+  static const std::vector<double> records(2 * 98);
+  d().fields.push_back(FieldDescription::strided("m", records.data(), 12, 98));
+  expectRejected({"field 1 'm'", "tupleStrideBytes 12 is not a multiple of the value size 8"});
+}
+
+TEST_F(Validation, MaxLevelsOutOfRange)
+{
+  d().maxLevels = 0;
+  expectRejected({"maxLevels must be in [1, 64], got 0"});
+}
+
+TEST_F(Validation, NoComponents)
+{
+  d().fields[0].components = 0;
+  expectRejected({"field 0 'Depth'", "components must be >= 1, got 0"});
+}
+
+TEST_F(Validation, MisalignedPointer)
+{
+  static const std::vector<double> values(99);
+  const auto* shifted =
+    reinterpret_cast<const double*>(reinterpret_cast<const char*>(values.data()) + 4);
+  d().fields.push_back(FieldDescription::aos("shifted", shifted, 98));
+  expectRejected({"field 1 'shifted'", "not aligned to its 8-byte values"});
+}
+
+TEST_F(Validation, DepthMessageNamesTheLevelWithRefinedNodes)
+{
+  d().maxLevels = 5; // case A has refined nodes on level 4
+  expectRejected({"refined beyond maxLevels = 5 (level 4 has refined nodes)"});
+}
+
+TEST_F(Validation, AStoredLayoutStillChecksTheFields)
+{
+  const ForestLayout layout = validateForest(d());
+  EXPECT_NO_THROW(buildHyperTreeGrid(d(), layout, FieldRequest::all()));
+  d().fields[0].data = nullptr; // re-pointed after validation
+  EXPECT_THROW(buildHyperTreeGrid(d(), layout, FieldRequest::all()), InvalidForest);
+  d().fields[0].data = Forest.depth().data();
+  d().trees.pop_back(); // the trees changed too
+  try
+  {
+    buildHyperTreeGrid(d(), layout, FieldRequest::all());
+    FAIL() << "a stale layout must be rejected";
+  }
+  catch (const InvalidForest& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("layout has 6 trees but the forest has 5"),
+              std::string::npos);
   }
 }
 

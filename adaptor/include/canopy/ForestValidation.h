@@ -54,8 +54,16 @@ struct ForestLayout
   std::size_t numberOfRootCells = 0;
 };
 
-/// Validates the whole description; throws InvalidForest listing every problem.
-/// Cost: one pass over the refinement bytes (and over the slot maps, if given).
+/// Validates the whole description; throws InvalidForest listing the problems.
+/// Checks run in stages (forest parameters, root grid, trees, fields); every
+/// problem of the first failing stage is listed. Cost: one pass over the
+/// refinement bytes (and over the slot maps, if given).
 ForestLayout validateForest(const ForestDescription& forest);
+
+/// Re-checks the fields (cheap, no pass over the nodes) against a layout that
+/// validateForest returned for the same trees, e.g. each time step when only
+/// field pointers change. Throws InvalidForest if the fields are malformed or
+/// the trees no longer match the layout.
+void validateFields(const ForestDescription& forest, const ForestLayout& layout);
 
 } // namespace canopy

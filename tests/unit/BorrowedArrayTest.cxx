@@ -1,0 +1,188 @@
+// The arrays Canopy hands to VTK for strided and leaves-only fields behave like
+// ordinary vtkDataArrays under every generic operation VTK filters use, and
+// never write simulation memory.
+#include "RandomForest.h"
+
+#include "canopy/HtgBuilder.h"
+
+#include <gtest/gtest.h>
+#include <vtkAOSDataArrayTemplate.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkIdList.h>
+
+#include <cstring>
+
+namespace canopy::testing
+{
+namespace
+{
+
+struct Record
+{
+  double u[3];
+  std::int32_t tag;
+};
+
+class BorrowedArray : public ::testing::Test
+{
+protected:
+  BorrowedArray()
+    : Forest(options())
+  {
+    const std::size_t n = Forest.numberOfNodes();
+    Records.resize(n);
+    // Zero the padding too: the checksum reads every byte.
+    std::memset(static_cast<void*>(Records.data()), 0, n * sizeof(Record));
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      Records[i].u[0] = 1.0 * i;
+      Records[i].u[1] = -2.0 * i;
+      Records[i].u[2] = 0.5 * i;
+      Records[i].tag = static_cast<std::int32_t>(i);
+    }
+    Leaves.resize(2 * Forest.numberOfLeaves());
+    for (std::size_t i = 0; i < Leaves.size(); ++i)
+    {
+      Leaves[i] = 3.0 * i;
+    }
+    auto& d = Forest.description();
+    d.fields.push_back(FieldDescription::strided("u", &Records[0].u[0], sizeof(Record), n, 3));
+    d.fields.push_back(FieldDescription::aos("leafPair", Leaves.data(), Forest.numberOfLeaves(), 2,
+                                             Centering::LeavesOnly));
+    Before = checksum(Records.data(), Records.size() * sizeof(Record)) ^
+             checksum(Leaves.data(), Leaves.size() * sizeof(double));
+    Htg = buildHyperTreeGrid(d);
+  }
+
+  static RandomForestOptions options()
+  {
+    RandomForestOptions o;
+    o.rootCells = {{2, 2, 2}};
+    o.maxLevels = 3;
+    o.seed = 3;
+    return o;
+  }
+
+  vtkDataArray* array(const char* name) { return Htg->GetCellData()->GetArray(name); }
+
+  void expectSimulationUntouched()
+  {
+    EXPECT_EQ(checksum(Records.data(), Records.size() * sizeof(Record)) ^
+                checksum(Leaves.data(), Leaves.size() * sizeof(double)),
+              Before);
+  }
+
+  RandomForest Forest;
+  std::vector<Record> Records;
+  std::vector<double> Leaves;
+  std::uint64_t Before = 0;
+  vtkSmartPointer<vtkHyperTreeGrid> Htg;
+};
+
+TEST_F(BorrowedArray, GetTupleReturnsEveryComponent)
+{
+  vtkDataArray* u = array("u");
+  ASSERT_EQ(u->GetNumberOfComponents(), 3);
+  for (vtkIdType i = 0; i < u->GetNumberOfTuples(); ++i)
+  {
+    const double* t = u->GetTuple3(i);
+    ASSERT_EQ(t[0], 1.0 * i);
+    ASSERT_EQ(t[1], -2.0 * i);
+    ASSERT_EQ(t[2], 0.5 * i);
+    double buffer[3];
+    u->GetTuple(i, buffer);
+    ASSERT_EQ(buffer[2], 0.5 * i);
+  }
+  vtkDataArray* pair = array("leafPair");
+  ASSERT_EQ(pair->GetNumberOfComponents(), 2);
+  const double* t = pair->GetTuple2(pair->GetNumberOfTuples() - 1);
+  EXPECT_TRUE(std::isfinite(t[0]) && std::isfinite(t[1]));
+  expectSimulationUntouched();
+}
+
+TEST_F(BorrowedArray, NewInstanceIsAnOrdinaryWritableArray)
+{
+  vtkDataArray* u = array("u");
+  vtkSmartPointer<vtkDataArray> copy = vtkSmartPointer<vtkDataArray>::Take(u->NewInstance());
+  EXPECT_NE(vtkAOSDataArrayTemplate<double>::SafeDownCast(copy), nullptr)
+    << copy->GetClassName();
+  copy->DeepCopy(u);
+  EXPECT_EQ(copy->GetNumberOfTuples(), u->GetNumberOfTuples());
+  EXPECT_EQ(copy->GetComponent(5, 1), -10.0);
+  copy->SetComponent(5, 1, 42.0);
+  EXPECT_NE(copy->GetVoidPointer(0), nullptr);
+  EXPECT_EQ(Records[5].u[1], -10.0);
+  // GetTuples into a new instance (what writers and extractors do).
+  vtkNew<vtkIdList> ids;
+  ids->InsertNextId(7);
+  ids->InsertNextId(2);
+  vtkSmartPointer<vtkDataArray> picked = vtkSmartPointer<vtkDataArray>::Take(u->NewInstance());
+  picked->SetNumberOfComponents(3);
+  picked->SetNumberOfTuples(2);
+  u->GetTuples(ids, picked);
+  EXPECT_EQ(picked->GetComponent(0, 0), 7.0);
+  EXPECT_EQ(picked->GetComponent(1, 2), 1.0);
+  expectSimulationUntouched();
+}
+
+TEST_F(BorrowedArray, ReshapingAndGrowingDetachWithoutTouchingTheSimulation)
+{
+  vtkDataArray* u = array("u");
+  const vtkIdType tuples = u->GetNumberOfTuples();
+  u->SetNumberOfComponents(4); // wider than the borrow: must not read past it
+  EXPECT_EQ(u->GetNumberOfComponents(), 4);
+  u->SetNumberOfComponents(3);
+  vtkDataArray* pair = array("leafPair");
+  const double last = pair->GetComponent(pair->GetNumberOfTuples() - 1, 1);
+  pair->InsertNextTuple2(1.5, 2.5);
+  EXPECT_EQ(pair->GetComponent(pair->GetNumberOfTuples() - 2, 1), last);
+  EXPECT_EQ(pair->GetComponent(pair->GetNumberOfTuples() - 1, 0), 1.5);
+  pair->Resize(3);
+  EXPECT_EQ(pair->GetNumberOfTuples(), 3);
+  u->Initialize();
+  EXPECT_EQ(u->GetNumberOfTuples(), 0);
+  EXPECT_GT(tuples, 0);
+  expectSimulationUntouched();
+}
+
+TEST_F(BorrowedArray, DeepCopyIntoABorrowingArrayReplacesTheBorrow)
+{
+  vtkDataArray* u = array("u");
+  vtkNew<vtkDoubleArray> other;
+  other->SetNumberOfComponents(2);
+  other->SetNumberOfTuples(4);
+  other->Fill(9.0);
+  u->DeepCopy(other);
+  EXPECT_EQ(u->GetNumberOfComponents(), 2);
+  EXPECT_EQ(u->GetNumberOfTuples(), 4);
+  EXPECT_EQ(u->GetComponent(3, 1), 9.0);
+  expectSimulationUntouched();
+}
+
+TEST_F(BorrowedArray, SixtyFourBitIntegersReportOneVtkTypeInEveryLayout)
+{
+  const std::size_t n = Forest.numberOfNodes();
+  std::vector<std::int64_t> a(n, 1), b(n, 2);
+  struct R
+  {
+    std::int64_t id;
+    float pad;
+  };
+  std::vector<R> r(n, R{3, 0.f});
+  auto& d = Forest.description();
+  d.fields.clear();
+  d.fields.push_back(FieldDescription::aos("aos", a.data(), n));
+  d.fields.push_back(FieldDescription::soa<std::int64_t>("soa", {a.data(), b.data()}, n));
+  d.fields.push_back(FieldDescription::strided("strided", &r[0].id, sizeof(R), n));
+  auto htg = buildHyperTreeGrid(d);
+  for (const char* name : {"aos", "soa", "strided"})
+  {
+    EXPECT_EQ(htg->GetCellData()->GetArray(name)->GetDataType(), VTK_LONG_LONG) << name;
+  }
+  EXPECT_EQ(htg->GetCellData()->GetArray("strided")->GetComponent(1, 0), 3.0);
+}
+
+} // namespace
+} // namespace canopy::testing
