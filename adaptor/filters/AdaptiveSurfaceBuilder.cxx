@@ -1,5 +1,7 @@
 #include "AdaptiveSurfaceBuilder.h"
 
+#include <vtkSMPTools.h>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -61,8 +63,8 @@ void nodeBox(const TreeAccess& tree, const NodeFrame& n, const Powers& powers, V
     lo[a] = tree.origin[a] + tree.size[a] * (static_cast<double>(n.ijk[a]) / cells);
     // The last node of a row ends exactly at the root's upper corner.
     hi[a] = n.ijk[a] + 1 == powers[n.level]
-              ? tree.origin[a] + tree.size[a]
-              : tree.origin[a] + tree.size[a] * (static_cast<double>(n.ijk[a] + 1) / cells);
+                ? tree.origin[a] + tree.size[a]
+                : tree.origin[a] + tree.size[a] * (static_cast<double>(n.ijk[a] + 1) / cells);
   }
 }
 
@@ -100,16 +102,21 @@ public:
     V = grid.activeAxes()[1];
     const int w = grid.flatAxis();
     const auto& b = grid.bounds();
-    std::vector<std::array<double, 2>> polygon{{{b[2 * U], b[2 * V]}},
-                                               {{b[2 * U + 1], b[2 * V]}},
-                                               {{b[2 * U + 1], b[2 * V + 1]}},
-                                               {{b[2 * U], b[2 * V + 1]}}};
+    // Plane coordinates relative to the view's anchor keep far-away domains and
+    // tiny views precise.
+    const Vec3& o = view.anchor();
+    AnchorU = o[U];
+    AnchorV = o[V];
+    std::vector<std::array<double, 2>> polygon{{{b[2 * U] - AnchorU, b[2 * V] - AnchorV}},
+                                               {{b[2 * U + 1] - AnchorU, b[2 * V] - AnchorV}},
+                                               {{b[2 * U + 1] - AnchorU, b[2 * V + 1] - AnchorV}},
+                                               {{b[2 * U] - AnchorU, b[2 * V + 1] - AnchorV}}};
     for (const HalfSpace& h : view.halfSpaces())
     {
-      // n . p <= c with p = (u, v, flat): nu u + nv v <= c - nw * flat
+      // n . (p - o) <= c with p = (u, v, flat): nu u' + nv v' <= c - nw * (flat - o_w)
       const double nu = h.normal[U];
       const double nv = h.normal[V];
-      const double c = h.offset - h.normal[w] * grid.flatCoordinate();
+      const double c = h.offset - h.normal[w] * (grid.flatCoordinate() - o[w]);
       polygon = clip(polygon, nu, nv, c);
       if (polygon.empty())
       {
@@ -118,11 +125,13 @@ public:
     }
     Polygon = polygon;
     double area = 0;
-    for (std::size_t i = 0; i < Polygon.size(); ++i)
+    for (std::size_t i = 1; i + 1 < Polygon.size(); ++i)
     {
+      // Fan from vertex 0: no cancellation between large terms.
+      const auto& p0 = Polygon[0];
       const auto& p = Polygon[i];
-      const auto& q = Polygon[(i + 1) % Polygon.size()];
-      area += p[0] * q[1] - q[0] * p[1];
+      const auto& q = Polygon[i + 1];
+      area += (p[0] - p0[0]) * (q[1] - p0[1]) - (q[0] - p0[0]) * (p[1] - p0[1]);
     }
     Empty = Polygon.size() < 3 || !(std::abs(area) > 0);
     // Separating axes: u, v and the polygon's edge normals.
@@ -160,6 +169,10 @@ public:
     {
       return false;
     }
+    u0 -= AnchorU;
+    u1 -= AnchorU;
+    v0 -= AnchorV;
+    v1 -= AnchorV;
     for (std::size_t i = 0; i < Axes.size(); ++i)
     {
       const auto& a = Axes[i];
@@ -207,6 +220,8 @@ public:
 private:
   int U = 0;
   int V = 1;
+  double AnchorU = 0;
+  double AnchorV = 0;
   bool Empty = true;
   std::vector<std::array<double, 2>> Polygon;
   std::vector<std::array<double, 2>> Axes;
@@ -451,8 +466,8 @@ struct TreeWalk
   }
 
   /// m: an unmasked node across the face of our node (same level or finer).
-  void emitExposedParts(const TreeAccess& t, const NodeFrame& m, int axis, int side,
-                        const Vec3& lo, const Vec3& hi, vtkIdType global, int level)
+  void emitExposedParts(const TreeAccess& t, const NodeFrame& m, int axis, int side, const Vec3& lo,
+                        const Vec3& hi, vtkIdType global, int level)
   {
     if (t.isLeaf(m.node) || lodStops(t, m))
     {
@@ -514,11 +529,34 @@ SurfacePieces buildAdaptiveSurface(const HyperTreeAccess& grid, const SurfaceOpt
   {
     region = std::make_unique<PlaneRegion>(grid, *options.view);
   }
+  // Trees are independent: one output per tree, in parallel, then concatenated in
+  // tree order so the result does not depend on the number of threads.
+  const auto& trees = grid.trees();
+  std::vector<SurfacePieces> perTree(trees.size());
+  vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType t = begin; t < end; ++t)
+                     {
+                       TreeWalk walk{grid,         trees[static_cast<std::size_t>(t)],
+                                     options,      powers,
+                                     region.get(), perTree[static_cast<std::size_t>(t)]};
+                       walk.walk();
+                     }
+                   });
   SurfacePieces out;
-  for (const TreeAccess& tree : grid.trees())
+  std::size_t quads = 0;
+  for (const SurfacePieces& p : perTree)
   {
-    TreeWalk walk{grid, tree, options, powers, region.get(), out};
-    walk.walk();
+    quads += p.numberOfQuads();
+  }
+  out.points.reserve(12 * quads);
+  out.cellIds.reserve(quads);
+  out.levels.reserve(quads);
+  for (SurfacePieces& p : perTree)
+  {
+    out.append(p);
+    p = SurfacePieces();
   }
   return out;
 }

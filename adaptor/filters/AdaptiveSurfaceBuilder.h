@@ -43,8 +43,8 @@ struct SurfaceOptions
 struct SurfacePieces
 {
   std::vector<double> points;
-  std::vector<vtkIdType> cellIds;     ///< global index of the node each quad shows
-  std::vector<unsigned char> levels;  ///< that node's level
+  std::vector<vtkIdType> cellIds;    ///< global index of the node each quad shows
+  std::vector<unsigned char> levels; ///< that node's level
   std::size_t numberOfQuads() const { return cellIds.size(); }
   void append(const SurfacePieces& other);
 };

@@ -84,9 +84,9 @@ const TreeAccess* HyperTreeAccess::treeAt(long i, long j, long k) const
   {
     return nullptr;
   }
-  const std::size_t root = static_cast<std::size_t>(i) +
-                           RootCells[0] * (static_cast<std::size_t>(j) +
-                                           RootCells[1] * static_cast<std::size_t>(k));
+  const std::size_t root =
+      static_cast<std::size_t>(i) +
+      RootCells[0] * (static_cast<std::size_t>(j) + RootCells[1] * static_cast<std::size_t>(k));
   const std::int64_t t = TreeAtRoot[root];
   return t < 0 ? nullptr : &Trees[static_cast<std::size_t>(t)];
 }

@@ -89,8 +89,7 @@ std::string ViewVolume::validate(const CameraParameters& c)
   return out.str();
 }
 
-ViewVolume::ViewVolume(const CameraParameters& camera)
-  : Camera(camera)
+ViewVolume::ViewVolume(const CameraParameters& camera) : Camera(camera)
 {
   Forward = normalized(sub(camera.focalPoint, camera.position));
   // Orthogonalize view up against the direction of projection, as vtkCamera does.
@@ -101,30 +100,27 @@ ViewVolume::ViewVolume(const CameraParameters& camera)
   {
     HalfHeight = camera.parallelScale;
     HalfWidth = camera.parallelScale * aspect;
-    const Vec3& f = camera.focalPoint;
     // |right . (p - f)| <= HalfWidth, |up . (p - f)| <= HalfHeight
-    HalfSpaces.push_back({Right, dot(Right, f) + HalfWidth});
-    HalfSpaces.push_back({scaled(Right, -1), -dot(Right, f) + HalfWidth});
-    HalfSpaces.push_back({Up, dot(Up, f) + HalfHeight});
-    HalfSpaces.push_back({scaled(Up, -1), -dot(Up, f) + HalfHeight});
+    HalfSpaces.push_back({Right, HalfWidth});
+    HalfSpaces.push_back({scaled(Right, -1), HalfWidth});
+    HalfSpaces.push_back({Up, HalfHeight});
+    HalfSpaces.push_back({scaled(Up, -1), HalfHeight});
   }
   else
   {
     const double pi = std::acos(-1.0);
     HalfHeight = std::tan(camera.viewAngle * pi / 360.0);
     HalfWidth = HalfHeight * aspect;
-    const Vec3& e = camera.position;
     // right . q <= HalfWidth * forward . q, with q = p - e; same for -right, +-up.
-    const Vec3 planes[4] = {sub(Right, scaled(Forward, HalfWidth)),
-                            sub(scaled(Right, -1), scaled(Forward, HalfWidth)),
-                            sub(Up, scaled(Forward, HalfHeight)),
-                            sub(scaled(Up, -1), scaled(Forward, HalfHeight))};
+    const Vec3 planes[4] = {
+        sub(Right, scaled(Forward, HalfWidth)), sub(scaled(Right, -1), scaled(Forward, HalfWidth)),
+        sub(Up, scaled(Forward, HalfHeight)), sub(scaled(Up, -1), scaled(Forward, HalfHeight))};
     for (const Vec3& n : planes)
     {
-      HalfSpaces.push_back({n, dot(n, e)});
+      HalfSpaces.push_back({n, 0.0});
     }
     // In front of the camera: forward . q >= 0.
-    HalfSpaces.push_back({scaled(Forward, -1), -dot(Forward, e)});
+    HalfSpaces.push_back({scaled(Forward, -1), 0.0});
   }
   // Corners (parallel: points at the focal plane; perspective: ray directions).
   int k = 0;
@@ -135,11 +131,10 @@ ViewVolume::ViewVolume(const CameraParameters& camera)
       const Vec3 offset{{sx * HalfWidth * Right[0] + sy * HalfHeight * Up[0],
                          sx * HalfWidth * Right[1] + sy * HalfHeight * Up[1],
                          sx * HalfWidth * Right[2] + sy * HalfHeight * Up[2]}};
-      Corners[k++] = camera.parallelProjection
-                       ? Vec3{{camera.focalPoint[0] + offset[0], camera.focalPoint[1] + offset[1],
-                               camera.focalPoint[2] + offset[2]}}
-                       : Vec3{{Forward[0] + offset[0], Forward[1] + offset[1],
-                               Forward[2] + offset[2]}};
+      Corners[k++] =
+          camera.parallelProjection
+              ? offset
+              : Vec3{{Forward[0] + offset[0], Forward[1] + offset[1], Forward[2] + offset[2]}};
     }
   }
   // Candidate separating axes: the box's normals, the frustum's face normals and
@@ -180,12 +175,14 @@ bool ViewVolume::overlapsBox(const Vec3& lo, const Vec3& hi) const
   const double infinity = 1e300;
   for (const Vec3& a : SeparatingAxes)
   {
+    // Everything relative to the anchor (focal point or camera), for precision.
+    const Vec3& o = anchor();
     double boxMin = 0;
     double boxMax = 0;
     for (int i = 0; i < 3; ++i)
     {
-      boxMin += a[i] * (a[i] >= 0 ? lo[i] : hi[i]);
-      boxMax += a[i] * (a[i] >= 0 ? hi[i] : lo[i]);
+      boxMin += a[i] * ((a[i] >= 0 ? lo[i] : hi[i]) - o[i]);
+      boxMax += a[i] * ((a[i] >= 0 ? hi[i] : lo[i]) - o[i]);
     }
     double viewMin = infinity;
     double viewMax = -infinity;
@@ -205,9 +202,8 @@ bool ViewVolume::overlapsBox(const Vec3& lo, const Vec3& hi) const
     }
     else
     {
-      // A cone from the camera along the four corner rays.
-      const double apex = dot(a, Camera.position);
-      viewMin = viewMax = apex;
+      // A cone from the camera (the anchor) along the four corner rays.
+      viewMin = viewMax = 0;
       for (const Vec3& r : Corners)
       {
         const double v = dot(a, r);

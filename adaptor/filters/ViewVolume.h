@@ -27,7 +27,9 @@ struct CameraParameters
   int viewportHeight = 512;   ///< pixels
 };
 
-/// A half-space n . p <= offset.
+/// A half-space n . (p - anchor) <= offset, anchor being ViewVolume::anchor().
+/// Relative to an anchor near the view so that far-from-origin domains (1e9)
+/// and tiny views (1e-9) keep their precision.
 struct HalfSpace
 {
   Vec3 normal;
@@ -47,6 +49,12 @@ public:
   /// The half-spaces bounding the view: 4 for parallel projection, 5 for
   /// perspective (the fifth keeps what is in front of the camera).
   const std::vector<HalfSpace>& halfSpaces() const { return HalfSpaces; }
+  /// The point half-spaces are relative to: the focal point (parallel) or the
+  /// camera position (perspective).
+  const Vec3& anchor() const
+  {
+    return Camera.parallelProjection ? Camera.focalPoint : Camera.position;
+  }
 
   /// Largest extent, in pixels, of the screen-space bounding box of the given
   /// points; +infinity when a point is at or behind the camera (perspective).
@@ -75,13 +83,13 @@ public:
 
 private:
   CameraParameters Camera;
-  Vec3 Forward; ///< unit direction of projection
-  Vec3 Up;      ///< unit, orthogonal to Forward
-  Vec3 Right;   ///< Forward x Up
-  double HalfWidth = 0;     ///< parallel: world units; perspective: tangent
-  double HalfHeight = 0;    ///< same
+  Vec3 Forward;          ///< unit direction of projection
+  Vec3 Up;               ///< unit, orthogonal to Forward
+  Vec3 Right;            ///< Forward x Up
+  double HalfWidth = 0;  ///< parallel: world units; perspective: tangent
+  double HalfHeight = 0; ///< same
   std::vector<HalfSpace> HalfSpaces;
-  /// Parallel: the four corners of the view rectangle at the focal point.
+  /// Parallel: the four corners of the view rectangle, relative to the focal point.
   /// Perspective: the four corner ray directions from the camera.
   std::array<Vec3, 4> Corners;
   std::vector<Vec3> SeparatingAxes; ///< frustum face normals and edge x box edge
@@ -96,8 +104,8 @@ double ViewVolume::footprintInPixels(const std::array<Vec3, N>& points) const
   {
     if (!Camera.parallelProjection)
     {
-      const Vec3 q{{p[0] - Camera.position[0], p[1] - Camera.position[1],
-                    p[2] - Camera.position[2]}};
+      const Vec3 q{
+          {p[0] - Camera.position[0], p[1] - Camera.position[1], p[2] - Camera.position[2]}};
       if (q[0] * Forward[0] + q[1] * Forward[1] + q[2] * Forward[2] <= 0)
       {
         return 1e300;

@@ -30,11 +30,10 @@ namespace
 {
 
 /// Copies the tuples of `ids` from `source` into a new array of the same type.
-vtkSmartPointer<vtkDataArray> gatherTuples(vtkDataArray* source,
-                                           const std::vector<vtkIdType>& ids)
+vtkSmartPointer<vtkDataArray> gatherTuples(vtkDataArray* source, const std::vector<vtkIdType>& ids)
 {
   vtkSmartPointer<vtkDataArray> out =
-    vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(source->GetDataType()));
+      vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(source->GetDataType()));
   const int nc = source->GetNumberOfComponents();
   out->SetName(source->GetName());
   out->SetNumberOfComponents(nc);

@@ -21,12 +21,14 @@
 #include <vtkNew.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSMPTools.h>
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -79,11 +81,13 @@ std::vector<Plane> vtkFrustum(const View& v)
 
 double polygonArea(const std::vector<Point>& polygon)
 {
+  // Fan from the first vertex, in coordinates relative to it (large offsets).
   Point sum{{0, 0, 0}};
-  for (std::size_t i = 0; i < polygon.size(); ++i)
+  for (std::size_t i = 1; i + 1 < polygon.size(); ++i)
   {
-    const Point& p = polygon[i];
-    const Point& q = polygon[(i + 1) % polygon.size()];
+    const Point& o = polygon[0];
+    const Point p{{polygon[i][0] - o[0], polygon[i][1] - o[1], polygon[i][2] - o[2]}};
+    const Point q{{polygon[i + 1][0] - o[0], polygon[i + 1][1] - o[1], polygon[i + 1][2] - o[2]}};
     sum[0] += p[1] * q[2] - p[2] * q[1];
     sum[1] += p[2] * q[0] - p[0] * q[2];
     sum[2] += p[0] * q[1] - p[1] * q[0];
@@ -109,8 +113,8 @@ std::vector<Point> clip(std::vector<Point> polygon, const std::vector<Plane>& pl
       if ((fp > 0 && fq < 0) || (fp < 0 && fq > 0))
       {
         const double t = fp / (fp - fq);
-        out.push_back({{p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]),
-                        p[2] + t * (q[2] - p[2])}});
+        out.push_back(
+            {{p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])}});
       }
     }
     polygon = out;
@@ -161,7 +165,8 @@ std::vector<Leaf> visibleLeaves(vtkHyperTreeGrid* htg)
   {
     vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
     htg->InitializeNonOrientedGeometryCursor(cursor, index);
-    auto walk = [&](auto& self) -> void {
+    auto walk = [&](auto& self) -> void
+    {
       if (cursor->IsMasked())
       {
         return;
@@ -237,7 +242,7 @@ std::set<vtkIdType> emittedIds(vtkPolyData* surface)
     result.insert(ids->GetValue(i));
   }
   EXPECT_EQ(result.size(), static_cast<std::size_t>(surface->GetNumberOfCells()))
-    << "a cell emitted twice";
+      << "a cell emitted twice";
   return result;
 }
 
@@ -272,8 +277,7 @@ TEST(AdaptiveSurface2D, OutputCarriesFieldsIdsLevelsAndDoublePoints)
   ASSERT_GT(surface->GetNumberOfCells(), 0);
   EXPECT_EQ(surface->GetPoints()->GetDataType(), VTK_DOUBLE);
   auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
-  auto* levels =
-    vtkUnsignedCharArray::SafeDownCast(surface->GetCellData()->GetArray("Level"));
+  auto* levels = vtkUnsignedCharArray::SafeDownCast(surface->GetCellData()->GetArray("Level"));
   vtkDataArray* depth = surface->GetCellData()->GetArray("Depth");
   ASSERT_NE(ids, nullptr);
   ASSERT_NE(levels, nullptr);
@@ -326,8 +330,9 @@ RandomCase randomCase(std::uint64_t seed)
   normal[flat] = unit(random) < 0.5 ? 1 : -1;
   Point tilt{{unit(random) - 0.5, unit(random) - 0.5, unit(random) - 0.5}};
   tilt[flat] = 0;
-  const double t = std::tan(unit(random) * 60 * M_PI / 180) /
-                   std::max(1e-9, std::sqrt(tilt[0] * tilt[0] + tilt[1] * tilt[1] + tilt[2] * tilt[2]));
+  const double t =
+      std::tan(unit(random) * 60 * M_PI / 180) /
+      std::max(1e-9, std::sqrt(tilt[0] * tilt[0] + tilt[1] * tilt[1] + tilt[2] * tilt[2]));
   const double distance = extent * (0.3 + 2 * unit(random));
   Point direction{{normal[0] + t * tilt[0], normal[1] + t * tilt[1], normal[2] + t * tilt[2]}};
   const double length = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] +
@@ -373,7 +378,7 @@ double vtkFootprint(const View& v, const double b[6])
   const double distance = camera->GetDistance();
   camera->SetClippingRange(distance * 1e-6, distance * 1e6);
   vtkMatrix4x4* m =
-    camera->GetCompositeProjectionTransformMatrix(double(v.width) / v.height, -1, 1);
+      camera->GetCompositeProjectionTransformMatrix(double(v.width) / v.height, -1, 1);
   double lo[2] = {1e300, 1e300};
   double hi[2] = {-1e300, -1e300};
   for (int k = 0; k < 8; ++k)
@@ -459,14 +464,14 @@ TEST(AdaptiveSurface2D, LevelOfDetailMatchesTheClosedForm)
         const double pixel = 2 * scale / 512;
         const double exact = std::log(10.0 / (threshold * pixel)) / std::log(double(f));
         const int expected =
-          std::min(o.maxLevels - 1, std::max(0, static_cast<int>(std::ceil(exact - 1e-12))));
+            std::min(o.maxLevels - 1, std::max(0, static_cast<int>(std::ceil(exact - 1e-12))));
         auto* levels =
-          vtkUnsignedCharArray::SafeDownCast(surface->GetCellData()->GetArray("Level"));
+            vtkUnsignedCharArray::SafeDownCast(surface->GetCellData()->GetArray("Level"));
         ASSERT_GT(surface->GetNumberOfCells(), 0);
         for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
         {
           ASSERT_EQ(levels->GetValue(q), expected)
-            << "f " << f << " scale " << scale << " threshold " << threshold;
+              << "f " << f << " scale " << scale << " threshold " << threshold;
         }
       }
     }
@@ -500,9 +505,10 @@ TEST(AdaptiveSurface2D, EmittedCellsTileTheVisibleDomain)
         covered += polygonArea(clip(rectangle(qb), planes));
       }
       // Only trees present in the forest count; this forest has every root.
-      EXPECT_NEAR(covered, visibleDomain, 1e-9 * (b[1] - b[0] + b[3] - b[2] + b[5] - b[4]) *
-                                            (b[1] - b[0] + b[3] - b[2] + b[5] - b[4]))
-        << "seed " << seed << (lod ? " with" : " without") << " level of detail";
+      EXPECT_NEAR(covered, visibleDomain,
+                  1e-9 * (b[1] - b[0] + b[3] - b[2] + b[5] - b[4]) *
+                      (b[1] - b[0] + b[3] - b[2] + b[5] - b[4]))
+          << "seed " << seed << (lod ? " with" : " without") << " level of detail";
     }
   }
 }
@@ -517,13 +523,13 @@ TEST(AdaptiveSurface2D, InvalidSettingsAreReportedNotCrashed)
     std::function<void(vtkCanopyAdaptiveSurface*)> apply;
   };
   const std::vector<Bad> cases{
-    {"threshold 0", [](vtkCanopyAdaptiveSurface* f) { f->SetPixelThreshold(0); }},
-    {"threshold NaN", [](vtkCanopyAdaptiveSurface* f) { f->SetPixelThreshold(std::nan("")); }},
-    {"zero viewport", [](vtkCanopyAdaptiveSurface* f) { f->SetViewportSize(0, 400); }},
-    {"camera at focal point",
-     [](vtkCanopyAdaptiveSurface* f) { f->SetCameraPosition(0.75, 1.5, 0); }},
-    {"view up along the view", [](vtkCanopyAdaptiveSurface* f) { f->SetCameraViewUp(0, 0, 1); }},
-    {"zero parallel scale", [](vtkCanopyAdaptiveSurface* f) { f->SetParallelScale(0); }},
+      {"threshold 0", [](vtkCanopyAdaptiveSurface* f) { f->SetPixelThreshold(0); }},
+      {"threshold NaN", [](vtkCanopyAdaptiveSurface* f) { f->SetPixelThreshold(std::nan("")); }},
+      {"zero viewport", [](vtkCanopyAdaptiveSurface* f) { f->SetViewportSize(0, 400); }},
+      {"camera at focal point",
+       [](vtkCanopyAdaptiveSurface* f) { f->SetCameraPosition(0.75, 1.5, 0); }},
+      {"view up along the view", [](vtkCanopyAdaptiveSurface* f) { f->SetCameraViewUp(0, 0, 1); }},
+      {"zero parallel scale", [](vtkCanopyAdaptiveSurface* f) { f->SetParallelScale(0); }},
   };
   for (const Bad& bad : cases)
   {
@@ -537,9 +543,8 @@ TEST(AdaptiveSurface2D, InvalidSettingsAreReportedNotCrashed)
     int errors = 0;
     vtkNew<vtkCallbackCommand> onError;
     onError->SetClientData(&errors);
-    onError->SetCallback([](vtkObject*, unsigned long, void* data, void*) {
-      ++*static_cast<int*>(data);
-    });
+    onError->SetCallback([](vtkObject*, unsigned long, void* data, void*)
+                         { ++*static_cast<int*>(data); });
     filter->AddObserver(vtkCommand::ErrorEvent, onError);
     filter->Update();
     EXPECT_GE(errors, 1) << bad.what;
@@ -563,9 +568,8 @@ TEST(AdaptiveSurface2D, ReexecutesOnlyWhenSomethingChanged)
   int executions = 0;
   vtkNew<vtkCallbackCommand> onStart;
   onStart->SetClientData(&executions);
-  onStart->SetCallback([](vtkObject*, unsigned long, void* data, void*) {
-    ++*static_cast<int*>(data);
-  });
+  onStart->SetCallback([](vtkObject*, unsigned long, void* data, void*)
+                       { ++*static_cast<int*>(data); });
   filter->AddObserver(vtkCommand::StartEvent, onStart);
   filter->Update();
   filter->Update();
@@ -583,6 +587,196 @@ TEST(AdaptiveSurface2D, ReexecutesOnlyWhenSomethingChanged)
   EXPECT_EQ(executions, 4);
   filter->Update();
   EXPECT_EQ(executions, 4);
+}
+
+/// One 2D tree refined down to `depth` levels along the point `target` (one
+/// refined child per level), on a root cell [origin, origin + size]^2.
+struct DeepTree
+{
+  std::array<double, 2> x;
+  std::array<double, 2> y;
+  std::array<double, 1> z{{0.0}};
+  std::vector<std::uint8_t> refinement;
+  ForestDescription d;
+
+  DeepTree(double origin, double size, int depth, double tx, double ty)
+      : x{{origin, origin + size}}, y{{origin, origin + size}}
+  {
+    // Breadth-first: root, then 4 children per level, one of them refined.
+    refinement.push_back(1);
+    double lo[2] = {origin, origin};
+    double s = size;
+    for (int level = 1; level < depth; ++level)
+    {
+      s /= 2;
+      const int cx = tx >= lo[0] + s ? 1 : 0;
+      const int cy = ty >= lo[1] + s ? 1 : 0;
+      lo[0] += cx * s;
+      lo[1] += cy * s;
+      for (int c = 0; c < 4; ++c)
+      {
+        refinement.push_back(level + 1 < depth && c == cx + 2 * cy ? 1 : 0);
+      }
+    }
+    d.dimension = 2;
+    d.branchFactor = 2;
+    d.maxLevels = depth;
+    d.rootGrid = {x.data(), y.data(), z.data(), 2, 2, 1};
+    TreeDescription t;
+    t.refinement = refinement.data();
+    t.numberOfNodes = refinement.size();
+    d.trees.push_back(t);
+  }
+};
+
+/// For a parallel camera looking down -z with view up +y, the view region in the
+/// XY plane is the rectangle focal +- (scale * aspect, scale): exact reference
+/// without VTK's projection matrices (which lose precision at extreme scales).
+std::set<vtkIdType> axisAlignedReference(vtkHyperTreeGrid* htg, const View& v)
+{
+  const double halfWidth = v.scale * v.width / v.height;
+  const double halfHeight = v.scale;
+  std::set<vtkIdType> ids;
+  for (const Leaf& leaf : visibleLeaves(htg))
+  {
+    // Positive-area overlap, computed relative to the focal point.
+    const double x0 = leaf.bounds[0] - v.focal[0];
+    const double x1 = leaf.bounds[1] - v.focal[0];
+    const double y0 = leaf.bounds[2] - v.focal[1];
+    const double y1 = leaf.bounds[3] - v.focal[1];
+    if (x0 < halfWidth && x1 > -halfWidth && y0 < halfHeight && y1 > -halfHeight)
+    {
+      ids.insert(leaf.global);
+    }
+  }
+  return ids;
+}
+
+/// Emitted cells equal the exact reference and their corners equal VTK's exact
+/// dyadic bounds (to the last bit).
+void expectExactDeepView(const DeepTree& tree, double tx, double ty,
+                         const std::vector<double>& scales)
+{
+  auto htg = buildHyperTreeGrid(tree.d);
+  const auto leaves = visibleLeaves(htg);
+  for (double scale : scales)
+  {
+    const View v{{{tx, ty, 10}}, {{tx, ty, 0}}, {{0, 1, 0}}, true, scale, 640, 480};
+    const auto expected = axisAlignedReference(htg, v);
+    EXPECT_FALSE(expected.empty());
+    auto surface = runFilter(htg, v, false);
+    EXPECT_EQ(emittedIds(surface), expected) << "scale " << scale;
+    auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
+    for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
+    {
+      const auto leaf = std::find_if(leaves.begin(), leaves.end(),
+                                     [&](const Leaf& l) { return l.global == ids->GetValue(q); });
+      ASSERT_NE(leaf, leaves.end());
+      double b[6];
+      surface->GetCell(q)->GetBounds(b);
+      for (int i = 0; i < 4; ++i)
+      {
+        // Dyadic positions are representable here: both must be exact.
+        ASSERT_EQ(b[i], leaf->bounds[i]) << "bound " << i << " at level " << leaf->level;
+      }
+    }
+  }
+}
+
+TEST(AdaptiveSurfaceStress, Depth30TreeIsExact)
+{
+  // 31 levels: cells of 2^-30 of the root, down to scales of 1e-9.
+  const DeepTree tree(0.0, 1.0, 31, 0.3, 0.7);
+  expectExactDeepView(tree, 0.3, 0.7, {1e-9, 1e-6, 1e-3, 1.0});
+}
+
+TEST(AdaptiveSurfaceStress, DomainOffsetBy1e9IsExact)
+{
+  // At 1e9 a double resolves 2^-23; 21 levels (cells of 2^-20) stay exact.
+  const double origin = 1e9;
+  const DeepTree tree(origin, 1.0, 21, origin + 0.3, origin + 0.7);
+  expectExactDeepView(tree, origin + 0.3, origin + 0.7, {1e-5, 1e-3, 1.0});
+}
+
+TEST(AdaptiveSurfaceStress, ExtremeScalesAndViewportsMatchBruteForce)
+{
+  DescriptorForest forest(paperCaseA(true));
+  auto htg = buildHyperTreeGrid(forest.description());
+  for (double scale : {1e-9, 1e-3, 1.0, 1e3, 1e9})
+  {
+    for (int size : {1, 7, 400, 16384})
+    {
+      const View v{{{0.75, 1.5, 10}}, {{0.75, 1.5, 0}}, {{0, 1, 0}}, true, scale, size, size};
+      EXPECT_EQ(emittedIds(runFilter(htg, v, false)), axisAlignedReference(htg, v))
+          << "scale " << scale << " viewport " << size;
+      // With level of detail: never more cells than without, never empty when visible.
+      auto lod = runFilter(htg, v, true);
+      EXPECT_LE(lod->GetNumberOfCells(), runFilter(htg, v, false)->GetNumberOfCells());
+      EXPECT_GT(lod->GetNumberOfCells(), 0);
+    }
+  }
+}
+
+TEST(AdaptiveSurfaceStress, CameraLookingAlongThePlane)
+{
+  DescriptorForest forest(paperCaseA(false));
+  auto htg = buildHyperTreeGrid(forest.description());
+  const std::vector<View> views{
+      {{{-5, 1.5, 0}}, {{0.75, 1.5, 0}}, {{0, 0, 1}}, true, 1.0, 400, 300},
+      {{{-5, 1.5, 0}}, {{0.75, 1.5, 0}}, {{0, 0, 1}}, false, 30.0, 400, 300},
+      {{{0.75, -4, 0.001}}, {{0.75, 1.5, 0}}, {{0, 0, 1}}, false, 45.0, 640, 480},
+  };
+  for (const View& v : views)
+  {
+    EXPECT_EQ(emittedIds(runFilter(htg, v, false)), bruteForceVisible(htg, v));
+    runFilter(htg, v, true); // level of detail seen edge-on: no crash
+  }
+}
+
+TEST(AdaptiveSurfaceStress, NonFiniteFieldValuesPassThrough)
+{
+  DescriptorForest forest(paperCaseA(false));
+  std::vector<double> weird(forest.numberOfNodes(), 1.0);
+  weird[0] = std::nan("");
+  weird[5] = std::numeric_limits<double>::infinity();
+  weird[9] = -std::numeric_limits<double>::infinity();
+  forest.description().fields.push_back(FieldDescription::aos("weird", weird.data(), weird.size()));
+  auto htg = buildHyperTreeGrid(forest.description());
+  View v = paperView();
+  v.scale = 10; // everything in view
+  auto surface = runFilter(htg, v, false);
+  EXPECT_EQ(surface->GetNumberOfCells(), 75);
+  auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
+  vtkDataArray* out = surface->GetCellData()->GetArray("weird");
+  for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
+  {
+    const double expected = weird[static_cast<std::size_t>(ids->GetValue(q))];
+    const double got = out->GetTuple1(q);
+    EXPECT_TRUE((std::isnan(expected) && std::isnan(got)) || expected == got);
+  }
+}
+
+TEST(AdaptiveSurfaceStress, OutputIsIdenticalForAnyThreadCount)
+{
+  RandomCase c = randomCase(7);
+  View v = c.view;
+  auto run = [&](const char* backend, int threads)
+  {
+    vtkSMPTools::SetBackend(backend);
+    vtkSMPTools::Initialize(threads);
+    auto surface = runFilter(c.htg, v, true);
+    std::vector<double> points(static_cast<std::size_t>(3 * surface->GetNumberOfPoints()));
+    for (vtkIdType p = 0; p < surface->GetNumberOfPoints(); ++p)
+    {
+      surface->GetPoint(p, &points[static_cast<std::size_t>(3 * p)]);
+    }
+    return points;
+  };
+  const auto sequential = run("Sequential", 1);
+  ASSERT_FALSE(sequential.empty());
+  EXPECT_EQ(run("STDThread", 2), sequential);
+  EXPECT_EQ(run("STDThread", 4), sequential);
+  vtkSMPTools::SetBackend("Sequential");
 }
 
 } // namespace

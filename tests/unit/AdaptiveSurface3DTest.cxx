@@ -63,7 +63,8 @@ public:
     {
       vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
       htg->InitializeNonOrientedGeometryCursor(cursor, index);
-      auto walk = [&](auto& self) -> void {
+      auto walk = [&](auto& self) -> void
+      {
         if (cursor->IsMasked())
         {
           return;
@@ -137,7 +138,8 @@ public:
   {
     area = {{0, 0, 0}};
     volume = 0;
-    auto occupied = [&](long i, long j, long k) {
+    auto occupied = [&](long i, long j, long k)
+    {
       if (i < 0 || j < 0 || k < 0 || i >= Count[0] || j >= Count[1] || k >= Count[2])
       {
         return false;
@@ -179,8 +181,8 @@ private:
 struct Quad
 {
   std::array<Point, 4> p;
-  int axis;     ///< axis of the normal
-  double sign;  ///< +1 or -1: outward direction along the axis
+  int axis;    ///< axis of the normal
+  double sign; ///< +1 or -1: outward direction along the axis
   double area;
 };
 
@@ -251,9 +253,9 @@ std::size_t expectExactBoundary(vtkHyperTreeGrid* htg, vtkPolyData* surface,
   for (int a = 0; a < 3; ++a)
   {
     EXPECT_NEAR(area[a], expectedArea[a], 1e-9 * expectedArea[a] + 1e-12)
-      << label << ": area normal to axis " << a;
+        << label << ": area normal to axis " << a;
     EXPECT_NEAR(volume[a], expectedVolume, 1e-9 * expectedVolume + 1e-12)
-      << label << ": volume identity along axis " << a;
+        << label << ": volume identity along axis " << a;
   }
   return quadsOf(surface).size();
 }
@@ -277,7 +279,7 @@ TEST(AdaptiveSurface3D, CaseBFullSurfaceIsExactlyTheBoundary)
   DescriptorForest masked(paperCaseB(true));
   auto maskedHtg = buildHyperTreeGrid(masked.description());
   const std::size_t withMask =
-    expectExactBoundary(maskedHtg, fullSurface(maskedHtg), "case B with mask");
+      expectExactBoundary(maskedHtg, fullSurface(maskedHtg), "case B with mask");
   std::cout << "case B: " << outer << " faces; with mask: " << withMask << " faces\n";
 }
 
@@ -374,7 +376,8 @@ TEST(AdaptiveSurface3D, CulledSurfaceIsASubsetOfTheFullSurface)
     std::vector<QuadKey> extra;
     std::set_difference(seen.begin(), seen.end(), full.begin(), full.end(),
                         std::back_inserter(extra));
-    EXPECT_TRUE(extra.empty()) << "view " << v << ": " << extra.size() << " quads not in the full surface";
+    EXPECT_TRUE(extra.empty()) << "view " << v << ": " << extra.size()
+                               << " quads not in the full surface";
     partial += seen.size() < full.size() && !seen.empty();
     // Back faces skipped: a subset again.
     const auto front = quadKeys(viewSurface(htg, camera, 640, 480, false, true));
@@ -401,6 +404,71 @@ TEST(AdaptiveSurface3D, SkippedBackFacesFaceAwayFromTheCamera)
   for (const Quad& q : quadsOf(surface))
   {
     EXPECT_LT(q.sign * dop[q.axis], 0);
+  }
+}
+
+TEST(AdaptiveSurfaceStress3D, Depth16TreeHasExactlyTheOuterBoxAsSurface)
+{
+  // One root refined along a line down to 17 levels (cells of 2^-16), nothing
+  // masked: the surface is the root's box, tiled by faces of many sizes.
+  std::array<double, 2> x{{-3, 5}}, y{{1e6, 1e6 + 2}}, z{{0, 1}};
+  std::vector<std::uint8_t> refinement{1};
+  const int depth = 17;
+  for (int level = 1; level < depth; ++level)
+  {
+    for (int c = 0; c < 8; ++c)
+    {
+      refinement.push_back(level + 1 < depth && c == 0 ? 1 : 0); // refine the corner child
+    }
+  }
+  ForestDescription d;
+  d.dimension = 3;
+  d.branchFactor = 2;
+  d.maxLevels = depth;
+  d.rootGrid = {x.data(), y.data(), z.data(), 2, 2, 2};
+  TreeDescription t;
+  t.refinement = refinement.data();
+  t.numberOfNodes = refinement.size();
+  d.trees.push_back(t);
+  auto htg = buildHyperTreeGrid(d);
+  std::array<double, 3> area{{0, 0, 0}};
+  std::array<double, 3> volume{{0, 0, 0}};
+  const auto quads = quadsOf(fullSurface(htg));
+  for (const Quad& q : quads)
+  {
+    area[q.axis] += q.area;
+    volume[q.axis] += q.sign * (q.p[0][q.axis] - (q.axis == 1 ? 1e6 : 0)) * q.area;
+  }
+  EXPECT_NEAR(area[0], 2 * 2 * 1, 1e-9);
+  EXPECT_NEAR(area[1], 2 * 8 * 1, 1e-9);
+  EXPECT_NEAR(area[2], 2 * 8 * 2, 1e-9);
+  for (int a = 0; a < 3; ++a)
+  {
+    EXPECT_NEAR(volume[a], 8 * 2 * 1, 1e-9) << "axis " << a;
+  }
+  // Each level contributes the 3 outer faces of each of its 7 unrefined children
+  // touching the corner... at least one quad per level must exist.
+  EXPECT_GT(quads.size(), static_cast<std::size_t>(3 * depth));
+}
+
+TEST(AdaptiveSurfaceStress3D, CameraInsideTheDomain)
+{
+  DescriptorForest forest(paperCaseB(true));
+  auto htg = buildHyperTreeGrid(forest.description());
+  const auto full = quadKeys(fullSurface(htg));
+  vtkNew<vtkCamera> camera;
+  camera->SetPosition(2.0, 1.4, 0.6); // inside the grid's bounds
+  camera->SetFocalPoint(4.0, 2.5, 0.8);
+  camera->SetViewUp(0, 0, 1);
+  camera->SetViewAngle(60);
+  for (bool lod : {false, true})
+  {
+    const auto seen = quadKeys(viewSurface(htg, camera, 640, 480, lod));
+    if (!lod)
+    {
+      EXPECT_TRUE(std::includes(full.begin(), full.end(), seen.begin(), seen.end()));
+      EXPECT_GT(seen.size(), 0u);
+    }
   }
 }
 

@@ -28,8 +28,7 @@ struct Record
 class BorrowedArray : public ::testing::Test
 {
 protected:
-  BorrowedArray()
-    : Forest(options())
+  BorrowedArray() : Forest(options())
   {
     const std::size_t n = Forest.numberOfNodes();
     Records.resize(n);
@@ -70,7 +69,7 @@ protected:
   void expectSimulationUntouched()
   {
     EXPECT_EQ(checksum(Records.data(), Records.size() * sizeof(Record)) ^
-                checksum(Leaves.data(), Leaves.size() * sizeof(double)),
+                  checksum(Leaves.data(), Leaves.size() * sizeof(double)),
               Before);
   }
 
@@ -106,8 +105,7 @@ TEST_F(BorrowedArray, NewInstanceIsAnOrdinaryWritableArray)
 {
   vtkDataArray* u = array("u");
   vtkSmartPointer<vtkDataArray> copy = vtkSmartPointer<vtkDataArray>::Take(u->NewInstance());
-  EXPECT_NE(vtkAOSDataArrayTemplate<double>::SafeDownCast(copy), nullptr)
-    << copy->GetClassName();
+  EXPECT_NE(vtkAOSDataArrayTemplate<double>::SafeDownCast(copy), nullptr) << copy->GetClassName();
   copy->DeepCopy(u);
   EXPECT_EQ(copy->GetNumberOfTuples(), u->GetNumberOfTuples());
   EXPECT_EQ(copy->GetComponent(5, 1), -10.0);

@@ -103,8 +103,8 @@ TEST(LeavesOnly, AllChildrenMaskedFallsBackToEveryChild)
   tree.masked[3] = 1; // a leaf child of the root (value 2)
   ForestDescription d = tree.describe(true, false);
   const std::vector<float> energy{1, 2, 3, 10, 20, 30, 40};
-  d.fields.push_back(FieldDescription::aos("energy", energy.data(), energy.size(), 1,
-                                           Centering::LeavesOnly));
+  d.fields.push_back(
+      FieldDescription::aos("energy", energy.data(), energy.size(), 1, Centering::LeavesOnly));
   auto htg = buildHyperTreeGrid(d);
   vtkDataArray* e = htg->GetCellData()->GetArray("energy");
   EXPECT_EQ(e->GetDataType(), VTK_FLOAT);
@@ -204,8 +204,8 @@ TEST(LeavesOnly, SoAVectorOverManyTreesMatchesBruteForceVolumeAverages)
       b[i] = std::cos(0.3 * i) * 10;
     }
     auto& d = forest.description();
-    d.fields.push_back(FieldDescription::soa<double>("ab", {a.data(), b.data()}, a.size(),
-                                                     Centering::LeavesOnly));
+    d.fields.push_back(
+        FieldDescription::soa<double>("ab", {a.data(), b.data()}, a.size(), Centering::LeavesOnly));
     auto htg = buildHyperTreeGrid(d);
     vtkDataArray* ab = htg->GetCellData()->GetArray("ab");
     // Brute force, recursively from each root: the mean of the (unmasked, or all
@@ -217,7 +217,8 @@ TEST(LeavesOnly, SoAVectorOverManyTreesMatchesBruteForceVolumeAverages)
       std::vector<std::vector<std::size_t>> children(nodes.size());
       for (std::size_t n = 1; n < nodes.size(); ++n)
         children[static_cast<std::size_t>(nodes[n].parent)].push_back(n);
-      auto value = [&](auto& self, std::size_t n, int c) -> double {
+      auto value = [&](auto& self, std::size_t n, int c) -> double
+      {
         if (children[n].empty())
         {
           const auto leaf = leafOfSlot[static_cast<std::size_t>(nodes[n].slot)];
@@ -242,7 +243,7 @@ TEST(LeavesOnly, SoAVectorOverManyTreesMatchesBruteForceVolumeAverages)
       for (std::size_t n = 0; n < nodes.size(); ++n)
         for (int c = 0; c < 2; ++c)
           ASSERT_NEAR(ab->GetComponent(nodes[n].slot, c), value(value, n, c), 1e-12)
-            << "tree " << t << " node " << n;
+              << "tree " << t << " node " << n;
     }
   }
 }

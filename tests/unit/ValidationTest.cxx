@@ -276,7 +276,7 @@ TEST_F(Validation, MisalignedPointer)
 {
   static const std::vector<double> values(99);
   const auto* shifted =
-    reinterpret_cast<const double*>(reinterpret_cast<const char*>(values.data()) + 4);
+      reinterpret_cast<const double*>(reinterpret_cast<const char*>(values.data()) + 4);
   d().fields.push_back(FieldDescription::aos("shifted", shifted, 98));
   expectRejected({"field 1 'shifted'", "not aligned to its 8-byte values"});
 }
