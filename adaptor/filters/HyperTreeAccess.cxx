@@ -55,8 +55,10 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
     access.treeIndex = index;
     access.tree = tree;
     access.elderChild = tree->GetElderChildIndexArray(access.elderChildSize);
-    access.implicitGlobalIndex = tree->IsGlobalIndexImplicit();
-    access.globalIndexStart = access.implicitGlobalIndex ? tree->GetGlobalIndexStart() : 0;
+    // VTK 9.2's IsGlobalIndexImplicit() answers the opposite of its name
+    // (GlobalIndexStart == -1); the start itself is reliable: -1 means a table.
+    access.globalIndexStart = tree->GetGlobalIndexStart();
+    access.implicitGlobalIndex = access.globalIndexStart >= 0;
     unsigned int ijk[3];
     htg->GetLevelZeroCoordinatesFromIndex(index, ijk[0], ijk[1], ijk[2]);
     for (int a = 0; a < 3; ++a)

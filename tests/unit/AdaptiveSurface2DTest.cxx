@@ -29,6 +29,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 
@@ -349,6 +350,49 @@ RandomCase randomCase(std::uint64_t seed)
   c.view.width = sizes[seed % 4][0];
   c.view.height = sizes[seed % 4][1];
   return c;
+}
+
+TEST(AdaptiveSurface2D, EveryQuadSitsOnItsCellInAnyStorageOrder)
+{
+  for (StorageOrder order : {StorageOrder::BreadthFirst, StorageOrder::DepthFirst})
+  {
+    for (int f : {2, 3})
+    {
+      RandomForestOptions o;
+      o.dimension = 2;
+      o.branchFactor = f;
+      o.rootCells = {{3, 2, 1}};
+      o.maxLevels = f == 2 ? 6 : 4;
+      o.order = order;
+      o.maskProbability = 0.1;
+      o.seed = 11 + f;
+      RandomForest forest(o);
+      auto htg = buildHyperTreeGrid(forest.description());
+      vtkNew<vtkCanopyAdaptiveSurface> filter;
+      filter->SetInputData(htg);
+      filter->ViewDependentOff();
+      filter->Update();
+      vtkPolyData* surface = filter->GetPolyDataOutput();
+      const auto leaves = visibleLeaves(htg);
+      ASSERT_EQ(surface->GetNumberOfCells(), static_cast<vtkIdType>(leaves.size()));
+      std::map<vtkIdType, const Leaf*> byId;
+      for (const Leaf& leaf : leaves)
+      {
+        byId[leaf.global] = &leaf;
+      }
+      auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
+      for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
+      {
+        double b[6];
+        surface->GetCell(q)->GetBounds(b);
+        const Leaf* leaf = byId.at(ids->GetValue(q));
+        for (int i = 0; i < 6; ++i)
+        {
+          ASSERT_NEAR(b[i], leaf->bounds[i], 1e-12) << "quad " << q << " bound " << i;
+        }
+      }
+    }
+  }
 }
 
 TEST(AdaptiveSurface2D, RandomViewsEmitExactlyTheOverlappingLeaves)

@@ -295,6 +295,7 @@ TEST(AdaptiveSurface3D, RandomForestsFullSurfaceIsExactlyTheBoundary)
     o.refineProbability = 0.4;
     o.maskProbability = 0.15;
     o.skipEveryOtherRoot = seed % 4 == 1; // absent trees expose their neighbours
+    o.order = seed % 2 ? StorageOrder::DepthFirst : StorageOrder::BreadthFirst;
     o.origin = {{-7.5, 1e3, 3.25}};
     o.seed = seed;
     RandomForest forest(o);
