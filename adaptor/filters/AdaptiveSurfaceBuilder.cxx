@@ -9,13 +9,6 @@
 namespace canopy
 {
 
-void SurfacePieces::append(const SurfacePieces& other)
-{
-  points.insert(points.end(), other.points.begin(), other.points.end());
-  cellIds.insert(cellIds.end(), other.cellIds.begin(), other.cellIds.end());
-  levels.insert(levels.end(), other.levels.begin(), other.levels.end());
-}
-
 namespace
 {
 
@@ -228,14 +221,30 @@ private:
   std::vector<std::array<double, 2>> Intervals;
 };
 
-void emitQuad(SurfacePieces& out, const std::array<Vec3, 4>& corners, vtkIdType cellId, int level)
+/// Where quads go: counted in the first pass, written in place in the second,
+/// so the output is allocated once and never grown or copied.
+struct QuadSink
 {
-  for (const Vec3& c : corners)
+  SurfaceArrays arrays{nullptr, nullptr, nullptr};
+  std::size_t next = 0;
+  bool counting = true;
+};
+
+void emitQuad(QuadSink& out, const std::array<Vec3, 4>& corners, vtkIdType cellId, int level)
+{
+  if (!out.counting)
   {
-    out.points.insert(out.points.end(), c.begin(), c.end());
+    double* p = out.arrays.points + 12 * out.next;
+    for (const Vec3& c : corners)
+    {
+      *p++ = c[0];
+      *p++ = c[1];
+      *p++ = c[2];
+    }
+    out.arrays.cellIds[out.next] = cellId;
+    out.arrays.levels[out.next] = static_cast<unsigned char>(level);
   }
-  out.cellIds.push_back(cellId);
-  out.levels.push_back(static_cast<unsigned char>(level));
+  ++out.next;
 }
 
 /// Shared traversal state of one tree.
@@ -246,7 +255,7 @@ struct TreeWalk
   const SurfaceOptions& options;
   const Powers& powers;
   const PlaneRegion* region; ///< 2D culling, when a view is given
-  SurfacePieces& out;
+  QuadSink& out;
 
   bool lodStops(const Vec3& lo, const Vec3& hi) const
   {
@@ -279,18 +288,32 @@ struct TreeWalk
     {
       const NodeFrame n = stack.back();
       stack.pop_back();
-      const vtkIdType global = tree.globalIndex(n.node);
-      if (grid.isMasked(global))
+      // The global index costs a virtual call for explicit indices: only when needed.
+      vtkIdType global = -1;
+      if (grid.hasMask())
       {
-        continue;
+        global = tree.globalIndex(n.node);
+        if (grid.isMasked(global))
+        {
+          continue;
+        }
       }
       nodeBox(tree, n, powers, lo, hi);
       if (!visible(lo, hi))
       {
         continue;
       }
-      if (tree.isLeaf(n.node) || lodStops(lo, hi))
+      const bool stop = tree.isLeaf(n.node) || lodStops(lo, hi);
+      if (!stop && grid.dimension() == 3 && !mayExposeInside(n))
       {
+        continue; // a solid subtree surrounded by solid neighbours: nothing exposed
+      }
+      if (stop)
+      {
+        if (global < 0 && !out.counting)
+        {
+          global = tree.globalIndex(n.node);
+        }
         if (grid.dimension() == 2)
         {
           emitPlaneQuad(lo, hi, global, n.level);
@@ -408,8 +431,7 @@ struct TreeWalk
         bool exposed = false;
         while (true)
         {
-          const vtkIdType mg = neighbour->globalIndex(m.node);
-          if (grid.isMasked(mg))
+          if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
           {
             exposed = true;
             break;
@@ -453,6 +475,71 @@ struct TreeWalk
     }
   }
 
+  /// 3D: whether any face inside an unmasked node's subtree can be exposed:
+  /// yes if something below it is masked or a neighbour region across one of
+  /// its faces is not solid (absent, masked, or with masked parts).
+  bool mayExposeInside(const NodeFrame& n) const
+  {
+    if (tree.hasMaskedDescendant(n.node))
+    {
+      return true;
+    }
+    const std::int64_t cells = powers[n.level];
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      for (int side = 0; side < 2; ++side)
+      {
+        Index3 across = n.ijk;
+        std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
+                                  static_cast<long>(tree.rootIJK[1]),
+                                  static_cast<long>(tree.rootIJK[2])}};
+        across[axis] += side ? 1 : -1;
+        if (across[axis] < 0)
+        {
+          across[axis] = cells - 1;
+          root[axis] -= 1;
+        }
+        else if (across[axis] >= cells)
+        {
+          across[axis] = 0;
+          root[axis] += 1;
+        }
+        const TreeAccess* neighbour = grid.treeAt(root[0], root[1], root[2]);
+        if (!neighbour)
+        {
+          return true;
+        }
+        NodeFrame m{0, 0, {{0, 0, 0}}};
+        while (true)
+        {
+          if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
+          {
+            return true;
+          }
+          if (m.level == n.level || neighbour->isLeaf(m.node))
+          {
+            if (neighbour->hasMaskedDescendant(m.node))
+            {
+              return true;
+            }
+            break; // solid
+          }
+          const int f = grid.branchFactor();
+          const std::int64_t scale = powers[n.level - m.level - 1];
+          int child = 0;
+          int weight = 1;
+          for (int a : grid.activeAxes())
+          {
+            child += static_cast<int>((across[a] / scale) % f) * weight;
+            weight *= f;
+          }
+          m = {neighbour->firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
+        }
+      }
+    }
+    return false;
+  }
+
   bool lodStops(const TreeAccess& t, const NodeFrame& m) const
   {
     if (!options.view || !options.levelOfDetail)
@@ -493,7 +580,7 @@ struct TreeWalk
         continue;
       }
       const NodeFrame child{first + c, m.level + 1, childIndex(m, c, grid)};
-      if (grid.isMasked(t.globalIndex(child.node)))
+      if (grid.hasMask() && grid.isMasked(t.globalIndex(child.node)))
       {
         Vec3 clo;
         Vec3 chi;
@@ -508,56 +595,80 @@ struct TreeWalk
 
 } // namespace
 
-void buildTreeSurface(const HyperTreeAccess& grid, const TreeAccess& tree,
-                      const SurfaceOptions& options, SurfacePieces& out)
+AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
+                                               const SurfaceOptions& options)
+    : Grid(grid), Options(options)
 {
-  const Powers powers(grid.branchFactor());
-  std::unique_ptr<PlaneRegion> region;
-  if (grid.dimension() == 2 && options.view && options.cullOutsideView)
-  {
-    region = std::make_unique<PlaneRegion>(grid, *options.view);
-  }
-  TreeWalk walk{grid, tree, options, powers, region.get(), out};
-  walk.walk();
 }
 
-SurfacePieces buildAdaptiveSurface(const HyperTreeAccess& grid, const SurfaceOptions& options)
+std::size_t AdaptiveSurfaceBuilder::count()
 {
-  const Powers powers(grid.branchFactor());
+  const Powers powers(Grid.branchFactor());
   std::unique_ptr<PlaneRegion> region;
-  if (grid.dimension() == 2 && options.view && options.cullOutsideView)
+  if (Grid.dimension() == 2 && Options.view && Options.cullOutsideView)
   {
-    region = std::make_unique<PlaneRegion>(grid, *options.view);
+    region = std::make_unique<PlaneRegion>(Grid, *Options.view);
   }
-  // Trees are independent: one output per tree, in parallel, then concatenated in
-  // tree order so the result does not depend on the number of threads.
-  const auto& trees = grid.trees();
-  std::vector<SurfacePieces> perTree(trees.size());
+  const auto& trees = Grid.trees();
+  std::vector<std::size_t> counts(trees.size(), 0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
                    [&](vtkIdType begin, vtkIdType end)
                    {
                      for (vtkIdType t = begin; t < end; ++t)
                      {
-                       TreeWalk walk{grid,         trees[static_cast<std::size_t>(t)],
-                                     options,      powers,
-                                     region.get(), perTree[static_cast<std::size_t>(t)]};
+                       QuadSink sink;
+                       TreeWalk walk{Grid,         trees[static_cast<std::size_t>(t)],
+                                     Options,      powers,
+                                     region.get(), sink};
                        walk.walk();
+                       counts[static_cast<std::size_t>(t)] = sink.next;
                      }
                    });
+  // Trees write at prefix-sum offsets: the output order is the tree order, the
+  // same for any number of threads.
+  Offsets.assign(trees.size() + 1, 0);
+  for (std::size_t t = 0; t < trees.size(); ++t)
+  {
+    Offsets[t + 1] = Offsets[t] + counts[t];
+  }
+  return Offsets.back();
+}
+
+void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
+{
+  const Powers powers(Grid.branchFactor());
+  std::unique_ptr<PlaneRegion> region;
+  if (Grid.dimension() == 2 && Options.view && Options.cullOutsideView)
+  {
+    region = std::make_unique<PlaneRegion>(Grid, *Options.view);
+  }
+  const auto& trees = Grid.trees();
+  vtkSMPTools::For(
+      0, static_cast<vtkIdType>(trees.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType t = begin; t < end; ++t)
+        {
+          const std::size_t first = Offsets[static_cast<std::size_t>(t)];
+          QuadSink sink;
+          sink.counting = false;
+          sink.arrays = {arrays.points + 12 * first, arrays.cellIds + first, arrays.levels + first};
+          TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, powers, region.get(),
+                        sink};
+          walk.walk();
+        }
+      });
+}
+
+SurfacePieces buildAdaptiveSurface(const HyperTreeAccess& grid, const SurfaceOptions& options)
+{
+  AdaptiveSurfaceBuilder builder(grid, options);
+  const std::size_t quads = builder.count();
   SurfacePieces out;
-  std::size_t quads = 0;
-  for (const SurfacePieces& p : perTree)
-  {
-    quads += p.numberOfQuads();
-  }
-  out.points.reserve(12 * quads);
-  out.cellIds.reserve(quads);
-  out.levels.reserve(quads);
-  for (SurfacePieces& p : perTree)
-  {
-    out.append(p);
-    p = SurfacePieces();
-  }
+  out.points.resize(12 * quads);
+  out.cellIds.resize(quads);
+  out.levels.resize(quads);
+  builder.write({out.points.data(), out.cellIds.data(), out.levels.data()});
   return out;
 }
 

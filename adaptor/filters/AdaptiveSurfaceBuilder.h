@@ -39,6 +39,32 @@ struct SurfaceOptions
   bool skipBackFaces = false; ///< 3D only
 };
 
+/// Output buffers: 12 doubles (4 points) per quad, one cell id and one level.
+struct SurfaceArrays
+{
+  double* points;
+  vtkIdType* cellIds;
+  unsigned char* levels;
+};
+
+/// Two passes over the trees (in parallel with vtkSMPTools): count, then write
+/// each tree's quads at its offset. The output is allocated once, in its final
+/// place; its order is the tree order for any number of threads.
+class AdaptiveSurfaceBuilder
+{
+public:
+  AdaptiveSurfaceBuilder(const HyperTreeAccess& grid, const SurfaceOptions& options);
+  /// Number of quads; call before write().
+  std::size_t count();
+  /// Fills arrays sized for count() quads.
+  void write(const SurfaceArrays& arrays) const;
+
+private:
+  const HyperTreeAccess& Grid;
+  SurfaceOptions Options;
+  std::vector<std::size_t> Offsets;
+};
+
 /// Quads, four points each (x y z per point), with per-quad source cell.
 struct SurfacePieces
 {
@@ -46,14 +72,9 @@ struct SurfacePieces
   std::vector<vtkIdType> cellIds;    ///< global index of the node each quad shows
   std::vector<unsigned char> levels; ///< that node's level
   std::size_t numberOfQuads() const { return cellIds.size(); }
-  void append(const SurfacePieces& other);
 };
 
-/// Computes the surface of one tree (trees are independent, so this parallelizes).
-void buildTreeSurface(const HyperTreeAccess& grid, const TreeAccess& tree,
-                      const SurfaceOptions& options, SurfacePieces& out);
-
-/// The whole grid, trees in iteration order (deterministic).
+/// Convenience: both passes into vectors.
 SurfacePieces buildAdaptiveSurface(const HyperTreeAccess& grid, const SurfaceOptions& options);
 
 } // namespace canopy

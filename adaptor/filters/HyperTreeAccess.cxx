@@ -38,13 +38,12 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
       FlatCoordinate = Bounds[2 * a];
     }
   }
+  Mask = htg->HasMask() ? htg->GetMask() : nullptr;
   if (static_cast<int>(ActiveAxes.size()) != Dimension)
   {
     throw std::invalid_argument("only 2D and 3D grids with one point on each unused axis are "
                                 "supported");
   }
-  Mask = htg->HasMask() ? htg->GetMask() : nullptr;
-
   TreeAtRoot.assign(static_cast<std::size_t>(RootCells[0]) * RootCells[1] * RootCells[2], -1);
   vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
   htg->InitializeTreeIterator(it);
@@ -73,6 +72,28 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
       {
         access.origin[a] = coords[a]->GetComponent(0, 0);
         access.size[a] = 0;
+      }
+    }
+    if (Mask)
+    {
+      // Children have larger local indices than their parent (breadth-first
+      // construction and SubdivideLeaf both append), so one reverse pass suffices.
+      const vtkIdType vertices = tree->GetNumberOfVertices();
+      access.maskedBelow.assign(static_cast<std::size_t>(vertices), 0);
+      for (vtkIdType n = vertices; n-- > 0;)
+      {
+        if (access.isLeaf(n))
+        {
+          continue;
+        }
+        unsigned char below = 0;
+        const vtkIdType first = access.firstChild(n);
+        for (vtkIdType c = first; c < first + Children; ++c)
+        {
+          below |= static_cast<unsigned char>(Mask->GetValue(access.globalIndex(c)) != 0 ||
+                                              access.maskedBelow[static_cast<std::size_t>(c)]);
+        }
+        access.maskedBelow[static_cast<std::size_t>(n)] = below;
       }
     }
     TreeAtRoot[static_cast<std::size_t>(index)] = static_cast<std::int64_t>(Trees.size());

@@ -29,6 +29,14 @@ struct TreeAccess
   std::array<double, 3> origin{{0, 0, 0}}; ///< lower corner of the root cell
   std::array<double, 3> size{{0, 0, 0}};   ///< root cell size (0 on the flat axis of 2D)
   std::array<unsigned int, 3> rootIJK{{0, 0, 0}};
+  /// Per local node: 1 when a strict descendant is masked (filled only for
+  /// grids with a mask; empty otherwise, meaning "never").
+  std::vector<unsigned char> maskedBelow;
+
+  bool hasMaskedDescendant(vtkIdType node) const
+  {
+    return !maskedBelow.empty() && maskedBelow[static_cast<std::size_t>(node)] != 0;
+  }
 
   bool isLeaf(vtkIdType node) const
   {
@@ -65,6 +73,7 @@ public:
   /// Tree at root cell (i, j, k), or nullptr when absent or out of range.
   const TreeAccess* treeAt(long i, long j, long k) const;
 
+  bool hasMask() const { return Mask != nullptr; }
   bool isMasked(vtkIdType globalIndex) const
   {
     return Mask != nullptr && Mask->GetValue(globalIndex) != 0;

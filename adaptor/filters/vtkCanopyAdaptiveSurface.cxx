@@ -16,6 +16,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
+#include <vtkSMPTools.h>
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
@@ -30,19 +31,13 @@ namespace
 {
 
 /// Copies the tuples of `ids` from `source` into a new array of the same type.
-vtkSmartPointer<vtkDataArray> gatherTuples(vtkDataArray* source, const std::vector<vtkIdType>& ids)
+vtkSmartPointer<vtkDataArray> gatherTuples(vtkDataArray* source, const vtkIdType* ids,
+                                           vtkIdType count, vtkSmartPointer<vtkDataArray> out)
 {
-  vtkSmartPointer<vtkDataArray> out =
-      vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(source->GetDataType()));
   const int nc = source->GetNumberOfComponents();
   out->SetName(source->GetName());
   out->SetNumberOfComponents(nc);
-  out->SetNumberOfTuples(static_cast<vtkIdType>(ids.size()));
-  // Contiguous sources (the common case: wrapped simulation arrays) by memcpy.
-  if (source->HasStandardMemoryLayout() && source->IsA("vtkAOSDataArrayTemplate") == 0)
-  {
-    // Fall through to the generic path for custom arrays.
-  }
+  out->SetNumberOfTuples(count);
   const int size = source->GetDataTypeSize();
   auto* aos = vtkArrayDownCast<vtkDataArray>(source);
   const bool raw = aos && (source->IsA("vtkDoubleArray") || source->IsA("vtkFloatArray") ||
@@ -56,18 +51,39 @@ vtkSmartPointer<vtkDataArray> gatherTuples(vtkDataArray* source, const std::vect
     const auto* from = static_cast<const unsigned char*>(source->GetVoidPointer(0));
     auto* to = static_cast<unsigned char*>(out->GetVoidPointer(0));
     const std::size_t tupleBytes = static_cast<std::size_t>(nc) * size;
-    for (std::size_t i = 0; i < ids.size(); ++i)
-    {
-      std::memcpy(to + i * tupleBytes, from + static_cast<std::size_t>(ids[i]) * tupleBytes,
-                  tupleBytes);
-    }
+    vtkSMPTools::For(0, count,
+                     [&](vtkIdType begin, vtkIdType end)
+                     {
+                       for (vtkIdType i = begin; i < end; ++i)
+                       {
+                         std::memcpy(to + static_cast<std::size_t>(i) * tupleBytes,
+                                     from + static_cast<std::size_t>(ids[i]) * tupleBytes,
+                                     tupleBytes);
+                       }
+                     });
     return out;
   }
-  for (std::size_t i = 0; i < ids.size(); ++i)
+  // Other arrays (Canopy's borrowed ones, SoA): read through the generic
+  // interface, write straight into the new array's memory.
+  switch (out->GetDataType())
   {
-    for (int c = 0; c < nc; ++c)
+    vtkTemplateMacro({
+      auto* to = static_cast<VTK_TT*>(out->GetVoidPointer(0));
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        for (int c = 0; c < nc; ++c)
+        {
+          to[i * nc + c] = static_cast<VTK_TT>(source->GetComponent(ids[i], c));
+        }
+      }
+    });
+  default:
+    for (vtkIdType i = 0; i < count; ++i)
     {
-      out->SetComponent(static_cast<vtkIdType>(i), c, source->GetComponent(ids[i], c));
+      for (int c = 0; c < nc; ++c)
+      {
+        out->SetComponent(i, c, source->GetComponent(ids[i], c));
+      }
     }
   }
   return out;
@@ -102,6 +118,24 @@ void vtkCanopyAdaptiveSurface::ClearFields()
     this->Fields.clear();
     this->Modified();
   }
+}
+
+template <typename ArrayType>
+vtkSmartPointer<ArrayType> vtkCanopyAdaptiveSurface::ReusableArray(const std::string& key,
+                                                                   int dataType)
+{
+  // Fresh memory is expensive (first-touch page faults cost more than writing
+  // the output); an array only this filter still holds is reused instead.
+  auto& slot = this->Reusable[key];
+  if (slot && slot->GetReferenceCount() == 1 && slot->GetDataType() == dataType)
+  {
+    if (auto* typed = ArrayType::SafeDownCast(slot))
+    {
+      return typed;
+    }
+  }
+  slot = vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(dataType));
+  return ArrayType::SafeDownCast(slot);
 }
 
 vtkPolyData* vtkCanopyAdaptiveSurface::GetPolyDataOutput()
@@ -196,7 +230,15 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     }
   }
 
-  canopy::SurfacePieces pieces;
+  // Release the previous output first: its arrays can then be reused.
+  output->Initialize();
+  auto coordinates = this->ReusableArray<vtkDoubleArray>("points", VTK_DOUBLE);
+  coordinates->SetNumberOfComponents(3);
+  auto ids = this->ReusableArray<vtkIdTypeArray>("OriginalCellId", VTK_ID_TYPE);
+  ids->SetName("OriginalCellId");
+  auto levels = this->ReusableArray<vtkUnsignedCharArray>("Level", VTK_UNSIGNED_CHAR);
+  levels->SetName("Level");
+  vtkIdType quads = 0;
   try
   {
     const canopy::HyperTreeAccess grid(input);
@@ -211,7 +253,13 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     options.levelOfDetail = this->LevelOfDetail;
     options.pixelThreshold = this->PixelThreshold;
     options.skipBackFaces = this->SkipBackFaces;
-    pieces = canopy::buildAdaptiveSurface(grid, options);
+    canopy::AdaptiveSurfaceBuilder builder(grid, options);
+    quads = static_cast<vtkIdType>(builder.count());
+    // Allocated once, written in place by the trees in parallel.
+    coordinates->SetNumberOfTuples(4 * quads);
+    ids->SetNumberOfTuples(quads);
+    levels->SetNumberOfTuples(quads);
+    builder.write({coordinates->GetPointer(0), ids->GetPointer(0), levels->GetPointer(0)});
   }
   catch (const std::exception& e)
   {
@@ -219,30 +267,34 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     return 0;
   }
 
-  const auto quads = static_cast<vtkIdType>(pieces.numberOfQuads());
-  vtkNew<vtkDoubleArray> coordinates;
-  coordinates->SetNumberOfComponents(3);
-  coordinates->SetNumberOfTuples(4 * quads);
-  std::copy(pieces.points.begin(), pieces.points.end(), coordinates->GetPointer(0));
   vtkNew<vtkPoints> points;
   points->SetData(coordinates);
 
-  vtkNew<vtkIdTypeArray> offsets;
+  auto offsets = this->ReusableArray<vtkIdTypeArray>("offsets", VTK_ID_TYPE);
   offsets->SetNumberOfTuples(quads + 1);
-  vtkNew<vtkIdTypeArray> connectivity;
+  auto connectivity = this->ReusableArray<vtkIdTypeArray>("connectivity", VTK_ID_TYPE);
   connectivity->SetNumberOfTuples(4 * quads);
-  for (vtkIdType q = 0; q <= quads; ++q)
-  {
-    offsets->SetValue(q, 4 * q);
-  }
-  for (vtkIdType p = 0; p < 4 * quads; ++p)
-  {
-    connectivity->SetValue(p, p);
-  }
+  vtkIdType* offset = offsets->GetPointer(0);
+  vtkIdType* connection = connectivity->GetPointer(0);
+  vtkSMPTools::For(0, quads + 1,
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType q = begin; q < end; ++q)
+                     {
+                       offset[q] = 4 * q;
+                     }
+                   });
+  vtkSMPTools::For(0, 4 * quads,
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType p = begin; p < end; ++p)
+                     {
+                       connection[p] = p;
+                     }
+                   });
   vtkNew<vtkCellArray> polys;
   polys->SetData(offsets, connectivity);
 
-  output->Initialize();
   output->SetPoints(points);
   output->SetPolys(polys);
 
@@ -260,17 +312,11 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     {
       continue;
     }
-    out->AddArray(gatherTuples(array, pieces.cellIds));
+    vtkSmartPointer<vtkDataArray> target = this->ReusableArray<vtkDataArray>(
+        std::string("field:") + array->GetName(), array->GetDataType());
+    out->AddArray(gatherTuples(array, ids->GetPointer(0), quads, target));
   }
-  vtkNew<vtkIdTypeArray> ids;
-  ids->SetName("OriginalCellId");
-  ids->SetNumberOfTuples(quads);
-  std::copy(pieces.cellIds.begin(), pieces.cellIds.end(), ids->GetPointer(0));
   out->AddArray(ids);
-  vtkNew<vtkUnsignedCharArray> levels;
-  levels->SetName("Level");
-  levels->SetNumberOfTuples(quads);
-  std::copy(pieces.levels.begin(), pieces.levels.end(), levels->GetPointer(0));
   out->AddArray(levels);
   return 1;
 }

@@ -26,10 +26,14 @@
 
 #include <vtkHyperTreeGridAlgorithm.h>
 
+#include <vtkSmartPointer.h>
+
+#include <map>
 #include <string>
 #include <vector>
 
 class vtkCamera;
+class vtkDataArray;
 class vtkPolyData;
 class vtkRenderer;
 
@@ -145,6 +149,10 @@ private:
   double PixelThreshold = 1.0;
   bool SkipBackFaces = false;
   std::vector<std::string> Fields;
+  /// Output arrays of the previous execution, reused when nobody else holds them.
+  std::map<std::string, vtkSmartPointer<vtkDataArray>> Reusable;
+  template <typename ArrayType>
+  vtkSmartPointer<ArrayType> ReusableArray(const std::string& key, int dataType);
   int LastRendererSize[2] = {0, 0};
   vtkTimeStamp RendererSizeTime;
 };
