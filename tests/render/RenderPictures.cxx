@@ -1,0 +1,100 @@
+// Pictures for docs/filters.md: paper cases A and B, with and without mask,
+// the full surface and the part kept for a view (shown from an overview camera
+// so the culled region is visible). Usage: canopy_render_pictures OUTPUT_DIR
+#include "DescriptorForest.h"
+#include "OffscreenRenderer.h"
+
+#include "canopy/HtgBuilder.h"
+#include "vtkCanopyAdaptiveSurface.h"
+
+#include <vtkCamera.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkPolyData.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "../unit/PaperCaseDefinitions.h"
+
+namespace
+{
+
+using namespace canopy::testing;
+
+vtkSmartPointer<vtkPolyData> surface(vtkHyperTreeGrid* htg, vtkCamera* view, int w, int h)
+{
+  vtkNew<vtkCanopyAdaptiveSurface> filter;
+  filter->SetInputData(htg);
+  if (view)
+  {
+    filter->SetCamera(view);
+    filter->SetViewportSize(w, h);
+  }
+  else
+  {
+    filter->ViewDependentOff();
+  }
+  filter->Update();
+  return filter->GetPolyDataOutput();
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  if (argc != 2)
+  {
+    std::cerr << "usage: canopy_render_pictures OUTPUT_DIR\n";
+    return 2;
+  }
+  const std::filesystem::path out = argv[1];
+  std::filesystem::create_directories(out);
+  for (bool masked : {false, true})
+  {
+    const std::string suffix = masked ? "_masked" : "";
+    // Case A: the paper's view (parallel, scale 1 around (0.75, 1.5), 400 x 400).
+    DescriptorForest a(paperCaseA(masked));
+    auto htgA = buildHyperTreeGrid(a.description());
+    vtkNew<vtkCamera> paperView;
+    paperView->SetFocalPoint(0.75, 1.5, 0);
+    paperView->SetPosition(0.75, 1.5, 10);
+    paperView->ParallelProjectionOn();
+    paperView->SetParallelScale(1);
+    OffscreenRenderer overview(480, 480);
+    overview.camera()->SetFocalPoint(1.5, 1.5, 0);
+    overview.camera()->SetPosition(1.5, 1.5, 10);
+    overview.camera()->ParallelProjectionOn();
+    overview.camera()->SetParallelScale(1.7);
+    writePng(overview.render(surface(htgA, nullptr, 0, 0), "Depth", 0, 5, false, true),
+             (out / ("caseA_full" + suffix + ".png")).string());
+    auto kept = surface(htgA, paperView, 400, 400);
+    writePng(overview.render(kept, "Depth", 0, 5, false, true),
+             (out / ("caseA_culled" + suffix + ".png")).string());
+    std::cout << "case A" << suffix << ": " << kept->GetNumberOfCells() << " quads kept\n";
+
+    // Case B: the full surface from a perspective overview, and what a close
+    // view keeps, seen from the same overview.
+    DescriptorForest b(paperCaseB(masked));
+    auto htgB = buildHyperTreeGrid(b.description());
+    OffscreenRenderer view3d(560, 420);
+    vtkCamera* c = view3d.camera();
+    c->SetFocalPoint(2.25, 1.5, 0.7);
+    c->SetPosition(2.25 + 5.5, 1.5 - 6.5, 0.7 + 4.5);
+    c->SetViewUp(0, 0, 1);
+    c->SetViewAngle(30);
+    auto fullB = surface(htgB, nullptr, 0, 0);
+    writePng(view3d.render(fullB, "Depth", 0, 4, true, true),
+             (out / ("caseB_full" + suffix + ".png")).string());
+    vtkNew<vtkCamera> close;
+    close->SetFocalPoint(3.2, 1.0, 0.7);
+    close->SetPosition(3.2 + 2.0, 1.0 - 2.4, 0.7 + 1.6);
+    close->SetViewUp(0, 0, 1);
+    close->SetViewAngle(20);
+    auto keptB = surface(htgB, close, 560, 420);
+    writePng(view3d.render(keptB, "Depth", 0, 4, true, true),
+             (out / ("caseB_culled" + suffix + ".png")).string());
+    std::cout << "case B" << suffix << ": " << fullB->GetNumberOfCells() << " faces, "
+              << keptB->GetNumberOfCells() << " kept by the close view\n";
+  }
+  return 0;
+}
