@@ -32,14 +32,19 @@ public:
     for (int l = 0; l < 40 && p < (std::int64_t(1) << 61) / f; ++l)
     {
       Values.push_back(p);
+      Inverses.push_back(1.0 / static_cast<double>(p));
       p *= f;
     }
     Values.push_back(p);
+    Inverses.push_back(1.0 / static_cast<double>(p));
   }
   std::int64_t operator[](int l) const { return Values[static_cast<std::size_t>(l)]; }
+  /// 1 / f^l: exact for f = 2, so positions stay exact dyadics; within an ulp for f = 3.
+  double inverse(int l) const { return Inverses[static_cast<std::size_t>(l)]; }
 
 private:
   std::vector<std::int64_t> Values;
+  std::vector<double> Inverses;
 };
 
 /// Lower corner and upper corner of a node.
@@ -74,12 +79,13 @@ std::array<Vec3, 8> boxCorners(const Vec3& lo, const Vec3& hi)
 /// Child position -> per-axis digit: active axes in increasing order, first fastest.
 Index3 childIndex(const NodeFrame& parent, int child, const HyperTreeAccess& grid)
 {
-  Index3 ijk = parent.ijk;
+  // Per-axis digits come from a table: no integer division per node.
+  const auto& digit = grid.childDigits(child);
   const int f = grid.branchFactor();
-  for (int axis : grid.activeAxes())
+  Index3 ijk = parent.ijk;
+  for (int a = 0; a < 3; ++a)
   {
-    ijk[axis] = ijk[axis] * f + child % f;
-    child /= f;
+    ijk[a] = digit[a] < 0 ? ijk[a] : ijk[a] * f + digit[a];
   }
   return ijk;
 }
@@ -282,8 +288,8 @@ struct TreeWalk
   void walk()
   {
     std::vector<NodeFrame> stack{{0, 0, {{0, 0, 0}}}};
-    Vec3 lo;
-    Vec3 hi;
+    Vec3 lo{{0, 0, 0}};
+    Vec3 hi{{0, 0, 0}};
     while (!stack.empty())
     {
       const NodeFrame n = stack.back();
@@ -298,21 +304,34 @@ struct TreeWalk
           continue;
         }
       }
-      nodeBox(tree, n, powers, lo, hi);
-      if (!visible(lo, hi))
+      // The box is needed to cull and to emit, not to count a full surface.
+      bool haveBox = false;
+      if (options.view)
       {
-        continue;
+        nodeBox(tree, n, powers, lo, hi);
+        haveBox = true;
+        if (!visible(lo, hi))
+        {
+          continue;
+        }
       }
-      const bool stop = tree.isLeaf(n.node) || lodStops(lo, hi);
+      const bool stop = tree.isLeaf(n.node) || (haveBox && lodStops(lo, hi));
       if (!stop && grid.dimension() == 3 && !mayExposeInside(n))
       {
         continue; // a solid subtree surrounded by solid neighbours: nothing exposed
       }
       if (stop)
       {
-        if (global < 0 && !out.counting)
+        if (!out.counting)
         {
-          global = tree.globalIndex(n.node);
+          if (global < 0)
+          {
+            global = tree.globalIndex(n.node);
+          }
+          if (!haveBox)
+          {
+            nodeBox(tree, n, powers, lo, hi);
+          }
         }
         if (grid.dimension() == 2)
         {

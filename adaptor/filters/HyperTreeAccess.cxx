@@ -39,6 +39,17 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
     }
   }
   Mask = htg->HasMask() ? htg->GetMask() : nullptr;
+  for (int c = 0; c < Children; ++c)
+  {
+    ChildDigits[static_cast<std::size_t>(c)] = {{-1, -1, -1}};
+    int rest = c;
+    for (int axis : ActiveAxes)
+    {
+      ChildDigits[static_cast<std::size_t>(c)][static_cast<std::size_t>(axis)] =
+          rest % BranchFactor;
+      rest /= BranchFactor;
+    }
+  }
   if (static_cast<int>(ActiveAxes.size()) != Dimension)
   {
     throw std::invalid_argument("only 2D and 3D grids with one point on each unused axis are "

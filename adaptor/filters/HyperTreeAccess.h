@@ -70,6 +70,12 @@ public:
   const std::array<double, 6>& bounds() const { return Bounds; }
 
   const std::vector<TreeAccess>& trees() const { return Trees; }
+  /// For child position c: its digit along each axis (-1 on an inactive axis).
+  /// Active axes in increasing order, the first one fastest, as in VTK.
+  const std::array<int, 3>& childDigits(int c) const
+  {
+    return ChildDigits[static_cast<std::size_t>(c)];
+  }
   /// Tree at root cell (i, j, k), or nullptr when absent or out of range.
   const TreeAccess* treeAt(long i, long j, long k) const;
 
@@ -89,6 +95,7 @@ private:
   std::array<unsigned int, 3> RootCells{{1, 1, 1}};
   std::array<double, 6> Bounds{{0, 0, 0, 0, 0, 0}};
   std::vector<TreeAccess> Trees;
+  std::array<std::array<int, 3>, 27> ChildDigits{};
   std::vector<std::int64_t> TreeAtRoot; ///< root cell -> position in Trees, or -1
   vtkBitArray* Mask = nullptr;
 };
