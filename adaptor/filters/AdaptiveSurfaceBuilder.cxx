@@ -32,19 +32,14 @@ public:
     for (int l = 0; l < 40 && p < (std::int64_t(1) << 61) / f; ++l)
     {
       Values.push_back(p);
-      Inverses.push_back(1.0 / static_cast<double>(p));
       p *= f;
     }
     Values.push_back(p);
-    Inverses.push_back(1.0 / static_cast<double>(p));
   }
   std::int64_t operator[](int l) const { return Values[static_cast<std::size_t>(l)]; }
-  /// 1 / f^l: exact for f = 2, so positions stay exact dyadics; within an ulp for f = 3.
-  double inverse(int l) const { return Inverses[static_cast<std::size_t>(l)]; }
 
 private:
   std::vector<std::int64_t> Values;
-  std::vector<double> Inverses;
 };
 
 /// Lower corner and upper corner of a node.
@@ -413,32 +408,56 @@ struct TreeWalk
     emitQuad(out, q, global, level);
   }
 
+  /// The tree holding the same-level position across a face of n (nullptr when
+  /// outside the grid or absent), and that position in its integer coordinates.
+  const TreeAccess* neighbourAcross(const NodeFrame& n, int axis, int side, Index3& across) const
+  {
+    const std::int64_t cells = powers[n.level];
+    across = n.ijk;
+    std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
+                              static_cast<long>(tree.rootIJK[1]),
+                              static_cast<long>(tree.rootIJK[2])}};
+    across[axis] += side ? 1 : -1;
+    if (across[axis] < 0)
+    {
+      across[axis] = cells - 1;
+      root[axis] -= 1;
+    }
+    else if (across[axis] >= cells)
+    {
+      across[axis] = 0;
+      root[axis] += 1;
+    }
+    return grid.treeAt(root[0], root[1], root[2]);
+  }
+
+  /// The child of m on the way down to position `target` at level `level`.
+  NodeFrame childToward(const TreeAccess& t, const NodeFrame& m, int level,
+                        const Index3& target) const
+  {
+    const int f = grid.branchFactor();
+    const std::int64_t scale = powers[level - m.level - 1];
+    int child = 0;
+    int weight = 1;
+    for (int a : grid.activeAxes())
+    {
+      child += static_cast<int>((target[a] / scale) % f) * weight;
+      weight *= f;
+    }
+    return {t.firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
+  }
+
   /// For each of the six faces of a node where descent stopped: the parts not
   /// covered by unmasked (or solid-by-level-of-detail) nodes on the other side.
   void emitExposedFaces(const NodeFrame& n, const Vec3& lo, const Vec3& hi, vtkIdType global)
   {
-    const std::int64_t cells = powers[n.level];
     for (int axis = 0; axis < 3; ++axis)
     {
       for (int side = 0; side < 2; ++side)
       {
         // The same-level position across the face, possibly in the next tree.
-        Index3 across = n.ijk;
-        std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
-                                  static_cast<long>(tree.rootIJK[1]),
-                                  static_cast<long>(tree.rootIJK[2])}};
-        across[axis] += side ? 1 : -1;
-        if (across[axis] < 0)
-        {
-          across[axis] = cells - 1;
-          root[axis] -= 1;
-        }
-        else if (across[axis] >= cells)
-        {
-          across[axis] = 0;
-          root[axis] += 1;
-        }
-        const TreeAccess* neighbour = grid.treeAt(root[0], root[1], root[2]);
+        Index3 across;
+        const TreeAccess* neighbour = neighbourAcross(n, axis, side, across);
         if (!neighbour)
         {
           emitFace(axis, side, lo, hi, lo, hi, global, n.level);
@@ -469,16 +488,7 @@ struct TreeWalk
             covered = true;
             break;
           }
-          const int f = grid.branchFactor();
-          const std::int64_t scale = powers[n.level - m.level - 1];
-          int child = 0;
-          int weight = 1;
-          for (int a : grid.activeAxes())
-          {
-            child += static_cast<int>((across[a] / scale) % f) * weight;
-            weight *= f;
-          }
-          m = {neighbour->firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
+          m = childToward(*neighbour, m, n.level, across);
         }
         if (exposed)
         {
@@ -503,27 +513,12 @@ struct TreeWalk
     {
       return true;
     }
-    const std::int64_t cells = powers[n.level];
     for (int axis = 0; axis < 3; ++axis)
     {
       for (int side = 0; side < 2; ++side)
       {
-        Index3 across = n.ijk;
-        std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
-                                  static_cast<long>(tree.rootIJK[1]),
-                                  static_cast<long>(tree.rootIJK[2])}};
-        across[axis] += side ? 1 : -1;
-        if (across[axis] < 0)
-        {
-          across[axis] = cells - 1;
-          root[axis] -= 1;
-        }
-        else if (across[axis] >= cells)
-        {
-          across[axis] = 0;
-          root[axis] += 1;
-        }
-        const TreeAccess* neighbour = grid.treeAt(root[0], root[1], root[2]);
+        Index3 across;
+        const TreeAccess* neighbour = neighbourAcross(n, axis, side, across);
         if (!neighbour)
         {
           return true;
@@ -543,16 +538,7 @@ struct TreeWalk
             }
             break; // solid
           }
-          const int f = grid.branchFactor();
-          const std::int64_t scale = powers[n.level - m.level - 1];
-          int child = 0;
-          int weight = 1;
-          for (int a : grid.activeAxes())
-          {
-            child += static_cast<int>((across[a] / scale) % f) * weight;
-            weight *= f;
-          }
-          m = {neighbour->firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
+          m = childToward(*neighbour, m, n.level, across);
         }
       }
     }

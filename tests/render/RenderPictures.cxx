@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "../unit/PaperCaseDefinitions.h"
+#include "PaperCaseDefinitions.h"
 
 namespace
 {

@@ -3,6 +3,7 @@
 // with level of detail on, the image error stays under a stated bound.
 #include "DescriptorForest.h"
 #include "OffscreenRenderer.h"
+#include "PaperCaseDefinitions.h"
 #include "SyntheticForest.h"
 
 #include "canopy/HtgBuilder.h"
@@ -20,24 +21,6 @@ namespace canopy::testing
 namespace
 {
 
-// Paper case A (../shared/testdata/paper_cases.md); the unit tests hold both cases.
-SourceParameters caseA(bool withMask)
-{
-  SourceParameters p;
-  p.dimensions = {{3, 4, 1}};
-  p.gridScale = {{1.5, 1, 10}};
-  p.branchFactor = 2;
-  p.maxDepth = 6;
-  p.descriptor = "RRRRR.|.... .R.. RRRR R... R...|.R.. ...R ..RR .R.. R... .... ....|.... ...R "
-                 "..R. .... .R.. R...|.... .... .R.. ....|....";
-  if (withMask)
-  {
-    p.mask = "111111|0000 1111 1111 1111 1111|1111 0001 0111 0101 1011 1111 0111|1111 0111 1111 "
-             "1111 1111 1111|1111 1111 1111 1111|1111";
-  }
-  return p;
-}
-
 vtkSmartPointer<vtkPolyData> surfaceFor(vtkHyperTreeGrid* htg, OffscreenRenderer& r, bool view,
                                         bool lod)
 {
@@ -54,7 +37,7 @@ TEST(Rendering, CullingAloneChangesNoPixel2D)
 {
   for (bool withMask : {false, true})
   {
-    DescriptorForest forest(caseA(withMask));
+    DescriptorForest forest(paperCaseA(withMask));
     auto htg = buildHyperTreeGrid(forest.description());
     OffscreenRenderer r(400, 400);
     r.camera()->SetFocalPoint(0.75, 1.5, 0);

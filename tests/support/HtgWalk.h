@@ -49,4 +49,39 @@ void forEachNode(vtkHyperTreeGrid* htg, vtkIdType rootIndex,
   walk(walk, 0);
 }
 
+/// Calls visit(cursor) for every leaf with no masked ancestor (and not masked
+/// itself), over all trees, by VTK's own cursors: the independent reference the
+/// filter tests compare against.
+template <typename Visit>
+void forEachVisibleLeaf(vtkHyperTreeGrid* htg, Visit&& visit)
+{
+  vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
+  htg->InitializeTreeIterator(it);
+  vtkIdType index = 0;
+  while (it.GetNextTree(index))
+  {
+    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
+    htg->InitializeNonOrientedGeometryCursor(cursor, index);
+    auto walk = [&](auto& self) -> void
+    {
+      if (cursor->IsMasked())
+      {
+        return;
+      }
+      if (cursor->IsLeaf())
+      {
+        visit(cursor.GetPointer());
+        return;
+      }
+      for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
+      {
+        cursor->ToChild(c);
+        self(self);
+        cursor->ToParent();
+      }
+    };
+    walk(walk);
+  }
+}
+
 } // namespace canopy::testing

@@ -3,6 +3,7 @@
 // nonzero area (VTK's own camera frustum planes, polygon clipping), level of
 // detail must stop exactly where the closed form says, and the emitted cells
 // must tile the visible domain.
+#include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
 
@@ -159,37 +160,15 @@ struct Leaf
 std::vector<Leaf> visibleLeaves(vtkHyperTreeGrid* htg)
 {
   std::vector<Leaf> leaves;
-  vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
-  htg->InitializeTreeIterator(it);
-  vtkIdType index = 0;
-  while (it.GetNextTree(index))
-  {
-    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
-    htg->InitializeNonOrientedGeometryCursor(cursor, index);
-    auto walk = [&](auto& self) -> void
-    {
-      if (cursor->IsMasked())
-      {
-        return;
-      }
-      if (cursor->IsLeaf())
-      {
-        Leaf leaf;
-        leaf.global = cursor->GetGlobalNodeIndex();
-        cursor->GetBounds(leaf.bounds);
-        leaf.level = cursor->GetLevel();
-        leaves.push_back(leaf);
-        return;
-      }
-      for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
-      {
-        cursor->ToChild(c);
-        self(self);
-        cursor->ToParent();
-      }
-    };
-    walk(walk);
-  }
+  forEachVisibleLeaf(htg,
+                     [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
+                     {
+                       Leaf leaf;
+                       leaf.global = cursor->GetGlobalNodeIndex();
+                       cursor->GetBounds(leaf.bounds);
+                       leaf.level = cursor->GetLevel();
+                       leaves.push_back(leaf);
+                     });
   return leaves;
 }
 

@@ -3,6 +3,7 @@
 // (per-axis area equal to the exposed voxel faces, every quad with an occupied
 // voxel behind it and an empty one in front, closed-surface volume identity),
 // and culling must only ever remove pieces of that surface.
+#include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
 
@@ -56,20 +57,9 @@ public:
       Count[a] = (static_cast<long>(Coords[a].size()) - 1) * PerRoot;
     }
     Occupied.assign(static_cast<std::size_t>(Count[0] * Count[1] * Count[2]), 0);
-    vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
-    htg->InitializeTreeIterator(it);
-    vtkIdType index = 0;
-    while (it.GetNextTree(index))
-    {
-      vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
-      htg->InitializeNonOrientedGeometryCursor(cursor, index);
-      auto walk = [&](auto& self) -> void
-      {
-        if (cursor->IsMasked())
-        {
-          return;
-        }
-        if (cursor->IsLeaf())
+    forEachVisibleLeaf(
+        htg,
+        [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
         {
           double b[6];
           cursor->GetBounds(b);
@@ -84,17 +74,7 @@ public:
             for (long j = lo[1]; j < hi[1]; ++j)
               for (long i = lo[0]; i < hi[0]; ++i)
                 Occupied[static_cast<std::size_t>(i + Count[0] * (j + Count[1] * k))] = 1;
-          return;
-        }
-        for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
-        {
-          cursor->ToChild(c);
-          self(self);
-          cursor->ToParent();
-        }
-      };
-      walk(walk);
-    }
+        });
   }
 
   /// Voxel index along `axis` containing x (nudged inward by `bias` voxels * 1e-6).

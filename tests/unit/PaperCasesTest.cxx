@@ -1,5 +1,6 @@
 // Paper cases A and B described through Canopy's API must equal, node by node,
 // what vtkHyperTreeGridSource builds from the same descriptor strings.
+#include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 
 #include "canopy/HtgBuilder.h"
@@ -98,27 +99,6 @@ void compareSubtrees(vtkHyperTreeGridNonOrientedGeometryCursor* canopy,
   }
 }
 
-/// A leaf under a masked ancestor is hidden even when its own mask bit is 0.
-std::size_t countVisibleLeaves(vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
-{
-  if (cursor->IsMasked())
-  {
-    return 0;
-  }
-  if (cursor->IsLeaf())
-  {
-    return 1;
-  }
-  std::size_t visible = 0;
-  for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
-  {
-    cursor->ToChild(c);
-    visible += countVisibleLeaves(cursor);
-    cursor->ToParent();
-  }
-  return visible;
-}
-
 WalkTotals compareGrids(vtkHyperTreeGrid* canopy, vtkHyperTreeGrid* reference, bool masked,
                         const DescriptorForest& forest)
 {
@@ -181,18 +161,11 @@ WalkTotals compareGrids(vtkHyperTreeGrid* canopy, vtkHyperTreeGrid* reference, b
   return totals;
 }
 
+/// A leaf under a masked ancestor is hidden even when its own mask bit is 0.
 std::size_t visibleLeavesOf(vtkHyperTreeGrid* htg)
 {
   std::size_t visible = 0;
-  vtkHyperTreeGrid::vtkHyperTreeGridIterator trees;
-  htg->InitializeTreeIterator(trees);
-  vtkIdType index = 0;
-  while (trees.GetNextTree(index))
-  {
-    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
-    htg->InitializeNonOrientedGeometryCursor(cursor, index);
-    visible += countVisibleLeaves(cursor);
-  }
+  forEachVisibleLeaf(htg, [&](vtkHyperTreeGridNonOrientedGeometryCursor*) { ++visible; });
   return visible;
 }
 
