@@ -22,43 +22,25 @@ struct NodeFrame
   Index3 ijk; ///< along each axis, in [0, f^level)
 };
 
-/// Powers of the branch factor up to the deepest supported level.
+/// Powers of the branch factor, from the grid (f^level per level).
 class Powers
 {
 public:
-  explicit Powers(int f)
+  explicit Powers(const HyperTreeAccess& grid)
+    : Grid(grid)
   {
-    std::int64_t p = 1;
-    for (int l = 0; l < 40 && p < (std::int64_t(1) << 61) / f; ++l)
-    {
-      Values.push_back(p);
-      p *= f;
-    }
-    Values.push_back(p);
   }
-  std::int64_t operator[](int l) const { return Values[static_cast<std::size_t>(l)]; }
+  std::int64_t operator[](int l) const { return Grid.cellsPerRootAt(l); }
+  const HyperTreeAccess& grid() const { return Grid; }
 
 private:
-  std::vector<std::int64_t> Values;
+  const HyperTreeAccess& Grid;
 };
 
 /// Lower corner and upper corner of a node.
 void nodeBox(const TreeAccess& tree, const NodeFrame& n, const Powers& powers, Vec3& lo, Vec3& hi)
 {
-  const double cells = static_cast<double>(powers[n.level]);
-  for (int a = 0; a < 3; ++a)
-  {
-    if (tree.size[a] == 0)
-    {
-      lo[a] = hi[a] = tree.origin[a];
-      continue;
-    }
-    lo[a] = tree.origin[a] + tree.size[a] * (static_cast<double>(n.ijk[a]) / cells);
-    // The last node of a row ends exactly at the root's upper corner.
-    hi[a] = n.ijk[a] + 1 == powers[n.level]
-                ? tree.origin[a] + tree.size[a]
-                : tree.origin[a] + tree.size[a] * (static_cast<double>(n.ijk[a] + 1) / cells);
-  }
+  powers.grid().nodeBounds(tree, n.level, n.ijk, lo, hi);
 }
 
 std::array<Vec3, 8> boxCorners(const Vec3& lo, const Vec3& hi)
@@ -608,7 +590,7 @@ AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
 
 std::size_t AdaptiveSurfaceBuilder::count()
 {
-  const Powers powers(Grid.branchFactor());
+  const Powers powers(Grid);
   std::unique_ptr<PlaneRegion> region;
   if (Grid.dimension() == 2 && Options.view && Options.cullOutsideView)
   {
@@ -641,7 +623,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
 
 void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
 {
-  const Powers powers(Grid.branchFactor());
+  const Powers powers(Grid);
   std::unique_ptr<PlaneRegion> region;
   if (Grid.dimension() == 2 && Options.view && Options.cullOutsideView)
   {

@@ -3,6 +3,7 @@
 #include <vtkDataArray.h>
 
 #include <stdexcept>
+#include <string>
 
 namespace canopy
 {
@@ -26,6 +27,10 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
       throw std::invalid_argument("the grid has no coordinates along an axis");
     }
     RootCells[a] = dims[a] > 1 ? dims[a] - 1 : 1;
+    for (vtkIdType i = 0; i < coords[a]->GetNumberOfTuples(); ++i)
+    {
+      Coordinates[a].push_back(coords[a]->GetComponent(i, 0));
+    }
     Bounds[2 * a] = coords[a]->GetComponent(0, 0);
     Bounds[2 * a + 1] = coords[a]->GetComponent(coords[a]->GetNumberOfTuples() - 1, 0);
     if (dims[a] > 1)
@@ -39,6 +44,16 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
     }
   }
   Mask = htg->HasMask() ? htg->GetMask() : nullptr;
+  NumberOfCells = htg->GetNumberOfCells();
+  // Integer positions are int64: stop before f^level overflows.
+  for (std::int64_t p = 1; CellsPerRoot.size() < 64; p *= BranchFactor)
+  {
+    CellsPerRoot.push_back(p);
+    if (p > (std::int64_t(1) << 61) / BranchFactor)
+    {
+      break;
+    }
+  }
   for (int c = 0; c < Children; ++c)
   {
     ChildDigits[static_cast<std::size_t>(c)] = {{-1, -1, -1}};
@@ -61,6 +76,12 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
   vtkIdType index = 0;
   while (vtkHyperTree* tree = it.GetNextTree(index))
   {
+    if (static_cast<int>(tree->GetNumberOfLevels()) > static_cast<int>(CellsPerRoot.size()))
+    {
+      throw std::invalid_argument("tree " + std::to_string(index) + " has " +
+                                  std::to_string(tree->GetNumberOfLevels()) +
+                                  " levels, more than integer positions can address");
+    }
     TreeAccess access;
     access.treeIndex = index;
     access.tree = tree;

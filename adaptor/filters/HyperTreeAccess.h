@@ -79,6 +79,41 @@ public:
   /// Tree at root cell (i, j, k), or nullptr when absent or out of range.
   const TreeAccess* treeAt(long i, long j, long k) const;
 
+  /// Root point coordinates along an axis (a single value on a flat axis).
+  const std::vector<double>& coordinates(int axis) const
+  {
+    return Coordinates[static_cast<std::size_t>(axis)];
+  }
+  /// Number of cells (nodes) of the grid: global indices are below it.
+  vtkIdType numberOfCells() const { return NumberOfCells; }
+  /// f^level, for levels the integer positions can represent (see maxLevel()).
+  std::int64_t cellsPerRootAt(int level) const
+  {
+    return CellsPerRoot[static_cast<std::size_t>(level)];
+  }
+  int maxLevel() const { return static_cast<int>(CellsPerRoot.size()) - 1; }
+  /// Box of the node at integer position ijk (per axis, in [0, f^level)) of a
+  /// tree: origin + size * ijk / f^level, correctly rounded; the last node of a
+  /// row ends exactly at the root's upper corner.
+  void nodeBounds(const TreeAccess& tree, int level, const std::array<std::int64_t, 3>& ijk,
+                  std::array<double, 3>& lo, std::array<double, 3>& hi) const
+  {
+    const std::int64_t cells = CellsPerRoot[static_cast<std::size_t>(level)];
+    const double count = static_cast<double>(cells);
+    for (int a = 0; a < 3; ++a)
+    {
+      if (tree.size[a] == 0)
+      {
+        lo[a] = hi[a] = tree.origin[a];
+        continue;
+      }
+      lo[a] = tree.origin[a] + tree.size[a] * (static_cast<double>(ijk[a]) / count);
+      hi[a] = ijk[a] + 1 == cells
+                ? tree.origin[a] + tree.size[a]
+                : tree.origin[a] + tree.size[a] * (static_cast<double>(ijk[a] + 1) / count);
+    }
+  }
+
   bool hasMask() const { return Mask != nullptr; }
   bool isMasked(vtkIdType globalIndex) const
   {
@@ -96,6 +131,9 @@ private:
   std::array<double, 6> Bounds{{0, 0, 0, 0, 0, 0}};
   std::vector<TreeAccess> Trees;
   std::array<std::array<int, 3>, 27> ChildDigits{};
+  std::array<std::vector<double>, 3> Coordinates;
+  std::vector<std::int64_t> CellsPerRoot;
+  vtkIdType NumberOfCells = 0;
   std::vector<std::int64_t> TreeAtRoot; ///< root cell -> position in Trees, or -1
   vtkBitArray* Mask = nullptr;
 };

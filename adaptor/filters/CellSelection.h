@@ -1,0 +1,70 @@
+// Which nodes of a hypertree grid a selection picks, independent of VTK's
+// pipeline: by location, by global id, or by value range.
+//
+// Location rule (documented in docs/filters.md): cells are half-open
+// [lo, hi) along each axis, except that the last cell of the grid along an axis
+// also owns the grid's upper boundary. So a point on a face, edge or corner
+// shared by several cells belongs to the cell on its upper side; a point on the
+// domain's upper boundary belongs to the last cell; a point outside the domain
+// (or in a root cell without a tree) selects nothing. In 2D the coordinate
+// along the flat axis is ignored. Location and id lookups cost O(depth) per
+// point and one traversal for all ids.
+#pragma once
+
+#include "HyperTreeAccess.h"
+#include "ViewVolume.h"
+
+#include <vtkType.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+class vtkDataArray;
+
+namespace canopy
+{
+
+/// A selected node.
+struct SelectedNode
+{
+  const TreeAccess* tree;
+  vtkIdType node;   ///< local index in the tree
+  vtkIdType global; ///< global cell index
+  int level;
+  std::array<std::int64_t, 3> ijk; ///< integer position at its level
+};
+
+struct SelectionReport
+{
+  std::size_t outside = 0;    ///< points outside the domain or in absent trees
+  std::size_t masked = 0;     ///< points or ids that hit masked cells (not selected)
+  std::size_t outOfRange = 0; ///< ids that are not global indices of the grid
+  std::size_t duplicates = 0; ///< points or ids selecting an already selected cell
+};
+
+class CellSelection
+{
+public:
+  CellSelection(const HyperTreeAccess& grid, bool allowMasked);
+
+  /// The unmasked leaf containing each point (see the rule above).
+  std::vector<SelectedNode> byLocation(const std::vector<Vec3>& points, SelectionReport& report) const;
+  /// The nodes with these global indices (coarse ids select coarse cells).
+  std::vector<SelectedNode> byId(const std::vector<vtkIdType>& ids, SelectionReport& report) const;
+  /// Visible leaves whose value (component, or magnitude when component < 0) is
+  /// within [low, high]; NaN is never selected.
+  std::vector<SelectedNode> byValue(vtkDataArray* values, int component, double low,
+                                    double high) const;
+
+  /// Lower and upper corners of a selected node.
+  void bounds(const SelectedNode& n, Vec3& lo, Vec3& hi) const;
+
+private:
+  bool hidden(const TreeAccess& tree, vtkIdType node) const;
+  const HyperTreeAccess& Grid;
+  bool AllowMasked;
+  std::vector<std::int64_t> Powers;
+};
+
+} // namespace canopy
