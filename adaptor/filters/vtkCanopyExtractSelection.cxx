@@ -1,0 +1,421 @@
+#include "vtkCanopyExtractSelection.h"
+
+#include "CellSelection.h"
+#include "HyperTreeAccess.h"
+
+#include <vtkBitArray.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPoints.h>
+#include <vtkSelection.h>
+#include <vtkSelectionNode.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <unordered_set>
+
+vtkStandardNewMacro(vtkCanopyExtractSelection);
+
+vtkCanopyExtractSelection::vtkCanopyExtractSelection()
+{
+  this->SetNumberOfInputPorts(2);
+}
+
+vtkCanopyExtractSelection::~vtkCanopyExtractSelection() = default;
+
+void vtkCanopyExtractSelection::AddLocation(double x, double y, double z)
+{
+  this->Locations.insert(this->Locations.end(), {x, y, z});
+  this->Modified();
+}
+
+void vtkCanopyExtractSelection::ClearLocations()
+{
+  this->Locations.clear();
+  this->Modified();
+}
+
+void vtkCanopyExtractSelection::AddId(vtkIdType id)
+{
+  this->Ids.push_back(id);
+  this->Modified();
+}
+
+void vtkCanopyExtractSelection::ClearIds()
+{
+  this->Ids.clear();
+  this->Modified();
+}
+
+int vtkCanopyExtractSelection::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 0)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkHyperTreeGrid");
+    return 1;
+  }
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkSelection");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+int vtkCanopyExtractSelection::RequestDataObject(vtkInformation*, vtkInformationVector**,
+                                                 vtkInformationVector* outputVector)
+{
+  vtkInformation* info = outputVector->GetInformationObject(0);
+  vtkDataObject* current = info->Get(vtkDataObject::DATA_OBJECT());
+  const char* wanted = this->PreserveTopology ? "vtkHyperTreeGrid" : "vtkUnstructuredGrid";
+  if (!current || !current->IsA(wanted))
+  {
+    vtkSmartPointer<vtkDataObject> output;
+    if (this->PreserveTopology)
+    {
+      output = vtkSmartPointer<vtkHyperTreeGrid>::New();
+    }
+    else
+    {
+      output = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    }
+    info->Set(vtkDataObject::DATA_OBJECT(), output);
+  }
+  return 1;
+}
+
+namespace
+{
+
+/// A masked copy of the input: visible are the selected nodes, their
+/// ancestors and the subtrees of selected coarse nodes.
+void maskAllBut(const canopy::HyperTreeAccess& grid, const std::vector<canopy::SelectedNode>& nodes,
+                vtkHyperTreeGrid* output)
+{
+  vtkNew<vtkBitArray> mask;
+  mask->SetName("vtkHyperTreeGridMask");
+  mask->SetNumberOfValues(grid.numberOfCells());
+  for (vtkIdType i = 0; i < grid.numberOfCells(); ++i)
+  {
+    mask->SetValue(i, 1);
+  }
+  const int f = grid.branchFactor();
+  for (const canopy::SelectedNode& n : nodes)
+  {
+    // Ancestors, from the root down along the node's integer position.
+    vtkIdType node = 0;
+    for (int level = 0; level < n.level; ++level)
+    {
+      mask->SetValue(n.tree->globalIndex(node), 0);
+      const std::int64_t scale = grid.cellsPerRootAt(n.level - level - 1);
+      int child = 0;
+      int weight = 1;
+      for (int a : grid.activeAxes())
+      {
+        child += static_cast<int>((n.ijk[a] / scale) % f) * weight;
+        weight *= f;
+      }
+      node = n.tree->firstChild(node) + child;
+    }
+    // The node and its whole subtree.
+    std::vector<vtkIdType> stack{n.node};
+    while (!stack.empty())
+    {
+      const vtkIdType m = stack.back();
+      stack.pop_back();
+      mask->SetValue(n.tree->globalIndex(m), 0);
+      if (!n.tree->isLeaf(m))
+      {
+        for (int c = 0; c < grid.childrenPerNode(); ++c)
+        {
+          stack.push_back(n.tree->firstChild(m) + c);
+        }
+      }
+    }
+  }
+  output->SetMask(mask);
+}
+
+/// Quads or hexahedra with merged points, the input's fields, ids and levels.
+void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelection& selection,
+                    const std::vector<canopy::SelectedNode>& nodes, vtkHyperTreeGrid* input,
+                    vtkUnstructuredGrid* output)
+{
+  std::map<std::array<double, 3>, vtkIdType> pointIds;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  auto pointId = [&](const std::array<double, 3>& p) {
+    const auto it = pointIds.find(p);
+    if (it != pointIds.end())
+    {
+      return it->second;
+    }
+    const vtkIdType id = points->InsertNextPoint(p.data());
+    pointIds.emplace(p, id);
+    return id;
+  };
+  const bool is3D = grid.dimension() == 3;
+  vtkNew<vtkCellArray> cells;
+  for (const canopy::SelectedNode& n : nodes)
+  {
+    canopy::Vec3 lo;
+    canopy::Vec3 hi;
+    selection.bounds(n, lo, hi);
+    if (is3D)
+    {
+      vtkIdType ids[8];
+      for (int k = 0; k < 2; ++k)
+      {
+        const double z = k ? hi[2] : lo[2];
+        ids[4 * k + 0] = pointId({{lo[0], lo[1], z}});
+        ids[4 * k + 1] = pointId({{hi[0], lo[1], z}});
+        ids[4 * k + 2] = pointId({{hi[0], hi[1], z}});
+        ids[4 * k + 3] = pointId({{lo[0], hi[1], z}});
+      }
+      cells->InsertNextCell(8, ids);
+    }
+    else
+    {
+      const int u = grid.activeAxes()[0];
+      const int v = grid.activeAxes()[1];
+      std::array<canopy::Vec3, 4> corners;
+      corners.fill(lo);
+      corners[1][u] = hi[u];
+      corners[2][u] = hi[u];
+      corners[2][v] = hi[v];
+      corners[3][v] = hi[v];
+      vtkIdType ids[4];
+      for (int c = 0; c < 4; ++c)
+      {
+        ids[c] = pointId(corners[c]);
+      }
+      cells->InsertNextCell(4, ids);
+    }
+  }
+  output->SetPoints(points);
+  output->SetCells(is3D ? VTK_HEXAHEDRON : VTK_QUAD, cells);
+  const auto count = static_cast<vtkIdType>(nodes.size());
+  vtkCellData* in = input->GetCellData();
+  for (int a = 0; a < in->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* source = in->GetArray(a);
+    if (!source || !source->GetName())
+    {
+      continue;
+    }
+    vtkSmartPointer<vtkDataArray> copy =
+      vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(source->GetDataType()));
+    copy->SetName(source->GetName());
+    copy->SetNumberOfComponents(source->GetNumberOfComponents());
+    copy->SetNumberOfTuples(count);
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      for (int c = 0; c < source->GetNumberOfComponents(); ++c)
+      {
+        copy->SetComponent(i, c, source->GetComponent(nodes[static_cast<std::size_t>(i)].global, c));
+      }
+    }
+    output->GetCellData()->AddArray(copy);
+  }
+  vtkNew<vtkIdTypeArray> original;
+  original->SetName("OriginalCellId");
+  original->SetNumberOfTuples(count);
+  vtkNew<vtkUnsignedCharArray> level;
+  level->SetName("Level");
+  level->SetNumberOfTuples(count);
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    original->SetValue(i, nodes[static_cast<std::size_t>(i)].global);
+    level->SetValue(i, static_cast<unsigned char>(nodes[static_cast<std::size_t>(i)].level));
+  }
+  output->GetCellData()->AddArray(original);
+  output->GetCellData()->AddArray(level);
+}
+
+} // namespace
+
+int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector** inputVector,
+                                           vtkInformationVector* outputVector)
+{
+  vtkHyperTreeGrid* input = vtkHyperTreeGrid::GetData(inputVector[0], 0);
+  vtkSelection* selectionInput =
+    this->GetNumberOfInputConnections(1) > 0 ? vtkSelection::GetData(inputVector[1], 0) : nullptr;
+  vtkDataObject* outputObject = vtkDataObject::GetData(outputVector, 0);
+  this->LastOutside = this->LastMasked = this->LastOutOfRange = this->LastDuplicates = 0;
+  if (!input)
+  {
+    vtkErrorMacro("input 0 must be a vtkHyperTreeGrid");
+    return 0;
+  }
+
+  // What to select: the vtkSelection if given, else the convenience properties.
+  int mode = this->SelectionMode;
+  std::vector<canopy::Vec3> points;
+  std::vector<vtkIdType> ids;
+  std::string field = this->ValueArrayName;
+  int component = this->ValueComponent;
+  double range[2] = {this->ValueRange[0], this->ValueRange[1]};
+  if (selectionInput)
+  {
+    vtkSelectionNode* node =
+      selectionInput->GetNumberOfNodes() > 0 ? selectionInput->GetNode(0) : nullptr;
+    vtkDataArray* list = node ? vtkArrayDownCast<vtkDataArray>(node->GetSelectionList()) : nullptr;
+    if (!node)
+    {
+      mode = IDS; // an empty selection selects nothing
+    }
+    else if (!list)
+    {
+      vtkErrorMacro("the selection node has no numeric selection list");
+      return 0;
+    }
+    else if (node->GetContentType() == vtkSelectionNode::LOCATIONS)
+    {
+      mode = LOCATIONS;
+      if (list->GetNumberOfComponents() != 3)
+      {
+        vtkErrorMacro("a LOCATIONS selection needs 3-component points, got "
+                      << list->GetNumberOfComponents());
+        return 0;
+      }
+      for (vtkIdType i = 0; i < list->GetNumberOfTuples(); ++i)
+      {
+        points.push_back({{list->GetComponent(i, 0), list->GetComponent(i, 1),
+                           list->GetComponent(i, 2)}});
+      }
+    }
+    else if (node->GetContentType() == vtkSelectionNode::GLOBALIDS ||
+             node->GetContentType() == vtkSelectionNode::INDICES)
+    {
+      mode = IDS;
+      for (vtkIdType i = 0; i < list->GetNumberOfTuples(); ++i)
+      {
+        ids.push_back(static_cast<vtkIdType>(list->GetComponent(i, 0)));
+      }
+    }
+    else if (node->GetContentType() == vtkSelectionNode::THRESHOLDS)
+    {
+      mode = VALUE_RANGE;
+      if (list->GetNumberOfValues() < 2 || !list->GetName())
+      {
+        vtkErrorMacro("a THRESHOLDS selection needs a named list with a [low, high] pair");
+        return 0;
+      }
+      field = list->GetName();
+      range[0] = list->GetComponent(0, 0);
+      range[1] = list->GetNumberOfComponents() > 1 ? list->GetComponent(0, 1)
+                                                   : list->GetComponent(1, 0);
+      component = node->GetProperties()->Has(vtkSelectionNode::COMPONENT_NUMBER())
+                    ? node->GetProperties()->Get(vtkSelectionNode::COMPONENT_NUMBER())
+                    : 0;
+    }
+    else
+    {
+      vtkErrorMacro("selection content type "
+                    << vtkSelectionNode::GetContentTypeAsString(node->GetContentType())
+                    << " is not supported (LOCATIONS, GLOBALIDS, INDICES, THRESHOLDS are)");
+      return 0;
+    }
+  }
+  else if (mode == LOCATIONS)
+  {
+    for (std::size_t i = 0; i + 2 < this->Locations.size(); i += 3)
+    {
+      points.push_back({{this->Locations[i], this->Locations[i + 1], this->Locations[i + 2]}});
+    }
+  }
+  else if (mode == IDS)
+  {
+    ids = this->Ids;
+  }
+
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    if (!std::isfinite(points[i][0]) || !std::isfinite(points[i][1]) ||
+        !std::isfinite(points[i][2]))
+    {
+      vtkErrorMacro("location " << i << " is not finite: (" << points[i][0] << ", "
+                                << points[i][1] << ", " << points[i][2] << ")");
+      return 0;
+    }
+  }
+  vtkDataArray* values = nullptr;
+  if (mode == VALUE_RANGE)
+  {
+    values = input->GetCellData()->GetArray(field.c_str());
+    if (!values)
+    {
+      vtkErrorMacro("no cell field named '" << field << "' in the input");
+      return 0;
+    }
+    if (component >= values->GetNumberOfComponents() || component < -1)
+    {
+      vtkErrorMacro("field '" << field << "' has " << values->GetNumberOfComponents()
+                              << " components; component " << component << " does not exist");
+      return 0;
+    }
+  }
+
+  try
+  {
+    const canopy::HyperTreeAccess grid(input);
+    const canopy::CellSelection selection(grid, this->AllowMasked);
+    canopy::SelectionReport report;
+    std::vector<canopy::SelectedNode> nodes;
+    if (mode == LOCATIONS)
+    {
+      nodes = selection.byLocation(points, report);
+    }
+    else if (mode == IDS)
+    {
+      nodes = selection.byId(ids, report);
+    }
+    else
+    {
+      nodes = selection.byValue(values, component, range[0], range[1]);
+    }
+    this->LastOutside = static_cast<vtkIdType>(report.outside);
+    this->LastMasked = static_cast<vtkIdType>(report.masked);
+    this->LastOutOfRange = static_cast<vtkIdType>(report.outOfRange);
+    this->LastDuplicates = static_cast<vtkIdType>(report.duplicates);
+    if (this->PreserveTopology)
+    {
+      auto* output = vtkHyperTreeGrid::SafeDownCast(outputObject);
+      output->ShallowCopy(input);
+      maskAllBut(grid, nodes, output);
+    }
+    else
+    {
+      auto* output = vtkUnstructuredGrid::SafeDownCast(outputObject);
+      output->Initialize();
+      toUnstructured(grid, selection, nodes, input, output);
+    }
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro("cannot extract the selection: " << e.what());
+    return 0;
+  }
+  return 1;
+}
+
+void vtkCanopyExtractSelection::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SelectionMode: " << this->SelectionMode << "\n"
+     << indent << "Locations: " << this->Locations.size() / 3 << "\n"
+     << indent << "Ids: " << this->Ids.size() << "\n"
+     << indent << "ValueArrayName: " << this->ValueArrayName << "\n"
+     << indent << "ValueComponent: " << this->ValueComponent << "\n"
+     << indent << "ValueRange: " << this->ValueRange[0] << " " << this->ValueRange[1] << "\n"
+     << indent << "AllowMasked: " << this->AllowMasked << "\n"
+     << indent << "PreserveTopology: " << this->PreserveTopology << "\n";
+}
