@@ -26,10 +26,7 @@ struct NodeFrame
 class Powers
 {
 public:
-  explicit Powers(const HyperTreeAccess& grid)
-    : Grid(grid)
-  {
-  }
+  explicit Powers(const HyperTreeAccess& grid) : Grid(grid) {}
   std::int64_t operator[](int l) const { return Grid.cellsPerRootAt(l); }
   const HyperTreeAccess& grid() const { return Grid; }
 

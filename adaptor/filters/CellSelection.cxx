@@ -11,8 +11,7 @@ namespace canopy
 {
 
 CellSelection::CellSelection(const HyperTreeAccess& grid, bool allowMasked)
-  : Grid(grid)
-  , AllowMasked(allowMasked)
+    : Grid(grid), AllowMasked(allowMasked)
 {
 }
 

@@ -49,7 +49,8 @@ public:
   CellSelection(const HyperTreeAccess& grid, bool allowMasked);
 
   /// The unmasked leaf containing each point (see the rule above).
-  std::vector<SelectedNode> byLocation(const std::vector<Vec3>& points, SelectionReport& report) const;
+  std::vector<SelectedNode> byLocation(const std::vector<Vec3>& points,
+                                       SelectionReport& report) const;
   /// The nodes with these global indices (coarse ids select coarse cells).
   std::vector<SelectedNode> byId(const std::vector<vtkIdType>& ids, SelectionReport& report) const;
   /// Visible leaves whose value (component, or magnitude when component < 0) is

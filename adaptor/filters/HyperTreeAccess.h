@@ -109,8 +109,8 @@ public:
       }
       lo[a] = tree.origin[a] + tree.size[a] * (static_cast<double>(ijk[a]) / count);
       hi[a] = ijk[a] + 1 == cells
-                ? tree.origin[a] + tree.size[a]
-                : tree.origin[a] + tree.size[a] * (static_cast<double>(ijk[a] + 1) / count);
+                  ? tree.origin[a] + tree.size[a]
+                  : tree.origin[a] + tree.size[a] * (static_cast<double>(ijk[a] + 1) / count);
     }
   }
 

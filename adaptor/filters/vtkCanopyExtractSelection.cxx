@@ -152,7 +152,8 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
   std::map<std::array<double, 3>, vtkIdType> pointIds;
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
-  auto pointId = [&](const std::array<double, 3>& p) {
+  auto pointId = [&](const std::array<double, 3>& p)
+  {
     const auto it = pointIds.find(p);
     if (it != pointIds.end())
     {
@@ -212,7 +213,7 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
       continue;
     }
     vtkSmartPointer<vtkDataArray> copy =
-      vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(source->GetDataType()));
+        vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(source->GetDataType()));
     copy->SetName(source->GetName());
     copy->SetNumberOfComponents(source->GetNumberOfComponents());
     copy->SetNumberOfTuples(count);
@@ -220,7 +221,8 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
     {
       for (int c = 0; c < source->GetNumberOfComponents(); ++c)
       {
-        copy->SetComponent(i, c, source->GetComponent(nodes[static_cast<std::size_t>(i)].global, c));
+        copy->SetComponent(i, c,
+                           source->GetComponent(nodes[static_cast<std::size_t>(i)].global, c));
       }
     }
     output->GetCellData()->AddArray(copy);
@@ -247,7 +249,7 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
 {
   vtkHyperTreeGrid* input = vtkHyperTreeGrid::GetData(inputVector[0], 0);
   vtkSelection* selectionInput =
-    this->GetNumberOfInputConnections(1) > 0 ? vtkSelection::GetData(inputVector[1], 0) : nullptr;
+      this->GetNumberOfInputConnections(1) > 0 ? vtkSelection::GetData(inputVector[1], 0) : nullptr;
   vtkDataObject* outputObject = vtkDataObject::GetData(outputVector, 0);
   this->LastOutside = this->LastMasked = this->LastOutOfRange = this->LastDuplicates = 0;
   if (!input)
@@ -266,7 +268,7 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
   if (selectionInput)
   {
     vtkSelectionNode* node =
-      selectionInput->GetNumberOfNodes() > 0 ? selectionInput->GetNode(0) : nullptr;
+        selectionInput->GetNumberOfNodes() > 0 ? selectionInput->GetNode(0) : nullptr;
     vtkDataArray* list = node ? vtkArrayDownCast<vtkDataArray>(node->GetSelectionList()) : nullptr;
     if (!node)
     {
@@ -288,8 +290,8 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
       }
       for (vtkIdType i = 0; i < list->GetNumberOfTuples(); ++i)
       {
-        points.push_back({{list->GetComponent(i, 0), list->GetComponent(i, 1),
-                           list->GetComponent(i, 2)}});
+        points.push_back(
+            {{list->GetComponent(i, 0), list->GetComponent(i, 1), list->GetComponent(i, 2)}});
       }
     }
     else if (node->GetContentType() == vtkSelectionNode::GLOBALIDS ||
@@ -311,11 +313,11 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
       }
       field = list->GetName();
       range[0] = list->GetComponent(0, 0);
-      range[1] = list->GetNumberOfComponents() > 1 ? list->GetComponent(0, 1)
-                                                   : list->GetComponent(1, 0);
+      range[1] =
+          list->GetNumberOfComponents() > 1 ? list->GetComponent(0, 1) : list->GetComponent(1, 0);
       component = node->GetProperties()->Has(vtkSelectionNode::COMPONENT_NUMBER())
-                    ? node->GetProperties()->Get(vtkSelectionNode::COMPONENT_NUMBER())
-                    : 0;
+                      ? node->GetProperties()->Get(vtkSelectionNode::COMPONENT_NUMBER())
+                      : 0;
     }
     else
     {
@@ -342,8 +344,8 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     if (!std::isfinite(points[i][0]) || !std::isfinite(points[i][1]) ||
         !std::isfinite(points[i][2]))
     {
-      vtkErrorMacro("location " << i << " is not finite: (" << points[i][0] << ", "
-                                << points[i][1] << ", " << points[i][2] << ")");
+      vtkErrorMacro("location " << i << " is not finite: (" << points[i][0] << ", " << points[i][1]
+                                << ", " << points[i][2] << ")");
       return 0;
     }
   }

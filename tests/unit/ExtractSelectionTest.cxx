@@ -1,0 +1,489 @@
+// Selection extraction against brute-force scans of all leaves (VTK's cursors):
+// by location (points inside cells, on shared faces, edges and corners, on the
+// domain's upper boundary, outside), by id (leaves, coarse cells, out of range,
+// duplicates) and by value range; both output modes.
+#include "HtgWalk.h"
+#include "PaperCaseDefinitions.h"
+#include "RandomForest.h"
+
+#include "canopy/HtgBuilder.h"
+#include "vtkCanopyExtractSelection.h"
+
+#include <gtest/gtest.h>
+#include <vtkCallbackCommand.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkCommand.h>
+#include <vtkDoubleArray.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkIdTypeArray.h>
+#include <vtkPoints.h>
+#include <vtkSelection.h>
+#include <vtkSelectionNode.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iterator>
+#include <map>
+#include <random>
+#include <set>
+#include <string>
+
+namespace canopy::testing
+{
+namespace
+{
+
+using Point = std::array<double, 3>;
+
+struct LeafBox
+{
+  vtkIdType global;
+  double b[6];
+};
+
+std::vector<LeafBox> leafBoxes(vtkHyperTreeGrid* htg)
+{
+  std::vector<LeafBox> leaves;
+  forEachVisibleLeaf(htg,
+                     [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
+                     {
+                       LeafBox leaf;
+                       leaf.global = cursor->GetGlobalNodeIndex();
+                       cursor->GetBounds(leaf.b);
+                       leaves.push_back(leaf);
+                     });
+  return leaves;
+}
+
+/// The documented rule, by brute force: lo <= p < hi on each active axis, or
+/// p == hi where hi is the domain's upper bound.
+std::set<vtkIdType> expectedAt(vtkHyperTreeGrid* htg, const std::vector<Point>& points)
+{
+  double d[6];
+  htg->GetBounds(d);
+  const auto leaves = leafBoxes(htg);
+  std::set<vtkIdType> ids;
+  for (const Point& p : points)
+  {
+    for (const LeafBox& leaf : leaves)
+    {
+      bool inside = true;
+      for (int a = 0; a < 3 && inside; ++a)
+      {
+        if (leaf.b[2 * a] == leaf.b[2 * a + 1])
+        {
+          continue; // flat axis: ignored
+        }
+        // The last cell along an axis ends at the domain's bound (VTK's cursor
+        // bounds of ternary cells can miss it by an ulp).
+        const double top = d[2 * a + 1];
+        const bool upper = std::abs(leaf.b[2 * a + 1] - top) <= 1e-12 * (1 + std::abs(top));
+        inside = p[a] >= leaf.b[2 * a] && (p[a] < leaf.b[2 * a + 1] || (upper && p[a] == top));
+      }
+      if (inside)
+      {
+        ids.insert(leaf.global);
+        break;
+      }
+    }
+  }
+  return ids;
+}
+
+std::set<vtkIdType> idsOf(vtkUnstructuredGrid* out)
+{
+  std::set<vtkIdType> ids;
+  auto* a = vtkIdTypeArray::SafeDownCast(out->GetCellData()->GetArray("OriginalCellId"));
+  for (vtkIdType i = 0; a && i < a->GetNumberOfTuples(); ++i)
+  {
+    ids.insert(a->GetValue(i));
+  }
+  return ids;
+}
+
+/// Points that stress the rule: leaf corners, edge and face midpoints, centres,
+/// the domain's upper corner and faces, and points outside. Points on shared
+/// faces are only meaningful where cell bounds are exact in binary (binary trees
+/// over dyadic root coordinates): elsewhere VTK's cursor bounds and the exact
+/// ones may differ in the last bit, so `onFaces` false keeps cell centres only.
+std::vector<Point> trickyPoints(vtkHyperTreeGrid* htg, std::uint64_t seed, bool onFaces = true)
+{
+  std::mt19937_64 random(seed);
+  std::vector<Point> points;
+  const auto leaves = leafBoxes(htg);
+  for (std::size_t i = 0; i < leaves.size(); i += 3)
+  {
+    const double* b = leaves[i].b;
+    const int pick = static_cast<int>(random() % 4);
+    Point p;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double lo = b[2 * a];
+      const double hi = b[2 * a + 1];
+      const double options[] = {lo, hi, 0.5 * (lo + hi)};
+      p[a] = onFaces ? options[(pick + a) % 3] : 0.5 * (lo + hi);
+    }
+    points.push_back(p);
+  }
+  double d[6];
+  htg->GetBounds(d);
+  points.push_back({{d[1], d[3], d[5]}});                               // upper corner
+  points.push_back({{d[1], 0.5 * (d[2] + d[3]), d[4]}});                // upper face
+  points.push_back({{d[0] - 1e-9, d[2], d[4]}});                        // just outside
+  points.push_back({{d[1] + 1.0, 0.5 * (d[2] + d[3]), d[5]}});          // outside
+  points.push_back({{0.5 * (d[0] + d[1]), 0.5 * (d[2] + d[3]), d[4]}}); // inside
+  return points;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> selectAt(vtkHyperTreeGrid* htg,
+                                              const std::vector<Point>& points,
+                                              vtkCanopyExtractSelection* filter = nullptr)
+{
+  vtkNew<vtkCanopyExtractSelection> own;
+  vtkCanopyExtractSelection* f = filter ? filter : own.Get();
+  f->SetInputData(htg);
+  f->SetSelectionMode(vtkCanopyExtractSelection::LOCATIONS);
+  f->ClearLocations();
+  for (const Point& p : points)
+  {
+    f->AddLocation(p[0], p[1], p[2]);
+  }
+  f->Update();
+  vtkSmartPointer<vtkUnstructuredGrid> out = vtkUnstructuredGrid::SafeDownCast(f->GetOutput());
+  return out;
+}
+
+TEST(ExtractSelection, ByLocationFollowsTheBoundaryRuleOnPaperCases)
+{
+  for (bool withMask : {false, true})
+  {
+    for (bool caseB : {false, true})
+    {
+      DescriptorForest forest(caseB ? paperCaseB(withMask) : paperCaseA(withMask));
+      auto htg = buildHyperTreeGrid(forest.description());
+      // Case A's bounds are exact dyadics; case B (ternary, scale 0.7) is not.
+      const auto points = trickyPoints(htg, caseB * 2 + withMask, !caseB);
+      vtkNew<vtkCanopyExtractSelection> filter;
+      auto out = selectAt(htg, points, filter);
+      const auto expected = expectedAt(htg, points);
+      EXPECT_EQ(idsOf(out), expected)
+          << (caseB ? "case B" : "case A") << (withMask ? " with mask" : "");
+      EXPECT_GE(filter->GetLastOutside(), 2);
+      EXPECT_EQ(static_cast<std::size_t>(out->GetNumberOfCells()), expected.size());
+    }
+  }
+}
+
+TEST(ExtractSelection, ByLocationOnRandomForestsInEveryPlane)
+{
+  for (std::uint64_t seed = 1; seed <= 9; ++seed)
+  {
+    RandomForestOptions o;
+    o.dimension = seed % 3 == 0 ? 3 : 2;
+    o.flatAxis = static_cast<int>(seed % 3);
+    o.branchFactor = seed % 2 ? 3 : 2;
+    o.rootCells = {{3, 2, 2}};
+    o.maxLevels = o.branchFactor == 2 ? 5 : 3;
+    o.maskProbability = 0.1;
+    o.skipEveryOtherRoot = seed % 4 == 0;
+    o.order = seed % 2 ? StorageOrder::DepthFirst : StorageOrder::BreadthFirst;
+    o.origin = {{-3.5, 1e3, 7.25}};
+    o.seed = seed;
+    RandomForest forest(o);
+    // Dyadic root coordinates, so binary trees have exact bounds everywhere.
+    auto& coords = const_cast<std::array<std::vector<double>, 3>&>(forest.coordinates());
+    for (int a = 0; a < 3; ++a)
+    {
+      for (std::size_t i = 0; i < coords[a].size(); ++i)
+      {
+        coords[a][i] = o.origin[a] + 0.75 * static_cast<double>(i) + (i % 2 ? 0.25 : 0.0);
+      }
+    }
+    auto htg = buildHyperTreeGrid(forest.description());
+    const auto points = trickyPoints(htg, seed, o.branchFactor == 2);
+    const auto got = idsOf(selectAt(htg, points));
+    const auto expected = expectedAt(htg, points);
+    std::vector<vtkIdType> onlyGot, onlyExpected;
+    std::set_difference(got.begin(), got.end(), expected.begin(), expected.end(),
+                        std::back_inserter(onlyGot));
+    std::set_difference(expected.begin(), expected.end(), got.begin(), got.end(),
+                        std::back_inserter(onlyExpected));
+    EXPECT_EQ(got, expected) << "seed " << seed << ": " << onlyGot.size() << " only selected, "
+                             << onlyExpected.size() << " only expected"
+                             << (onlyGot.empty() ? "" : ", e.g. " + std::to_string(onlyGot[0]))
+                             << (onlyExpected.empty()
+                                     ? ""
+                                     : ", e.g. " + std::to_string(onlyExpected[0]));
+  }
+}
+
+TEST(ExtractSelection, UnstructuredOutputHasMergedPointsFieldsAndIds)
+{
+  for (bool caseB : {false, true})
+  {
+    DescriptorForest forest(caseB ? paperCaseB(true) : paperCaseA(true));
+    auto htg = buildHyperTreeGrid(forest.description());
+    const auto points = trickyPoints(htg, 5, !caseB);
+    auto out = selectAt(htg, points);
+    ASSERT_GT(out->GetNumberOfCells(), 0);
+    // Corners rounded to 1e-9: VTK's cursor bounds of ternary cells may differ
+    // in the last bit between neighbours; the filter's are computed exactly.
+    std::set<std::array<long long, 3>> corners;
+    auto* ids = vtkIdTypeArray::SafeDownCast(out->GetCellData()->GetArray("OriginalCellId"));
+    vtkDataArray* depth = out->GetCellData()->GetArray("Depth");
+    ASSERT_NE(depth, nullptr);
+    std::map<vtkIdType, LeafBox> byId;
+    for (const LeafBox& l : leafBoxes(htg))
+    {
+      byId[l.global] = l;
+    }
+    for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+    {
+      EXPECT_EQ(out->GetCellType(c), caseB ? VTK_HEXAHEDRON : VTK_QUAD);
+      const vtkIdType id = ids->GetValue(c);
+      EXPECT_EQ(depth->GetTuple1(c), forest.depth()[static_cast<std::size_t>(id)]);
+      double cb[6];
+      out->GetCell(c)->GetBounds(cb);
+      for (int i = 0; i < 6; ++i)
+      {
+        EXPECT_NEAR(cb[i], byId.at(id).b[i], 1e-12);
+      }
+      const LeafBox& l = byId.at(id);
+      for (int k = 0; k < 8; ++k)
+      {
+        corners.insert(
+            {{std::llround(l.b[(k & 1) ? 1 : 0] * 1e9), std::llround(l.b[(k & 2) ? 3 : 2] * 1e9),
+              std::llround(l.b[(k & 4) ? 5 : 4] * 1e9)}});
+      }
+    }
+    EXPECT_EQ(static_cast<std::size_t>(out->GetNumberOfPoints()), corners.size());
+  }
+}
+
+TEST(ExtractSelection, ByIdSelectsLeavesAndCoarseCellsAndCountsTheRest)
+{
+  DescriptorForest forest(paperCaseA(true));
+  auto htg = buildHyperTreeGrid(forest.description());
+  // Leaves and coarse cells, visible or masked, by brute force.
+  std::set<vtkIdType> visibleNodes;
+  vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
+  htg->InitializeTreeIterator(it);
+  vtkIdType index = 0;
+  while (it.GetNextTree(index))
+  {
+    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
+    htg->InitializeNonOrientedGeometryCursor(cursor, index);
+    auto walk = [&](auto& self) -> void
+    {
+      if (cursor->IsMasked())
+      {
+        return;
+      }
+      visibleNodes.insert(cursor->GetGlobalNodeIndex());
+      if (cursor->IsLeaf())
+      {
+        return;
+      }
+      for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
+      {
+        cursor->ToChild(c);
+        self(self);
+        cursor->ToParent();
+      }
+    };
+    walk(walk);
+  }
+  vtkNew<vtkCanopyExtractSelection> filter;
+  filter->SetInputData(htg);
+  filter->SetSelectionMode(vtkCanopyExtractSelection::IDS);
+  std::set<vtkIdType> expected;
+  std::size_t masked = 0;
+  for (vtkIdType id = 0; id < 98; id += 3)
+  {
+    filter->AddId(id);
+    (visibleNodes.count(id) ? expected.insert(id), 0 : ++masked);
+  }
+  filter->AddId(0);  // duplicate
+  filter->AddId(-1); // out of range
+  filter->AddId(98); // out of range
+  filter->Update();
+  auto* out = vtkUnstructuredGrid::SafeDownCast(filter->GetOutput());
+  EXPECT_EQ(idsOf(out), expected);
+  EXPECT_EQ(filter->GetLastOutOfRange(), 2);
+  EXPECT_EQ(filter->GetLastDuplicates(), 1);
+  EXPECT_EQ(static_cast<std::size_t>(filter->GetLastMasked()), masked);
+  // A coarse id (the root of tree 0) gives that coarse cell, one quad of its size.
+  filter->ClearIds();
+  filter->AddId(0);
+  filter->Update();
+  out = vtkUnstructuredGrid::SafeDownCast(filter->GetOutput());
+  ASSERT_EQ(out->GetNumberOfCells(), 1);
+  double b[6];
+  out->GetCell(0)->GetBounds(b);
+  EXPECT_EQ(b[1] - b[0], 1.5);
+  EXPECT_EQ(b[3] - b[2], 1.0);
+}
+
+TEST(ExtractSelection, ByValueRangeIsInclusiveAndSkipsNaN)
+{
+  DescriptorForest forest(paperCaseB(true));
+  std::vector<double> values(forest.numberOfNodes());
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    values[i] = std::fmod(i * 0.37, 3.0);
+  }
+  values[100] = std::nan("");
+  forest.description().fields.push_back(FieldDescription::aos("v", values.data(), values.size()));
+  auto htg = buildHyperTreeGrid(forest.description());
+  const double low = 0.5;
+  const double high = values[200]; // an exact value, to test inclusiveness
+  std::set<vtkIdType> expected;
+  for (const LeafBox& l : leafBoxes(htg))
+  {
+    const double v = values[static_cast<std::size_t>(l.global)];
+    if (v >= low && v <= high)
+    {
+      expected.insert(l.global);
+    }
+  }
+  vtkNew<vtkCanopyExtractSelection> filter;
+  filter->SetInputData(htg);
+  filter->SetSelectionMode(vtkCanopyExtractSelection::VALUE_RANGE);
+  filter->SetValueArrayName("v");
+  filter->SetValueRange(low, high);
+  filter->Update();
+  EXPECT_EQ(idsOf(vtkUnstructuredGrid::SafeDownCast(filter->GetOutput())), expected);
+  EXPECT_GT(expected.size(), 10u);
+}
+
+TEST(ExtractSelection, PreserveTopologyLeavesExactlyTheSelectionVisible)
+{
+  DescriptorForest forest(paperCaseB(true));
+  auto htg = buildHyperTreeGrid(forest.description());
+  const auto points = trickyPoints(htg, 9, false);
+  vtkNew<vtkCanopyExtractSelection> filter;
+  filter->PreserveTopologyOn();
+  filter->SetInputData(htg);
+  filter->SetSelectionMode(vtkCanopyExtractSelection::LOCATIONS);
+  for (const Point& p : points)
+  {
+    filter->AddLocation(p[0], p[1], p[2]);
+  }
+  filter->Update();
+  auto* out = vtkHyperTreeGrid::SafeDownCast(filter->GetOutput());
+  ASSERT_NE(out, nullptr);
+  std::set<vtkIdType> visible;
+  for (const LeafBox& l : leafBoxes(out))
+  {
+    visible.insert(l.global);
+  }
+  EXPECT_EQ(visible, expectedAt(htg, points));
+  // The output shares the input's arrays.
+  EXPECT_EQ(out->GetCellData()->GetArray("Depth"), htg->GetCellData()->GetArray("Depth"));
+}
+
+TEST(ExtractSelection, VtkSelectionInputDrivesTheFilter)
+{
+  DescriptorForest forest(paperCaseA(false));
+  auto htg = buildHyperTreeGrid(forest.description());
+  vtkNew<vtkSelection> selection;
+  vtkNew<vtkSelectionNode> node;
+  node->SetContentType(vtkSelectionNode::GLOBALIDS);
+  node->SetFieldType(vtkSelectionNode::CELL);
+  vtkNew<vtkIdTypeArray> list;
+  list->InsertNextValue(7);
+  list->InsertNextValue(42);
+  node->SetSelectionList(list);
+  selection->AddNode(node);
+  vtkNew<vtkCanopyExtractSelection> filter;
+  filter->SetInputData(0, htg);
+  filter->SetInputData(1, selection);
+  filter->Update();
+  EXPECT_EQ(idsOf(vtkUnstructuredGrid::SafeDownCast(filter->GetOutput())),
+            (std::set<vtkIdType>{7, 42}));
+}
+
+TEST(ExtractSelection, BadInputIsReportedNotCrashed)
+{
+  DescriptorForest forest(paperCaseA(false));
+  auto htg = buildHyperTreeGrid(forest.description());
+  auto errorsOf = [&](vtkCanopyExtractSelection* filter)
+  {
+    int errors = 0;
+    vtkNew<vtkCallbackCommand> onError;
+    onError->SetClientData(&errors);
+    onError->SetCallback([](vtkObject*, unsigned long, void* data, void*)
+                         { ++*static_cast<int*>(data); });
+    filter->AddObserver(vtkCommand::ErrorEvent, onError);
+    filter->Update();
+    return errors;
+  };
+  {
+    vtkNew<vtkCanopyExtractSelection> f;
+    f->SetInputData(htg);
+    f->AddLocation(std::nan(""), 0, 0);
+    EXPECT_EQ(errorsOf(f), 1);
+  }
+  {
+    vtkNew<vtkCanopyExtractSelection> f;
+    f->SetInputData(htg);
+    f->SetSelectionMode(vtkCanopyExtractSelection::VALUE_RANGE);
+    f->SetValueArrayName("Pressure");
+    EXPECT_EQ(errorsOf(f), 1);
+  }
+  {
+    vtkNew<vtkSelection> selection;
+    vtkNew<vtkSelectionNode> node;
+    node->SetContentType(vtkSelectionNode::FRUSTUM);
+    vtkNew<vtkDoubleArray> list;
+    list->SetNumberOfComponents(4);
+    list->InsertNextTuple4(0, 0, 0, 1);
+    node->SetSelectionList(list);
+    selection->AddNode(node);
+    vtkNew<vtkCanopyExtractSelection> f;
+    f->SetInputData(0, htg);
+    f->SetInputData(1, selection);
+    EXPECT_EQ(errorsOf(f), 1);
+  }
+  {
+    // An empty selection is an empty result, not an error.
+    vtkNew<vtkCanopyExtractSelection> f;
+    f->SetInputData(htg);
+    f->SetSelectionMode(vtkCanopyExtractSelection::IDS);
+    EXPECT_EQ(errorsOf(f), 0);
+    EXPECT_EQ(vtkUnstructuredGrid::SafeDownCast(f->GetOutput())->GetNumberOfCells(), 0);
+  }
+}
+
+TEST(ExtractSelection, Depth30LocationsAreExact)
+{
+  // One 2D tree refined along a point down to 31 levels.
+  std::array<double, 2> x{{0, 1}}, y{{0, 1}};
+  std::array<double, 1> z{{0}};
+  std::vector<std::uint8_t> refinement{1};
+  for (int level = 1; level < 31; ++level)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      refinement.push_back(level + 1 < 31 && c == 3 ? 1 : 0); // towards the upper corner
+    }
+  }
+  ForestDescription d;
+  d.dimension = 2;
+  d.branchFactor = 2;
+  d.maxLevels = 31;
+  d.rootGrid = {x.data(), y.data(), z.data(), 2, 2, 1};
+  TreeDescription t;
+  t.refinement = refinement.data();
+  t.numberOfNodes = refinement.size();
+  d.trees.push_back(t);
+  auto htg = buildHyperTreeGrid(d);
+  const auto points = trickyPoints(htg, 30);
+  EXPECT_EQ(idsOf(selectAt(htg, points)), expectedAt(htg, points));
+}
+
+} // namespace
+} // namespace canopy::testing
