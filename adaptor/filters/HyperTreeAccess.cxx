@@ -86,6 +86,8 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
     access.treeIndex = index;
     access.tree = tree;
     access.elderChild = tree->GetElderChildIndexArray(access.elderChildSize);
+    access.numberOfVertices = tree->GetNumberOfVertices();
+    access.childrenPerNode = Children;
     // VTK 9.2's IsGlobalIndexImplicit() answers the opposite of its name
     // (GlobalIndexStart == -1); the start itself is reliable: -1 means a table.
     access.globalIndexStart = tree->GetGlobalIndexStart();

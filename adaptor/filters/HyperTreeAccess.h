@@ -38,10 +38,21 @@ struct TreeAccess
     return !maskedBelow.empty() && maskedBelow[static_cast<std::size_t>(node)] != 0;
   }
 
+  vtkIdType numberOfVertices = 0;
+  int childrenPerNode = 0;
+
+  /// As VTK's compact tree decides, plus a guard: a single-vertex tree is a
+  /// leaf whatever its table says (vtkHyperTreeGridSource leaves a 0 there),
+  /// and an entry pointing past the tree's vertices is never followed.
   bool isLeaf(vtkIdType node) const
   {
-    return static_cast<std::size_t>(node) >= elderChildSize ||
-           elderChild[node] == std::numeric_limits<unsigned int>::max();
+    if (static_cast<std::size_t>(node) >= elderChildSize || numberOfVertices == 1)
+    {
+      return true;
+    }
+    const unsigned int first = elderChild[node];
+    return first == std::numeric_limits<unsigned int>::max() || first == 0 ||
+           static_cast<vtkIdType>(first) + childrenPerNode > numberOfVertices;
   }
   vtkIdType firstChild(vtkIdType node) const { return elderChild[node]; }
   vtkIdType globalIndex(vtkIdType node) const

@@ -4,6 +4,7 @@
 #include "PaperCaseDefinitions.h"
 
 #include "canopy/HtgBuilder.h"
+#include "vtkCanopyAdaptiveSurface.h"
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>
@@ -12,6 +13,7 @@
 #include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
 #include <vtkHyperTreeGridSource.h>
 #include <vtkNew.h>
+#include <vtkPolyData.h>
 
 #include <string>
 
@@ -214,6 +216,21 @@ TEST(PaperCases, CaseBWithMaskEqualsVtkSource)
   EXPECT_EQ(visibleLeavesOf(canopy), 844u);
   EXPECT_EQ(visibleLeavesOf(reference), 844u);
   EXPECT_EQ(forest.numberOfUnmaskedLeaves(), 844u);
+}
+
+TEST(PaperCases, FiltersAcceptGridsFromVtkSource)
+{
+  // vtkHyperTreeGridSource leaves a 0 in a single-leaf tree's child table and
+  // uses explicit global indices: both must be read correctly.
+  for (bool caseB : {false, true})
+  {
+    auto reference = buildWithVtkSource(caseB ? paperCaseB(false) : paperCaseA(false));
+    vtkNew<vtkCanopyAdaptiveSurface> surface;
+    surface->SetInputData(reference);
+    surface->ViewDependentOff();
+    surface->Update();
+    EXPECT_EQ(surface->GetPolyDataOutput()->GetNumberOfCells(), caseB ? 466 : 75);
+  }
 }
 
 } // namespace
