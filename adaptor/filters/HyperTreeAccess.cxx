@@ -1,6 +1,7 @@
 #include "HyperTreeAccess.h"
 
 #include <vtkDataArray.h>
+#include <vtkSMPTools.h>
 
 #include <stdexcept>
 #include <string>
@@ -30,6 +31,11 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
     for (vtkIdType i = 0; i < coords[a]->GetNumberOfTuples(); ++i)
     {
       Coordinates[a].push_back(coords[a]->GetComponent(i, 0));
+      if (i > 0 && !(Coordinates[a][i] > Coordinates[a][i - 1]))
+      {
+        throw std::invalid_argument("root coordinates along axis " + std::to_string(a) +
+                                    " are not strictly increasing at point " + std::to_string(i));
+      }
     }
     Bounds[2 * a] = coords[a]->GetComponent(0, 0);
     Bounds[2 * a + 1] = coords[a]->GetComponent(coords[a]->GetNumberOfTuples() - 1, 0);
@@ -108,30 +114,43 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
         access.size[a] = 0;
       }
     }
-    if (Mask)
-    {
-      // Children have larger local indices than their parent (breadth-first
-      // construction and SubdivideLeaf both append), so one reverse pass suffices.
-      const vtkIdType vertices = tree->GetNumberOfVertices();
-      access.maskedBelow.assign(static_cast<std::size_t>(vertices), 0);
-      for (vtkIdType n = vertices; n-- > 0;)
-      {
-        if (access.isLeaf(n))
-        {
-          continue;
-        }
-        unsigned char below = 0;
-        const vtkIdType first = access.firstChild(n);
-        for (vtkIdType c = first; c < first + Children; ++c)
-        {
-          below |= static_cast<unsigned char>(Mask->GetValue(access.globalIndex(c)) != 0 ||
-                                              access.maskedBelow[static_cast<std::size_t>(c)]);
-        }
-        access.maskedBelow[static_cast<std::size_t>(n)] = below;
-      }
-    }
     TreeAtRoot[static_cast<std::size_t>(index)] = static_cast<std::int64_t>(Trees.size());
     Trees.push_back(access);
+  }
+  if (Mask && Dimension == 3)
+  {
+    // Only the 3D surface needs it (to skip solid subtrees): trees in parallel.
+    vtkSMPTools::For(0, static_cast<vtkIdType>(Trees.size()),
+                     [&](vtkIdType begin, vtkIdType end)
+                     {
+                       for (vtkIdType t = begin; t < end; ++t)
+                       {
+                         computeMaskedBelow(Trees[static_cast<std::size_t>(t)]);
+                       }
+                     });
+  }
+}
+
+void HyperTreeAccess::computeMaskedBelow(TreeAccess& access) const
+{
+  // Children have larger local indices than their parent (breadth-first
+  // construction and SubdivideLeaf both append), so one reverse pass suffices.
+  const vtkIdType vertices = access.numberOfVertices;
+  access.maskedBelow.assign(static_cast<std::size_t>(vertices), 0);
+  for (vtkIdType n = vertices; n-- > 0;)
+  {
+    if (access.isLeaf(n))
+    {
+      continue;
+    }
+    unsigned char below = 0;
+    const vtkIdType first = access.firstChild(n);
+    for (vtkIdType c = first; c < first + Children; ++c)
+    {
+      below |= static_cast<unsigned char>(Mask->GetValue(access.globalIndex(c)) != 0 ||
+                                          access.maskedBelow[static_cast<std::size_t>(c)]);
+    }
+    access.maskedBelow[static_cast<std::size_t>(n)] = below;
   }
 }
 

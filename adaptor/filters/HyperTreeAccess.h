@@ -132,6 +132,8 @@ public:
   }
 
 private:
+  void computeMaskedBelow(TreeAccess& access) const;
+
   int Dimension = 0;
   int BranchFactor = 2;
   int Children = 4;

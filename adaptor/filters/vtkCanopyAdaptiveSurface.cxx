@@ -4,6 +4,8 @@
 #include "HyperTreeAccess.h"
 #include "ViewVolume.h"
 
+#include <vtkAOSDataArrayTemplate.h>
+#include <vtkBuffer.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -24,7 +26,19 @@
 #include <cstring>
 
 vtkStandardNewMacro(vtkCanopyAdaptiveSurface);
-vtkCxxSetObjectMacro(vtkCanopyAdaptiveSurface, Renderer, vtkRenderer);
+void vtkCanopyAdaptiveSurface::SetRenderer(vtkRenderer* renderer)
+{
+  if (this->Renderer != renderer)
+  {
+    this->Renderer = renderer;
+    this->Modified();
+  }
+}
+
+vtkRenderer* vtkCanopyAdaptiveSurface::GetRenderer()
+{
+  return this->Renderer;
+}
 vtkCxxSetObjectMacro(vtkCanopyAdaptiveSurface, Camera, vtkCamera);
 
 namespace
@@ -98,7 +112,6 @@ vtkCanopyAdaptiveSurface::vtkCanopyAdaptiveSurface()
 
 vtkCanopyAdaptiveSurface::~vtkCanopyAdaptiveSurface()
 {
-  this->SetRenderer(nullptr);
   this->SetCamera(nullptr);
 }
 
@@ -120,6 +133,37 @@ void vtkCanopyAdaptiveSurface::ClearFields()
   }
 }
 
+namespace
+{
+
+/// Reads an AoS array's protected storage buffer (a pointer to member formed in
+/// a derived class is a pointer to the base's member: well defined).
+template <typename T>
+struct BufferOf : vtkAOSDataArrayTemplate<T>
+{
+  static vtkBuffer<T>* get(vtkAOSDataArrayTemplate<T>* array)
+  {
+    vtkBuffer<T>* vtkAOSDataArrayTemplate<T>::*member = &BufferOf::Buffer;
+    return array->*member;
+  }
+};
+
+/// True when the array's memory is also held elsewhere (ShallowCopy shares the
+/// buffer, not the array object): then it must not be overwritten.
+bool storageShared(vtkDataArray* array)
+{
+  switch (array->GetDataType())
+  {
+    vtkTemplateMacro({
+      auto* aos = vtkAOSDataArrayTemplate<VTK_TT>::FastDownCast(array);
+      return !aos || BufferOf<VTK_TT>::get(aos)->GetReferenceCount() > 1;
+    });
+  }
+  return true;
+}
+
+} // namespace
+
 template <typename ArrayType>
 vtkSmartPointer<ArrayType> vtkCanopyAdaptiveSurface::ReusableArray(const std::string& key,
                                                                    int dataType)
@@ -127,10 +171,12 @@ vtkSmartPointer<ArrayType> vtkCanopyAdaptiveSurface::ReusableArray(const std::st
   // Fresh memory is expensive (first-touch page faults cost more than writing
   // the output); an array only this filter still holds is reused instead.
   auto& slot = this->Reusable[key];
-  if (slot && slot->GetReferenceCount() == 1 && slot->GetDataType() == dataType)
+  if (slot && slot->GetReferenceCount() == 1 && slot->GetDataType() == dataType &&
+      !storageShared(slot))
   {
     if (auto* typed = ArrayType::SafeDownCast(slot))
     {
+      typed->Modified(); // its values change: drop cached ranges
       return typed;
     }
   }
@@ -146,9 +192,10 @@ vtkPolyData* vtkCanopyAdaptiveSurface::GetPolyDataOutput()
 vtkMTimeType vtkCanopyAdaptiveSurface::GetMTime()
 {
   vtkMTimeType time = this->Superclass::GetMTime();
-  vtkCamera* camera = this->Renderer ? this->Renderer->GetActiveCamera() : this->Camera;
+  vtkCamera* camera = this->Camera;
   if (this->Renderer)
   {
+    time = std::max(time, this->Renderer->GetMTime());
     const int* size = this->Renderer->GetSize();
     if (size[0] != this->LastRendererSize[0] || size[1] != this->LastRendererSize[1])
     {
@@ -157,7 +204,15 @@ vtkMTimeType vtkCanopyAdaptiveSurface::GetMTime()
       this->RendererSizeTime.Modified();
     }
     time = std::max(time, this->RendererSizeTime.GetMTime());
+    // Do not create a camera just to ask for its time.
+    camera = this->Renderer->IsActiveCameraCreated() ? this->Renderer->GetActiveCamera() : nullptr;
   }
+  if (camera != this->LastCamera)
+  {
+    this->LastCamera = camera;
+    this->CameraSwapTime.Modified();
+  }
+  time = std::max(time, this->CameraSwapTime.GetMTime());
   if (camera)
   {
     time = std::max(time, camera->GetMTime());

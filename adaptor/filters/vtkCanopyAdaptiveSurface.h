@@ -27,6 +27,7 @@
 #include <vtkHyperTreeGridAlgorithm.h>
 
 #include <vtkSmartPointer.h>
+#include <vtkWeakPointer.h>
 
 #include <map>
 #include <string>
@@ -46,8 +47,9 @@ public:
 
   ///@{
   /// Take the view from a renderer (its active camera and its size in pixels).
+  /// Held weakly: the renderer usually holds (through its actors) this filter.
   void SetRenderer(vtkRenderer* renderer);
-  vtkGetObjectMacro(Renderer, vtkRenderer);
+  vtkRenderer* GetRenderer();
   ///@}
 
   ///@{
@@ -120,7 +122,7 @@ public:
   vtkPolyData* GetPolyDataOutput();
 
   /// Includes the camera's and the renderer's modification times, and notices a
-  /// change of the renderer's size.
+  /// change of the renderer's size or of its active camera.
   vtkMTimeType GetMTime() override;
 
 protected:
@@ -134,7 +136,9 @@ private:
   vtkCanopyAdaptiveSurface(const vtkCanopyAdaptiveSurface&) = delete;
   void operator=(const vtkCanopyAdaptiveSurface&) = delete;
 
-  vtkRenderer* Renderer = nullptr;
+  vtkWeakPointer<vtkRenderer> Renderer;
+  vtkCamera* LastCamera = nullptr; ///< only compared, to notice a camera swap
+  vtkTimeStamp CameraSwapTime;
   vtkCamera* Camera = nullptr;
   double CameraPosition[3] = {0, 0, 1};
   double CameraFocalPoint[3] = {0, 0, 0};
