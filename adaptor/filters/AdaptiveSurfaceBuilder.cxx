@@ -53,15 +53,7 @@ std::array<Vec3, 8> boxCorners(const Vec3& lo, const Vec3& hi)
 /// Child position -> per-axis digit: active axes in increasing order, first fastest.
 Index3 childIndex(const NodeFrame& parent, int child, const HyperTreeAccess& grid)
 {
-  // Per-axis digits come from a table: no integer division per node.
-  const auto& digit = grid.childDigits(child);
-  const int f = grid.branchFactor();
-  Index3 ijk = parent.ijk;
-  for (int a = 0; a < 3; ++a)
-  {
-    ijk[a] = digit[a] < 0 ? ijk[a] : ijk[a] * f + digit[a];
-  }
-  return ijk;
+  return grid.childPosition(parent.ijk, child);
 }
 
 /// The view restricted to the plane of a 2D grid, clipped to the grid's bounds:

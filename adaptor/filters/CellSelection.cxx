@@ -175,13 +175,7 @@ std::vector<SelectedNode> CellSelection::byId(const std::vector<vtkIdType>& ids,
       const vtkIdType first = tree.firstChild(n.node);
       for (int c = Grid.childrenPerNode(); c-- > 0;)
       {
-        std::array<std::int64_t, 3> ijk = n.ijk;
-        const auto& digit = Grid.childDigits(c);
-        for (int a = 0; a < 3; ++a)
-        {
-          ijk[a] = digit[a] < 0 ? ijk[a] : ijk[a] * Grid.branchFactor() + digit[a];
-        }
-        stack.push_back({first + c, n.level + 1, ijk, isHidden});
+        stack.push_back({first + c, n.level + 1, Grid.childPosition(n.ijk, c), isHidden});
       }
     }
   }
@@ -236,13 +230,7 @@ std::vector<SelectedNode> CellSelection::byValue(vtkDataArray* values, int compo
       const vtkIdType first = tree.firstChild(n.node);
       for (int c = Grid.childrenPerNode(); c-- > 0;)
       {
-        std::array<std::int64_t, 3> ijk = n.ijk;
-        const auto& digit = Grid.childDigits(c);
-        for (int a = 0; a < 3; ++a)
-        {
-          ijk[a] = digit[a] < 0 ? ijk[a] : ijk[a] * Grid.branchFactor() + digit[a];
-        }
-        stack.push_back({first + c, n.level + 1, ijk});
+        stack.push_back({first + c, n.level + 1, Grid.childPosition(n.ijk, c)});
       }
     }
   }

@@ -95,6 +95,18 @@ public:
   {
     return Coordinates[static_cast<std::size_t>(axis)];
   }
+  /// Integer position of child c of the node at `parent` (one level down).
+  std::array<std::int64_t, 3> childPosition(const std::array<std::int64_t, 3>& parent, int c) const
+  {
+    const auto& digit = ChildDigits[static_cast<std::size_t>(c)];
+    std::array<std::int64_t, 3> ijk = parent;
+    for (int a = 0; a < 3; ++a)
+    {
+      ijk[a] = digit[a] < 0 ? ijk[a] : ijk[a] * BranchFactor + digit[a];
+    }
+    return ijk;
+  }
+
   /// Number of cells (nodes) of the grid: global indices are below it.
   vtkIdType numberOfCells() const { return NumberOfCells; }
   /// f^level, for levels the integer positions can represent (see maxLevel()).

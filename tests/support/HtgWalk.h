@@ -49,11 +49,11 @@ void forEachNode(vtkHyperTreeGrid* htg, vtkIdType rootIndex,
   walk(walk, 0);
 }
 
-/// Calls visit(cursor) for every leaf with no masked ancestor (and not masked
-/// itself), over all trees, by VTK's own cursors: the independent reference the
-/// filter tests compare against.
+/// Calls visit(cursor) for every node with no masked ancestor and not masked
+/// itself (coarse nodes and leaves), over all trees, by VTK's own cursors: the
+/// independent reference the filter tests compare against.
 template <typename Visit>
-void forEachVisibleLeaf(vtkHyperTreeGrid* htg, Visit&& visit)
+void forEachVisibleNode(vtkHyperTreeGrid* htg, Visit&& visit)
 {
   vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
   htg->InitializeTreeIterator(it);
@@ -68,9 +68,9 @@ void forEachVisibleLeaf(vtkHyperTreeGrid* htg, Visit&& visit)
       {
         return;
       }
+      visit(cursor.GetPointer());
       if (cursor->IsLeaf())
       {
-        visit(cursor.GetPointer());
         return;
       }
       for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
@@ -82,6 +82,20 @@ void forEachVisibleLeaf(vtkHyperTreeGrid* htg, Visit&& visit)
     };
     walk(walk);
   }
+}
+
+/// The same, for visible leaves only.
+template <typename Visit>
+void forEachVisibleLeaf(vtkHyperTreeGrid* htg, Visit&& visit)
+{
+  forEachVisibleNode(htg,
+                     [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
+                     {
+                       if (cursor->IsLeaf())
+                       {
+                         visit(cursor);
+                       }
+                     });
 }
 
 } // namespace canopy::testing

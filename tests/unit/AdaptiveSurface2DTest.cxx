@@ -230,6 +230,17 @@ std::set<vtkIdType> emittedIds(vtkPolyData* surface)
   return result;
 }
 
+/// The paper's view of case A as a vtkCamera.
+vtkSmartPointer<vtkCamera> paperCamera()
+{
+  auto camera = vtkSmartPointer<vtkCamera>::New();
+  camera->SetPosition(0.75, 1.5, 10);
+  camera->SetFocalPoint(0.75, 1.5, 0);
+  camera->ParallelProjectionOn();
+  camera->SetParallelScale(1);
+  return camera;
+}
+
 View paperView()
 {
   return View{{{0.75, 1.5, 10}}, {{0.75, 1.5, 0}}, {{0, 1, 0}}, true, 1.0, 400, 400};
@@ -466,11 +477,7 @@ TEST(AdaptiveSurface2D, ConsumersKeepTheirDataWhenTheFilterReexecutes)
 {
   DescriptorForest forest(paperCaseA(false));
   auto htg = buildHyperTreeGrid(forest.description());
-  vtkNew<vtkCamera> camera;
-  camera->SetPosition(0.75, 1.5, 10);
-  camera->SetFocalPoint(0.75, 1.5, 0);
-  camera->ParallelProjectionOn();
-  camera->SetParallelScale(1);
+  vtkSmartPointer<vtkCamera> camera = paperCamera();
   vtkNew<vtkCanopyAdaptiveSurface> filter;
   filter->SetInputData(htg);
   filter->SetCamera(camera);
@@ -515,12 +522,7 @@ TEST(AdaptiveSurface2D, FollowsTheRendererAndDoesNotKeepItAlive)
   bool filterDeleted = false;
   {
     vtkNew<vtkRenderer> renderer;
-    vtkNew<vtkCamera> a;
-    a->SetPosition(0.75, 1.5, 10);
-    a->SetFocalPoint(0.75, 1.5, 0);
-    a->ParallelProjectionOn();
-    a->SetParallelScale(1);
-    renderer->SetActiveCamera(a);
+    renderer->SetActiveCamera(paperCamera());
     vtkNew<vtkCanopyAdaptiveSurface> filter;
     vtkNew<vtkCallbackCommand> onDelete;
     onDelete->SetClientData(&filterDeleted);
@@ -671,11 +673,7 @@ TEST(AdaptiveSurface2D, ReexecutesOnlyWhenSomethingChanged)
 {
   DescriptorForest forest(paperCaseA(false));
   auto htg = buildHyperTreeGrid(forest.description());
-  vtkNew<vtkCamera> camera;
-  camera->SetPosition(0.75, 1.5, 10);
-  camera->SetFocalPoint(0.75, 1.5, 0);
-  camera->ParallelProjectionOn();
-  camera->SetParallelScale(1);
+  vtkSmartPointer<vtkCamera> camera = paperCamera();
   vtkNew<vtkCanopyAdaptiveSurface> filter;
   filter->SetInputData(htg);
   filter->SetCamera(camera);

@@ -269,33 +269,8 @@ TEST(ExtractSelection, ByIdSelectsLeavesAndCoarseCellsAndCountsTheRest)
   auto htg = buildHyperTreeGrid(forest.description());
   // Leaves and coarse cells, visible or masked, by brute force.
   std::set<vtkIdType> visibleNodes;
-  vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
-  htg->InitializeTreeIterator(it);
-  vtkIdType index = 0;
-  while (it.GetNextTree(index))
-  {
-    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
-    htg->InitializeNonOrientedGeometryCursor(cursor, index);
-    auto walk = [&](auto& self) -> void
-    {
-      if (cursor->IsMasked())
-      {
-        return;
-      }
-      visibleNodes.insert(cursor->GetGlobalNodeIndex());
-      if (cursor->IsLeaf())
-      {
-        return;
-      }
-      for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
-      {
-        cursor->ToChild(c);
-        self(self);
-        cursor->ToParent();
-      }
-    };
-    walk(walk);
-  }
+  forEachVisibleNode(htg, [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
+                     { visibleNodes.insert(cursor->GetGlobalNodeIndex()); });
   vtkNew<vtkCanopyExtractSelection> filter;
   filter->SetInputData(htg);
   filter->SetSelectionMode(vtkCanopyExtractSelection::IDS);
