@@ -57,10 +57,10 @@ struct View
   int height;
 };
 
-/// VTK's own frustum planes for the view (an independent implementation).
-std::vector<Plane> vtkFrustum(const View& v)
+/// A vtkCamera for the view, its clipping range far from the data.
+vtkSmartPointer<vtkCamera> vtkCameraFor(const View& v, double rangeFactor)
 {
-  vtkNew<vtkCamera> camera;
+  auto camera = vtkSmartPointer<vtkCamera>::New();
   camera->SetPosition(v.position.data());
   camera->SetFocalPoint(v.focal.data());
   camera->SetViewUp(v.up.data());
@@ -74,7 +74,14 @@ std::vector<Plane> vtkFrustum(const View& v)
     camera->SetViewAngle(v.scale);
   }
   const double distance = camera->GetDistance();
-  camera->SetClippingRange(distance * 1e-9, distance * 1e9);
+  camera->SetClippingRange(distance / rangeFactor, distance * rangeFactor);
+  return camera;
+}
+
+/// VTK's own frustum planes for the view (an independent implementation).
+std::vector<Plane> vtkFrustum(const View& v)
+{
+  vtkSmartPointer<vtkCamera> camera = vtkCameraFor(v, 1e9);
   double planes[24];
   camera->GetFrustumPlanes(static_cast<double>(v.width) / v.height, planes);
   std::vector<Plane> result;
@@ -407,14 +414,7 @@ TEST(AdaptiveSurface2D, RandomViewsEmitExactlyTheOverlappingLeaves)
 /// Pixel footprint of a box by VTK's own projection matrix.
 double vtkFootprint(const View& v, const double b[6])
 {
-  vtkNew<vtkCamera> camera;
-  camera->SetPosition(v.position.data());
-  camera->SetFocalPoint(v.focal.data());
-  camera->SetViewUp(v.up.data());
-  camera->SetParallelProjection(v.parallel);
-  v.parallel ? camera->SetParallelScale(v.scale) : camera->SetViewAngle(v.scale);
-  const double distance = camera->GetDistance();
-  camera->SetClippingRange(distance * 1e-6, distance * 1e6);
+  vtkSmartPointer<vtkCamera> camera = vtkCameraFor(v, 1e6);
   vtkMatrix4x4* m =
       camera->GetCompositeProjectionTransformMatrix(double(v.width) / v.height, -1, 1);
   double lo[2] = {1e300, 1e300};
