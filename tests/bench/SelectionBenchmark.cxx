@@ -123,7 +123,7 @@ int main(int argc, char** argv)
             canopy->AddId(v);
             ids->InsertNextValue(v);
           }
-          // The unstructured grid keeps HTG cell ids? No: its cells are the
+          // The unstructured grid has no hypertree global ids: its cells are the
           // leaves in traversal order, so upstream selects by its own indices.
           node->SetContentType(vtkSelectionNode::INDICES);
           node->SetSelectionList(ids);
