@@ -454,11 +454,8 @@ struct TreeWalk
             covered = true;
             break;
           }
-          if (lodStops(*neighbour, m))
-          {
-            covered = true;
-            break;
-          }
+          // Level of detail is checked at n's level (in emitExposedParts), not on
+          // the coarser nodes of the path: projecting each costs more than it saves.
           m = childToward(*neighbour, m, n.level, across);
         }
         if (exposed)

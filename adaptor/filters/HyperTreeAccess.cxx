@@ -50,6 +50,8 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
     }
   }
   Mask = htg->HasMask() ? htg->GetMask() : nullptr;
+  MaskSize = Mask ? Mask->GetNumberOfValues() : 0;
+  MaskBits = MaskSize > 0 ? Mask->GetPointer(0) : nullptr;
   NumberOfCells = htg->GetNumberOfCells();
   // Integer positions are int64: stop before f^level overflows.
   for (std::int64_t p = 1; CellsPerRoot.size() < 64; p *= BranchFactor)
@@ -136,6 +138,14 @@ void HyperTreeAccess::computeMaskedBelow(TreeAccess& access) const
   // Children have larger local indices than their parent (breadth-first
   // construction and SubdivideLeaf both append), so one reverse pass suffices.
   const vtkIdType vertices = access.numberOfVertices;
+  if (!access.implicitGlobalIndex)
+  {
+    access.globalTable.resize(static_cast<std::size_t>(vertices));
+    for (vtkIdType n = 0; n < vertices; ++n)
+    {
+      access.globalTable[static_cast<std::size_t>(n)] = access.tree->GetGlobalIndexFromLocal(n);
+    }
+  }
   access.maskedBelow.assign(static_cast<std::size_t>(vertices), 0);
   for (vtkIdType n = vertices; n-- > 0;)
   {
@@ -147,7 +157,7 @@ void HyperTreeAccess::computeMaskedBelow(TreeAccess& access) const
     const vtkIdType first = access.firstChild(n);
     for (vtkIdType c = first; c < first + Children; ++c)
     {
-      below |= static_cast<unsigned char>(Mask->GetValue(access.globalIndex(c)) != 0 ||
+      below |= static_cast<unsigned char>(isMasked(access.globalIndex(c)) ||
                                           access.maskedBelow[static_cast<std::size_t>(c)]);
     }
     access.maskedBelow[static_cast<std::size_t>(n)] = below;

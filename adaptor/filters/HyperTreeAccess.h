@@ -55,9 +55,18 @@ struct TreeAccess
            static_cast<vtkIdType>(first) + childrenPerNode > numberOfVertices;
   }
   vtkIdType firstChild(vtkIdType node) const { return elderChild[node]; }
+  /// Explicit indices read once (when a pass over all nodes happens anyway):
+  /// VTK's per-node virtual lookup is slow in Debian's build.
+  std::vector<vtkIdType> globalTable;
+
   vtkIdType globalIndex(vtkIdType node) const
   {
-    return implicitGlobalIndex ? globalIndexStart + node : tree->GetGlobalIndexFromLocal(node);
+    if (implicitGlobalIndex)
+    {
+      return globalIndexStart + node;
+    }
+    return globalTable.empty() ? tree->GetGlobalIndexFromLocal(node)
+                               : globalTable[static_cast<std::size_t>(node)];
   }
 };
 
@@ -140,7 +149,10 @@ public:
   bool hasMask() const { return Mask != nullptr; }
   bool isMasked(vtkIdType globalIndex) const
   {
-    return Mask != nullptr && Mask->GetValue(globalIndex) != 0;
+    // vtkBitArray stores the most significant bit first; read it inline. Cells
+    // past the end of a short mask are unmasked.
+    return MaskBits != nullptr && globalIndex < MaskSize &&
+           ((MaskBits[globalIndex >> 3] >> (7 - (globalIndex & 7))) & 1) != 0;
   }
 
 private:
@@ -161,6 +173,8 @@ private:
   vtkIdType NumberOfCells = 0;
   std::vector<std::int64_t> TreeAtRoot; ///< root cell -> position in Trees, or -1
   vtkBitArray* Mask = nullptr;
+  const unsigned char* MaskBits = nullptr;
+  vtkIdType MaskSize = 0;
 };
 
 } // namespace canopy
