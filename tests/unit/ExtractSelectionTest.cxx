@@ -290,6 +290,13 @@ TEST(ExtractSelection, ByIdSelectsLeavesAndCoarseCellsAndCountsTheRest)
   EXPECT_EQ(filter->GetLastOutOfRange(), 2);
   EXPECT_EQ(filter->GetLastDuplicates(), 1);
   EXPECT_EQ(static_cast<std::size_t>(filter->GetLastMasked()), masked);
+  // With AllowMasked, masked cells are selectable too.
+  filter->AllowMaskedOn();
+  filter->Update();
+  EXPECT_EQ(idsOf(vtkUnstructuredGrid::SafeDownCast(filter->GetOutput())).size(),
+            expected.size() + masked);
+  EXPECT_EQ(filter->GetLastMasked(), 0);
+  filter->AllowMaskedOff();
   // A coarse id (the root of tree 0) gives that coarse cell, one quad of its size.
   filter->ClearIds();
   filter->AddId(0);
@@ -332,6 +339,32 @@ TEST(ExtractSelection, ByValueRangeIsInclusiveAndSkipsNaN)
   filter->Update();
   EXPECT_EQ(idsOf(vtkUnstructuredGrid::SafeDownCast(filter->GetOutput())), expected);
   EXPECT_GT(expected.size(), 10u);
+
+  // Magnitude of a 2-component field: sqrt(v^2 + (2v)^2) = sqrt(5) |v|.
+  std::vector<double> pairs(2 * values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    pairs[2 * i] = values[i];
+    pairs[2 * i + 1] = 2 * values[i];
+  }
+  forest.description().fields.push_back(FieldDescription::aos("w", pairs.data(), values.size(), 2));
+  auto withPairs = buildHyperTreeGrid(forest.description());
+  std::set<vtkIdType> expectedMagnitude;
+  for (const LeafBox& l : leafBoxes(withPairs))
+  {
+    const double v = std::sqrt(5.0) * std::abs(values[static_cast<std::size_t>(l.global)]);
+    if (v >= 1.0 && v <= 3.0)
+    {
+      expectedMagnitude.insert(l.global);
+    }
+  }
+  filter->SetInputData(withPairs);
+  filter->SetValueArrayName("w");
+  filter->SetValueComponent(-1);
+  filter->SetValueRange(1.0, 3.0);
+  filter->Update();
+  EXPECT_EQ(idsOf(vtkUnstructuredGrid::SafeDownCast(filter->GetOutput())), expectedMagnitude);
+  EXPECT_GT(expectedMagnitude.size(), 10u);
 }
 
 TEST(ExtractSelection, PreserveTopologyLeavesExactlyTheSelectionVisible)
