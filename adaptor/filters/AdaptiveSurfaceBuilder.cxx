@@ -22,22 +22,11 @@ struct NodeFrame
   Index3 ijk; ///< along each axis, in [0, f^level)
 };
 
-/// Powers of the branch factor, from the grid (f^level per level).
-class Powers
-{
-public:
-  explicit Powers(const HyperTreeAccess& grid) : Grid(grid) {}
-  std::int64_t operator[](int l) const { return Grid.cellsPerRootAt(l); }
-  const HyperTreeAccess& grid() const { return Grid; }
-
-private:
-  const HyperTreeAccess& Grid;
-};
-
 /// Lower corner and upper corner of a node.
-void nodeBox(const TreeAccess& tree, const NodeFrame& n, const Powers& powers, Vec3& lo, Vec3& hi)
+void nodeBox(const HyperTreeAccess& grid, const TreeAccess& tree, const NodeFrame& n, Vec3& lo,
+             Vec3& hi)
 {
-  powers.grid().nodeBounds(tree, n.level, n.ijk, lo, hi);
+  grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
 }
 
 std::array<Vec3, 8> boxCorners(const Vec3& lo, const Vec3& hi)
@@ -55,6 +44,8 @@ Index3 childIndex(const NodeFrame& parent, int child, const HyperTreeAccess& gri
 {
   return grid.childPosition(parent.ijk, child);
 }
+
+} // namespace
 
 /// The view restricted to the plane of a 2D grid, clipped to the grid's bounds:
 /// a convex polygon in (u, v) = (first active axis, second active axis).
@@ -193,6 +184,9 @@ private:
   std::vector<std::array<double, 2>> Intervals;
 };
 
+namespace
+{
+
 /// Where quads go: counted in the first pass, written in place in the second,
 /// so the output is allocated once and never grown or copied.
 struct QuadSink
@@ -225,7 +219,6 @@ struct TreeWalk
   const HyperTreeAccess& grid;
   const TreeAccess& tree;
   const SurfaceOptions& options;
-  const Powers& powers;
   const PlaneRegion* region; ///< 2D culling, when a view is given
   QuadSink& out;
 
@@ -274,7 +267,7 @@ struct TreeWalk
       bool haveBox = false;
       if (options.view)
       {
-        nodeBox(tree, n, powers, lo, hi);
+        nodeBox(grid, tree, n, lo, hi);
         haveBox = true;
         if (!visible(lo, hi))
         {
@@ -296,7 +289,7 @@ struct TreeWalk
           }
           if (!haveBox)
           {
-            nodeBox(tree, n, powers, lo, hi);
+            nodeBox(grid, tree, n, lo, hi);
           }
         }
         if (grid.dimension() == 2)
@@ -383,7 +376,7 @@ struct TreeWalk
   /// outside the grid or absent), and that position in its integer coordinates.
   const TreeAccess* neighbourAcross(const NodeFrame& n, int axis, int side, Index3& across) const
   {
-    const std::int64_t cells = powers[n.level];
+    const std::int64_t cells = grid.cellsPerRootAt(n.level);
     across = n.ijk;
     std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
                               static_cast<long>(tree.rootIJK[1]),
@@ -406,15 +399,7 @@ struct TreeWalk
   NodeFrame childToward(const TreeAccess& t, const NodeFrame& m, int level,
                         const Index3& target) const
   {
-    const int f = grid.branchFactor();
-    const std::int64_t scale = powers[level - m.level - 1];
-    int child = 0;
-    int weight = 1;
-    for (int a : grid.activeAxes())
-    {
-      child += static_cast<int>((target[a] / scale) % f) * weight;
-      weight *= f;
-    }
+    const int child = grid.childToward(m.level, level, target);
     return {t.firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
   }
 
@@ -521,7 +506,7 @@ struct TreeWalk
     }
     Vec3 mlo;
     Vec3 mhi;
-    nodeBox(t, m, powers, mlo, mhi);
+    nodeBox(grid, t, m, mlo, mhi);
     return lodStops(mlo, mhi);
   }
 
@@ -557,7 +542,7 @@ struct TreeWalk
       {
         Vec3 clo;
         Vec3 chi;
-        nodeBox(t, child, powers, clo, chi);
+        nodeBox(grid, t, child, clo, chi);
         emitFace(axis, side, lo, hi, clo, chi, global, level);
         continue;
       }
@@ -572,31 +557,30 @@ AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
                                                const SurfaceOptions& options)
     : Grid(grid), Options(options)
 {
+  if (Grid.dimension() == 2 && Options.view && Options.cullOutsideView)
+  {
+    Region = std::make_unique<PlaneRegion>(Grid, *Options.view);
+  }
 }
+
+AdaptiveSurfaceBuilder::~AdaptiveSurfaceBuilder() = default;
 
 std::size_t AdaptiveSurfaceBuilder::count()
 {
-  const Powers powers(Grid);
-  std::unique_ptr<PlaneRegion> region;
-  if (Grid.dimension() == 2 && Options.view && Options.cullOutsideView)
-  {
-    region = std::make_unique<PlaneRegion>(Grid, *Options.view);
-  }
   const auto& trees = Grid.trees();
   std::vector<std::size_t> counts(trees.size(), 0);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
-                   [&](vtkIdType begin, vtkIdType end)
-                   {
-                     for (vtkIdType t = begin; t < end; ++t)
-                     {
-                       QuadSink sink;
-                       TreeWalk walk{Grid,         trees[static_cast<std::size_t>(t)],
-                                     Options,      powers,
-                                     region.get(), sink};
-                       walk.walk();
-                       counts[static_cast<std::size_t>(t)] = sink.next;
-                     }
-                   });
+  vtkSMPTools::For(
+      0, static_cast<vtkIdType>(trees.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType t = begin; t < end; ++t)
+        {
+          QuadSink sink;
+          TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
+          walk.walk();
+          counts[static_cast<std::size_t>(t)] = sink.next;
+        }
+      });
   // Trees write at prefix-sum offsets: the output order is the tree order, the
   // same for any number of threads.
   Offsets.assign(trees.size() + 1, 0);
@@ -609,12 +593,6 @@ std::size_t AdaptiveSurfaceBuilder::count()
 
 void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
 {
-  const Powers powers(Grid);
-  std::unique_ptr<PlaneRegion> region;
-  if (Grid.dimension() == 2 && Options.view && Options.cullOutsideView)
-  {
-    region = std::make_unique<PlaneRegion>(Grid, *Options.view);
-  }
   const auto& trees = Grid.trees();
   vtkSMPTools::For(
       0, static_cast<vtkIdType>(trees.size()),
@@ -626,23 +604,10 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
           QuadSink sink;
           sink.counting = false;
           sink.arrays = {arrays.points + 12 * first, arrays.cellIds + first, arrays.levels + first};
-          TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, powers, region.get(),
-                        sink};
+          TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
           walk.walk();
         }
       });
-}
-
-SurfacePieces buildAdaptiveSurface(const HyperTreeAccess& grid, const SurfaceOptions& options)
-{
-  AdaptiveSurfaceBuilder builder(grid, options);
-  const std::size_t quads = builder.count();
-  SurfacePieces out;
-  out.points.resize(12 * quads);
-  out.cellIds.resize(quads);
-  out.levels.resize(quads);
-  builder.write({out.points.data(), out.cellIds.data(), out.levels.data()});
-  return out;
 }
 
 } // namespace canopy

@@ -24,6 +24,7 @@
 #include <vtkType.h>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace canopy
@@ -50,10 +51,15 @@ struct SurfaceArrays
 /// Two passes over the trees (in parallel with vtkSMPTools): count, then write
 /// each tree's quads at its offset. The output is allocated once, in its final
 /// place; its order is the tree order for any number of threads.
+class PlaneRegion;
+
 class AdaptiveSurfaceBuilder
 {
 public:
   AdaptiveSurfaceBuilder(const HyperTreeAccess& grid, const SurfaceOptions& options);
+  ~AdaptiveSurfaceBuilder();
+  AdaptiveSurfaceBuilder(const AdaptiveSurfaceBuilder&) = delete;
+  AdaptiveSurfaceBuilder& operator=(const AdaptiveSurfaceBuilder&) = delete;
   /// Number of quads; call before write().
   std::size_t count();
   /// Fills arrays sized for count() quads.
@@ -62,19 +68,8 @@ public:
 private:
   const HyperTreeAccess& Grid;
   SurfaceOptions Options;
+  std::unique_ptr<PlaneRegion> Region; ///< 2D culling region, built once for both passes
   std::vector<std::size_t> Offsets;
 };
-
-/// Quads, four points each (x y z per point), with per-quad source cell.
-struct SurfacePieces
-{
-  std::vector<double> points;
-  std::vector<vtkIdType> cellIds;    ///< global index of the node each quad shows
-  std::vector<unsigned char> levels; ///< that node's level
-  std::size_t numberOfQuads() const { return cellIds.size(); }
-};
-
-/// Convenience: both passes into vectors.
-SurfacePieces buildAdaptiveSurface(const HyperTreeAccess& grid, const SurfaceOptions& options);
 
 } // namespace canopy

@@ -65,7 +65,6 @@ private:
   bool hidden(const TreeAccess& tree, vtkIdType node) const;
   const HyperTreeAccess& Grid;
   bool AllowMasked;
-  std::vector<std::int64_t> Powers;
 };
 
 } // namespace canopy

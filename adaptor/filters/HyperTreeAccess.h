@@ -116,6 +116,22 @@ public:
     return ijk;
   }
 
+  /// Position (0 .. children-1) of the child of a node at `level` on the way
+  /// down to the integer position `target` at `targetLevel` (> level).
+  int childToward(int level, int targetLevel, const std::array<std::int64_t, 3>& target) const
+  {
+    const std::int64_t scale = CellsPerRoot[static_cast<std::size_t>(targetLevel - level - 1)];
+    int child = 0;
+    int weight = 1;
+    for (int a : ActiveAxes)
+    {
+      child +=
+          static_cast<int>((target[static_cast<std::size_t>(a)] / scale) % BranchFactor) * weight;
+      weight *= BranchFactor;
+    }
+    return child;
+  }
+
   /// Number of cells (nodes) of the grid: global indices are below it.
   vtkIdType numberOfCells() const { return NumberOfCells; }
   /// f^level, for levels the integer positions can represent (see maxLevel()).

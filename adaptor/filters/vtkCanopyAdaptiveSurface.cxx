@@ -1,6 +1,7 @@
 #include "vtkCanopyAdaptiveSurface.h"
 
 #include "AdaptiveSurfaceBuilder.h"
+#include "GatherTuples.h"
 #include "HyperTreeAccess.h"
 #include "ViewVolume.h"
 
@@ -23,7 +24,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 vtkStandardNewMacro(vtkCanopyAdaptiveSurface);
 void vtkCanopyAdaptiveSurface::SetRenderer(vtkRenderer* renderer)
@@ -43,65 +43,6 @@ vtkCxxSetObjectMacro(vtkCanopyAdaptiveSurface, Camera, vtkCamera);
 
 namespace
 {
-
-/// Copies the tuples of `ids` from `source` into a new array of the same type.
-vtkSmartPointer<vtkDataArray> gatherTuples(vtkDataArray* source, const vtkIdType* ids,
-                                           vtkIdType count, vtkSmartPointer<vtkDataArray> out)
-{
-  const int nc = source->GetNumberOfComponents();
-  out->SetName(source->GetName());
-  out->SetNumberOfComponents(nc);
-  out->SetNumberOfTuples(count);
-  const int size = source->GetDataTypeSize();
-  auto* aos = vtkArrayDownCast<vtkDataArray>(source);
-  const bool raw = aos && (source->IsA("vtkDoubleArray") || source->IsA("vtkFloatArray") ||
-                           source->IsA("vtkTypeInt32Array") || source->IsA("vtkTypeInt64Array") ||
-                           source->IsA("vtkIntArray") || source->IsA("vtkLongLongArray") ||
-                           source->IsA("vtkLongArray") || source->IsA("vtkUnsignedCharArray") ||
-                           source->IsA("vtkCharArray") || source->IsA("vtkShortArray") ||
-                           source->IsA("vtkUnsignedIntArray") || source->IsA("vtkIdTypeArray"));
-  if (raw)
-  {
-    const auto* from = static_cast<const unsigned char*>(source->GetVoidPointer(0));
-    auto* to = static_cast<unsigned char*>(out->GetVoidPointer(0));
-    const std::size_t tupleBytes = static_cast<std::size_t>(nc) * size;
-    vtkSMPTools::For(0, count,
-                     [&](vtkIdType begin, vtkIdType end)
-                     {
-                       for (vtkIdType i = begin; i < end; ++i)
-                       {
-                         std::memcpy(to + static_cast<std::size_t>(i) * tupleBytes,
-                                     from + static_cast<std::size_t>(ids[i]) * tupleBytes,
-                                     tupleBytes);
-                       }
-                     });
-    return out;
-  }
-  // Other arrays (Canopy's borrowed ones, SoA): read through the generic
-  // interface, write straight into the new array's memory.
-  switch (out->GetDataType())
-  {
-    vtkTemplateMacro({
-      auto* to = static_cast<VTK_TT*>(out->GetVoidPointer(0));
-      for (vtkIdType i = 0; i < count; ++i)
-      {
-        for (int c = 0; c < nc; ++c)
-        {
-          to[i * nc + c] = static_cast<VTK_TT>(source->GetComponent(ids[i], c));
-        }
-      }
-    });
-  default:
-    for (vtkIdType i = 0; i < count; ++i)
-    {
-      for (int c = 0; c < nc; ++c)
-      {
-        out->SetComponent(i, c, source->GetComponent(ids[i], c));
-      }
-    }
-  }
-  return out;
-}
 
 } // namespace
 
@@ -369,7 +310,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     }
     vtkSmartPointer<vtkDataArray> target = this->ReusableArray<vtkDataArray>(
         std::string("field:") + array->GetName(), array->GetDataType());
-    out->AddArray(gatherTuples(array, ids->GetPointer(0), quads, target));
+    out->AddArray(canopy::gatherTuples(array, ids->GetPointer(0), quads, target));
   }
   out->AddArray(ids);
   out->AddArray(levels);

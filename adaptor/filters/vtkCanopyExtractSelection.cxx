@@ -1,6 +1,7 @@
 #include "vtkCanopyExtractSelection.h"
 
 #include "CellSelection.h"
+#include "GatherTuples.h"
 #include "HyperTreeAccess.h"
 
 #include <vtkBitArray.h>
@@ -107,7 +108,6 @@ void maskAllBut(const canopy::HyperTreeAccess& grid, const std::vector<canopy::S
   {
     mask->SetValue(i, 1);
   }
-  const int f = grid.branchFactor();
   for (const canopy::SelectedNode& n : nodes)
   {
     // Ancestors, from the root down along the node's integer position.
@@ -115,15 +115,7 @@ void maskAllBut(const canopy::HyperTreeAccess& grid, const std::vector<canopy::S
     for (int level = 0; level < n.level; ++level)
     {
       mask->SetValue(n.tree->globalIndex(node), 0);
-      const std::int64_t scale = grid.cellsPerRootAt(n.level - level - 1);
-      int child = 0;
-      int weight = 1;
-      for (int a : grid.activeAxes())
-      {
-        child += static_cast<int>((n.ijk[a] / scale) % f) * weight;
-        weight *= f;
-      }
-      node = n.tree->firstChild(node) + child;
+      node = n.tree->firstChild(node) + grid.childToward(level, n.level, n.ijk);
     }
     // The node and its whole subtree.
     std::vector<vtkIdType> stack{n.node};
@@ -204,28 +196,19 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
   output->SetPoints(points);
   output->SetCells(is3D ? VTK_HEXAHEDRON : VTK_QUAD, cells);
   const auto count = static_cast<vtkIdType>(nodes.size());
+  std::vector<vtkIdType> globals(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+  {
+    globals[i] = nodes[i].global;
+  }
   vtkCellData* in = input->GetCellData();
   for (int a = 0; a < in->GetNumberOfArrays(); ++a)
   {
     vtkDataArray* source = in->GetArray(a);
-    if (!source || !source->GetName())
+    if (source && source->GetName())
     {
-      continue;
+      output->GetCellData()->AddArray(canopy::gatherTuples(source, globals.data(), count));
     }
-    vtkSmartPointer<vtkDataArray> copy =
-        vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(source->GetDataType()));
-    copy->SetName(source->GetName());
-    copy->SetNumberOfComponents(source->GetNumberOfComponents());
-    copy->SetNumberOfTuples(count);
-    for (vtkIdType i = 0; i < count; ++i)
-    {
-      for (int c = 0; c < source->GetNumberOfComponents(); ++c)
-      {
-        copy->SetComponent(i, c,
-                           source->GetComponent(nodes[static_cast<std::size_t>(i)].global, c));
-      }
-    }
-    output->GetCellData()->AddArray(copy);
   }
   vtkNew<vtkIdTypeArray> original;
   original->SetName("OriginalCellId");
@@ -235,7 +218,7 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
   level->SetNumberOfTuples(count);
   for (vtkIdType i = 0; i < count; ++i)
   {
-    original->SetValue(i, nodes[static_cast<std::size_t>(i)].global);
+    original->SetValue(i, globals[static_cast<std::size_t>(i)]);
     level->SetValue(i, static_cast<unsigned char>(nodes[static_cast<std::size_t>(i)].level));
   }
   output->GetCellData()->AddArray(original);
