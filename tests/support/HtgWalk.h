@@ -98,4 +98,28 @@ void forEachVisibleLeaf(vtkHyperTreeGrid* htg, Visit&& visit)
                      });
 }
 
+/// A visible leaf as VTK's cursors see it.
+struct LeafBox
+{
+  vtkIdType global;
+  double bounds[6];
+  unsigned int level;
+};
+
+/// Every visible leaf (no masked ancestor), in tree order.
+inline std::vector<LeafBox> visibleLeafBoxes(vtkHyperTreeGrid* htg)
+{
+  std::vector<LeafBox> leaves;
+  forEachVisibleLeaf(htg,
+                     [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
+                     {
+                       LeafBox leaf;
+                       leaf.global = cursor->GetGlobalNodeIndex();
+                       cursor->GetBounds(leaf.bounds);
+                       leaf.level = cursor->GetLevel();
+                       leaves.push_back(leaf);
+                     });
+  return leaves;
+}
+
 } // namespace canopy::testing

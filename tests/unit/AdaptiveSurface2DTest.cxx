@@ -160,34 +160,11 @@ std::vector<Point> rectangle(const double b[6])
   return r;
 }
 
-struct Leaf
-{
-  vtkIdType global;
-  double bounds[6];
-  unsigned int level;
-};
-
-/// Every visible leaf (no masked ancestor), by VTK's cursors.
-std::vector<Leaf> visibleLeaves(vtkHyperTreeGrid* htg)
-{
-  std::vector<Leaf> leaves;
-  forEachVisibleLeaf(htg,
-                     [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
-                     {
-                       Leaf leaf;
-                       leaf.global = cursor->GetGlobalNodeIndex();
-                       cursor->GetBounds(leaf.bounds);
-                       leaf.level = cursor->GetLevel();
-                       leaves.push_back(leaf);
-                     });
-  return leaves;
-}
-
 std::set<vtkIdType> bruteForceVisible(vtkHyperTreeGrid* htg, const View& view)
 {
   const auto planes = vtkFrustum(view);
   std::set<vtkIdType> ids;
-  for (const Leaf& leaf : visibleLeaves(htg))
+  for (const LeafBox& leaf : visibleLeafBoxes(htg))
   {
     const auto r = rectangle(leaf.bounds);
     const double area = polygonArea(r);
@@ -374,10 +351,10 @@ TEST(AdaptiveSurface2D, EveryQuadSitsOnItsCellInAnyStorageOrder)
       filter->ViewDependentOff();
       filter->Update();
       vtkPolyData* surface = filter->GetPolyDataOutput();
-      const auto leaves = visibleLeaves(htg);
+      const auto leaves = visibleLeafBoxes(htg);
       ASSERT_EQ(surface->GetNumberOfCells(), static_cast<vtkIdType>(leaves.size()));
-      std::map<vtkIdType, const Leaf*> byId;
-      for (const Leaf& leaf : leaves)
+      std::map<vtkIdType, const LeafBox*> byId;
+      for (const LeafBox& leaf : leaves)
       {
         byId[leaf.global] = &leaf;
       }
@@ -386,7 +363,7 @@ TEST(AdaptiveSurface2D, EveryQuadSitsOnItsCellInAnyStorageOrder)
       {
         double b[6];
         surface->GetCell(q)->GetBounds(b);
-        const Leaf* leaf = byId.at(ids->GetValue(q));
+        const LeafBox* leaf = byId.at(ids->GetValue(q));
         for (int i = 0; i < 6; ++i)
         {
           ASSERT_NEAR(b[i], leaf->bounds[i], 1e-12) << "quad " << q << " bound " << i;
@@ -405,7 +382,7 @@ TEST(AdaptiveSurface2D, RandomViewsEmitExactlyTheOverlappingLeaves)
     const auto expected = bruteForceVisible(c.htg, c.view);
     const auto emitted = emittedIds(runFilter(c.htg, c.view, false));
     EXPECT_EQ(emitted, expected) << "seed " << seed;
-    nonTrivial += !expected.empty() && expected.size() < visibleLeaves(c.htg).size();
+    nonTrivial += !expected.empty() && expected.size() < visibleLeafBoxes(c.htg).size();
   }
   // Most views must cut through the grid, or the test proves little.
   EXPECT_GE(nonTrivial, 20);
@@ -750,7 +727,7 @@ std::set<vtkIdType> axisAlignedReference(vtkHyperTreeGrid* htg, const View& v)
   const double halfWidth = v.scale * v.width / v.height;
   const double halfHeight = v.scale;
   std::set<vtkIdType> ids;
-  for (const Leaf& leaf : visibleLeaves(htg))
+  for (const LeafBox& leaf : visibleLeafBoxes(htg))
   {
     // Positive-area overlap, computed relative to the focal point.
     const double x0 = leaf.bounds[0] - v.focal[0];
@@ -771,7 +748,7 @@ void expectExactDeepView(const DeepTree& tree, double tx, double ty,
                          const std::vector<double>& scales)
 {
   auto htg = buildHyperTreeGrid(tree.d);
-  const auto leaves = visibleLeaves(htg);
+  const auto leaves = visibleLeafBoxes(htg);
   for (double scale : scales)
   {
     const View v{{{tx, ty, 10}}, {{tx, ty, 0}}, {{0, 1, 0}}, true, scale, 640, 480};
@@ -782,8 +759,9 @@ void expectExactDeepView(const DeepTree& tree, double tx, double ty,
     auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
     for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
     {
-      const auto leaf = std::find_if(leaves.begin(), leaves.end(),
-                                     [&](const Leaf& l) { return l.global == ids->GetValue(q); });
+      const auto leaf =
+          std::find_if(leaves.begin(), leaves.end(),
+                       [&](const LeafBox& l) { return l.global == ids->GetValue(q); });
       ASSERT_NE(leaf, leaves.end());
       double b[6];
       surface->GetCell(q)->GetBounds(b);

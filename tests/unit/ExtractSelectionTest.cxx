@@ -38,33 +38,13 @@ namespace
 
 using Point = std::array<double, 3>;
 
-struct LeafBox
-{
-  vtkIdType global;
-  double b[6];
-};
-
-std::vector<LeafBox> leafBoxes(vtkHyperTreeGrid* htg)
-{
-  std::vector<LeafBox> leaves;
-  forEachVisibleLeaf(htg,
-                     [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
-                     {
-                       LeafBox leaf;
-                       leaf.global = cursor->GetGlobalNodeIndex();
-                       cursor->GetBounds(leaf.b);
-                       leaves.push_back(leaf);
-                     });
-  return leaves;
-}
-
 /// The documented rule, by brute force: lo <= p < hi on each active axis, or
 /// p == hi where hi is the domain's upper bound.
 std::set<vtkIdType> expectedAt(vtkHyperTreeGrid* htg, const std::vector<Point>& points)
 {
   double d[6];
   htg->GetBounds(d);
-  const auto leaves = leafBoxes(htg);
+  const auto leaves = visibleLeafBoxes(htg);
   std::set<vtkIdType> ids;
   for (const Point& p : points)
   {
@@ -73,15 +53,16 @@ std::set<vtkIdType> expectedAt(vtkHyperTreeGrid* htg, const std::vector<Point>& 
       bool inside = true;
       for (int a = 0; a < 3 && inside; ++a)
       {
-        if (leaf.b[2 * a] == leaf.b[2 * a + 1])
+        if (leaf.bounds[2 * a] == leaf.bounds[2 * a + 1])
         {
           continue; // flat axis: ignored
         }
         // The last cell along an axis ends at the domain's bound (VTK's cursor
         // bounds of ternary cells can miss it by an ulp).
         const double top = d[2 * a + 1];
-        const bool upper = std::abs(leaf.b[2 * a + 1] - top) <= 1e-12 * (1 + std::abs(top));
-        inside = p[a] >= leaf.b[2 * a] && (p[a] < leaf.b[2 * a + 1] || (upper && p[a] == top));
+        const bool upper = std::abs(leaf.bounds[2 * a + 1] - top) <= 1e-12 * (1 + std::abs(top));
+        inside =
+            p[a] >= leaf.bounds[2 * a] && (p[a] < leaf.bounds[2 * a + 1] || (upper && p[a] == top));
       }
       if (inside)
       {
@@ -113,10 +94,10 @@ std::vector<Point> trickyPoints(vtkHyperTreeGrid* htg, std::uint64_t seed, bool 
 {
   std::mt19937_64 random(seed);
   std::vector<Point> points;
-  const auto leaves = leafBoxes(htg);
+  const auto leaves = visibleLeafBoxes(htg);
   for (std::size_t i = 0; i < leaves.size(); i += 3)
   {
-    const double* b = leaves[i].b;
+    const double* b = leaves[i].bounds;
     const int pick = static_cast<int>(random() % 4);
     Point p;
     for (int a = 0; a < 3; ++a)
@@ -236,7 +217,7 @@ TEST(ExtractSelection, UnstructuredOutputHasMergedPointsFieldsAndIds)
     vtkDataArray* depth = out->GetCellData()->GetArray("Depth");
     ASSERT_NE(depth, nullptr);
     std::map<vtkIdType, LeafBox> byId;
-    for (const LeafBox& l : leafBoxes(htg))
+    for (const LeafBox& l : visibleLeafBoxes(htg))
     {
       byId[l.global] = l;
     }
@@ -249,14 +230,14 @@ TEST(ExtractSelection, UnstructuredOutputHasMergedPointsFieldsAndIds)
       out->GetCell(c)->GetBounds(cb);
       for (int i = 0; i < 6; ++i)
       {
-        EXPECT_NEAR(cb[i], byId.at(id).b[i], 1e-12);
+        EXPECT_NEAR(cb[i], byId.at(id).bounds[i], 1e-12);
       }
       const LeafBox& l = byId.at(id);
       for (int k = 0; k < 8; ++k)
       {
-        corners.insert(
-            {{std::llround(l.b[(k & 1) ? 1 : 0] * 1e9), std::llround(l.b[(k & 2) ? 3 : 2] * 1e9),
-              std::llround(l.b[(k & 4) ? 5 : 4] * 1e9)}});
+        corners.insert({{std::llround(l.bounds[(k & 1) ? 1 : 0] * 1e9),
+                         std::llround(l.bounds[(k & 2) ? 3 : 2] * 1e9),
+                         std::llround(l.bounds[(k & 4) ? 5 : 4] * 1e9)}});
       }
     }
     EXPECT_EQ(static_cast<std::size_t>(out->GetNumberOfPoints()), corners.size());
@@ -323,7 +304,7 @@ TEST(ExtractSelection, ByValueRangeIsInclusiveAndSkipsNaN)
   const double low = 0.5;
   const double high = values[200]; // an exact value, to test inclusiveness
   std::set<vtkIdType> expected;
-  for (const LeafBox& l : leafBoxes(htg))
+  for (const LeafBox& l : visibleLeafBoxes(htg))
   {
     const double v = values[static_cast<std::size_t>(l.global)];
     if (v >= low && v <= high)
@@ -350,7 +331,7 @@ TEST(ExtractSelection, ByValueRangeIsInclusiveAndSkipsNaN)
   forest.description().fields.push_back(FieldDescription::aos("w", pairs.data(), values.size(), 2));
   auto withPairs = buildHyperTreeGrid(forest.description());
   std::set<vtkIdType> expectedMagnitude;
-  for (const LeafBox& l : leafBoxes(withPairs))
+  for (const LeafBox& l : visibleLeafBoxes(withPairs))
   {
     const double v = std::sqrt(5.0) * std::abs(values[static_cast<std::size_t>(l.global)]);
     if (v >= 1.0 && v <= 3.0)
@@ -384,7 +365,7 @@ TEST(ExtractSelection, PreserveTopologyLeavesExactlyTheSelectionVisible)
   auto* out = vtkHyperTreeGrid::SafeDownCast(filter->GetOutput());
   ASSERT_NE(out, nullptr);
   std::set<vtkIdType> visible;
-  for (const LeafBox& l : leafBoxes(out))
+  for (const LeafBox& l : visibleLeafBoxes(out))
   {
     visible.insert(l.global);
   }
