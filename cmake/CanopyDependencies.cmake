@@ -47,6 +47,9 @@ _canopy_find_dependency(MPI COMPONENTS C CXX)
 # Catalyst is what the in-situ driver links; the filters need only VTK.
 _canopy_find_dependency(ParaView 5.11
   COMPONENTS Catalyst PythonCatalyst RemotingCore RemotingServerManager)
+# ParaView's Python wrapping libraries leave libpython to the executable; the
+# in-situ driver embeds Python, so Canopy links it itself.
+_canopy_find_dependency(Python3 3.11 EXACT COMPONENTS Development.Embed)
 
 set(CMAKE_MODULE_PATH "${_canopy_saved_module_path}")
 unset(_canopy_saved_module_path)

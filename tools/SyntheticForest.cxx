@@ -8,7 +8,6 @@ namespace canopy::tools
 namespace
 {
 
-constexpr double FrontRadius = 0.62; // in a unit domain centred on the origin
 constexpr double FrontWidth = 0.04;
 
 struct Box
@@ -22,8 +21,8 @@ double distanceToCentre(const std::array<double, 3>& p)
   return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
 }
 
-/// True when the box straddles the front (sphere of FrontRadius, +/- its width).
-bool crossesFront(const Box& box)
+/// True when the box straddles the front (sphere of frontRadius, +/- its width).
+bool crossesFront(const Box& box, double frontRadius)
 {
   std::array<double, 3> nearest;
   std::array<double, 3> farthest;
@@ -32,8 +31,8 @@ bool crossesFront(const Box& box)
     nearest[a] = std::clamp(0.0, box.low[a], box.high[a]);
     farthest[a] = std::abs(box.low[a]) > std::abs(box.high[a]) ? box.low[a] : box.high[a];
   }
-  return distanceToCentre(nearest) <= FrontRadius + FrontWidth &&
-         distanceToCentre(farthest) >= FrontRadius - FrontWidth;
+  return distanceToCentre(nearest) <= frontRadius + FrontWidth &&
+         distanceToCentre(farthest) >= frontRadius - FrontWidth;
 }
 
 std::array<double, 3> centre(const Box& box)
@@ -90,7 +89,7 @@ SyntheticForest::SyntheticForest(const SyntheticForestOptions& o)
     std::vector<std::size_t> firstChild{0};
     for (std::size_t node = 0; node < boxes.size(); ++node)
     {
-      if (levels[node] + 1 >= o.maxLevels || !crossesFront(boxes[node]))
+      if (levels[node] + 1 >= o.maxLevels || !crossesFront(boxes[node], o.frontRadius))
       {
         continue;
       }
@@ -146,7 +145,7 @@ SyntheticForest::SyntheticForest(const SyntheticForestOptions& o)
     {
       const auto p = centre(boxes[node]);
       const double r = distanceToCentre(p);
-      const double front = std::exp(-std::pow((r - FrontRadius) / FrontWidth, 2));
+      const double front = std::exp(-std::pow((r - o.frontRadius) / FrontWidth, 2));
       CellRecord& cell = Cells[static_cast<std::size_t>(slots[node])];
       cell.density = 1.0 + 3.0 * front;
       for (int a = 0; a < 3; ++a)

@@ -19,6 +19,9 @@ struct SyntheticForestOptions
   int branchFactor = 2;
   int rootsPerAxis = 6;
   int maxLevels = 6;
+  /// Radius of the refined spherical front, in a unit domain centred on the origin;
+  /// vary it over time for a moving front.
+  double frontRadius = 0.62;
   bool cutaway = true; ///< mask the octant (quadrant in 2D) facing +x +y (+z)
   /// Store nodes depth-first with a slot map (true) or breadth-first without one.
   bool depthFirstStorage = true;

@@ -1,0 +1,105 @@
+// Canopy's in-situ driver: the calls a simulation makes to run ParaView
+// Catalyst pipelines (Python scripts, ParaView 5.9+ format) on its forest.
+//
+//   canopy::InSitu insitu(MPI_COMM_WORLD, options);     // open
+//   if (insitu.willExecute(step, time)) ...             // optional, cheap
+//   insitu.execute(step, time, forest);                 // every step
+//   insitu.close();                                     // or let it go out of scope
+//
+// Every call is collective over the communicator: all ranks make it, with the
+// same step and time. A failing pipeline never throws out of execute() and never
+// leaves a rank waiting for the others; see docs/insitu.md.
+#pragma once
+
+#include "canopy/ForestDescription.h"
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace canopy
+{
+
+/// A Catalyst pipeline script and the arguments it reads through
+/// canopy_catalyst.settings() (e.g. "--frequency=5", "--fields=density").
+struct PipelineScript
+{
+  std::string path;
+  std::vector<std::string> arguments;
+};
+
+struct InSituOptions
+{
+  /// Catalyst scripts (ParaView 5.9+ format: a .py file, a directory or a .zip).
+  std::vector<PipelineScript> scripts;
+  /// Where pipelines write images and extracts; created if missing.
+  std::string outputDirectory = "canopy-output";
+  /// Name of the Catalyst channel: a script reads it as
+  /// TrivialProducer(registrationName=<channel>).
+  std::string channel = "grid";
+  /// vtkLogger verbosity for stderr (process-wide), e.g. vtkLogger::VERBOSITY_INFO (0) or
+  /// VERBOSITY_TRACE (9) for Canopy's per-step details; below -9 (default): leave it unchanged.
+  int verbosity = -10;
+  /// Log one line per executed step (rank 0): pipelines run, cells, times.
+  bool stepSummary = false;
+};
+
+/// Thrown by the InSitu constructor when the options are unusable (no script,
+/// unreadable script, Catalyst cannot start). Nothing is left running.
+class InSituError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// What one execute() call did. Identical on every rank.
+struct StepReport
+{
+  bool executed = false;                 ///< some pipeline ran (successfully or not)
+  std::vector<std::string> pipelinesRun; ///< scripts that completed this step
+  std::vector<std::string> failures;     ///< "rank R step S: message", every rank's
+  std::int64_t localCells = 0;           ///< cells of this rank's grid (0 when not built)
+  double seconds = 0.0;                  ///< wall time of the call on this rank
+};
+
+class InSitu
+{
+public:
+  /// Open: starts Catalyst on `communicator` (duplicated; the caller keeps its own)
+  /// and prepares every script. Collective.
+  InSitu(MPI_Comm communicator, InSituOptions options);
+  /// Closes if still open.
+  ~InSitu();
+  InSitu(const InSitu&) = delete;
+  InSitu& operator=(const InSitu&) = delete;
+
+  /// Whether any pipeline runs at this step; when false, execute() for the same
+  /// step and time returns at once, and the simulation may skip preparing its
+  /// forest. Collective, cheap (no grid is built).
+  bool willExecute(std::int64_t step, double time);
+
+  /// Runs the pipelines due at this step on the rank's part of the forest
+  /// (only its own trees). Builds the grid only when some pipeline runs, and wraps
+  /// only the fields a pipeline asks for. Never throws for a pipeline or forest
+  /// problem: it is reported (rank and step), the step skipped on all ranks.
+  StepReport execute(std::int64_t step, double time, const ForestDescription& forest);
+
+  /// Finalizes the pipelines and Catalyst. Collective. Also done by the destructor
+  /// and, if the simulation forgets both, when MPI_Finalize is called.
+  void close();
+
+  bool isOpen() const;
+
+  /// Whether rendering scripts can run (an X display was reachable on every rank at open).
+  bool canRender() const;
+
+private:
+  class Driver;
+  std::unique_ptr<Driver> Impl;
+};
+
+} // namespace canopy

@@ -1,0 +1,532 @@
+#include "canopy/InSitu.h"
+
+#include "CatalystScript.h"
+#include "CollectiveAgreement.h"
+#include "DisplayProbe.h"
+#include "FinalizeGuard.h"
+#include "RuntimePaths.h"
+#include "ScriptInspection.h"
+
+#include "canopy/HtgBuilder.h"
+
+#include <vtkCPProcessor.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkLogger.h>
+#include <vtkMPI.h>
+#include <vtkPythonInterpreter.h>
+#include <vtkSmartPointer.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+namespace canopy
+{
+namespace
+{
+
+/// A Python string literal for any text (paths, arguments).
+std::string pythonLiteral(const std::string& text)
+{
+  std::ostringstream out;
+  out << '"';
+  for (unsigned char c : text)
+  {
+    if (c == '\\' || c == '"')
+    {
+      out << '\\' << c;
+    }
+    else if (c < 0x20 || c >= 0x7f)
+    {
+      static const char* hex = "0123456789abcdef";
+      out << "\\x" << hex[c >> 4] << hex[c & 15];
+    }
+    else
+    {
+      out << c;
+    }
+  }
+  out << '"';
+  return out.str();
+}
+
+std::string joined(const std::vector<std::string>& items, const char* separator)
+{
+  std::string text;
+  for (const auto& item : items)
+  {
+    text += (text.empty() ? "" : separator) + item;
+  }
+  return text;
+}
+
+/// Empty when `directory` exists (or can be created) and is writable.
+std::string outputDirectoryProblem(const std::string& directory)
+{
+  std::error_code error;
+  std::filesystem::create_directories(directory, error);
+  if (!std::filesystem::is_directory(directory, error))
+  {
+    return "the output directory '" + directory + "' does not exist and cannot be created";
+  }
+  if (access(directory.c_str(), W_OK | X_OK) != 0)
+  {
+    return "the output directory '" + directory + "' is not writable";
+  }
+  return {};
+}
+
+/// Only one driver may be open per process: ParaView's Catalyst state is global.
+bool driverOpen = false;
+
+} // namespace
+
+class InSitu::Driver
+{
+public:
+  Driver(MPI_Comm communicator, InSituOptions options);
+  ~Driver() { this->close(); }
+
+  bool willExecute(std::int64_t step, double time);
+  StepReport execute(std::int64_t step, double time, const ForestDescription& forest);
+  void close();
+  bool isOpen() const { return this->Open; }
+  bool canRender() const { return this->CanRender; }
+
+private:
+  struct Requests
+  {
+    std::int64_t step = 0;
+    double time = 0.0;
+    std::vector<bool> due;
+    std::vector<std::string> failures;
+    bool valid = false;
+  };
+  const Requests& requestAll(std::int64_t step, double time);
+  void logFailures(const std::vector<std::string>& failures) const;
+  FieldRequest fieldsFor(const std::vector<bool>& due, const ForestDescription& forest) const;
+
+  MPI_Comm Communicator = MPI_COMM_NULL;
+  int Rank = 0;
+  InSituOptions Options;
+  vtkSmartPointer<vtkCPProcessor> Processor;
+  std::vector<std::unique_ptr<CatalystScript>> Scripts;
+  bool CanRender = false;
+  bool Open = false;
+  Requests LastRequests;
+  std::unique_ptr<FinalizeGuard> Guard;
+};
+
+InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(std::move(options))
+{
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!initialized || finalized)
+  {
+    throw InSituError("canopy::InSitu: MPI must be initialized (and not finalized) before open");
+  }
+  if (communicator == MPI_COMM_NULL)
+  {
+    throw InSituError("canopy::InSitu: the communicator is MPI_COMM_NULL");
+  }
+  MPI_Comm_dup(communicator, &this->Communicator);
+  MPI_Comm_rank(this->Communicator, &this->Rank);
+  auto fail = [this](const std::string& message)
+  {
+    MPI_Comm_free(&this->Communicator);
+    throw InSituError("canopy::InSitu: " + message);
+  };
+
+  // Every rank checks its options; all ranks throw together, naming each rank's problem.
+  std::vector<std::string> problems;
+  if (driverOpen)
+  {
+    problems.push_back("another canopy::InSitu is open in this process (close it first)");
+  }
+  if (this->Options.scripts.empty())
+  {
+    problems.push_back("no pipeline script given");
+  }
+  if (this->Options.channel.empty())
+  {
+    problems.push_back("the channel name is empty");
+  }
+  if (this->Options.outputDirectory.empty())
+  {
+    problems.push_back("the output directory is empty");
+  }
+  for (const auto& script : this->Options.scripts)
+  {
+    std::string why;
+    if (!scriptReadable(script.path, why))
+    {
+      problems.push_back("pipeline script '" + script.path + "': " + why);
+    }
+  }
+  const auto optionFailures = gatherFailures(this->Communicator, joined(problems, "; "));
+  if (!optionFailures.empty())
+  {
+    fail(joined(optionFailures, "\n"));
+  }
+
+  if (this->Options.verbosity >= vtkLogger::VERBOSITY_TRACE - 18)
+  {
+    vtkLogger::SetStderrVerbosity(static_cast<vtkLogger::Verbosity>(this->Options.verbosity));
+  }
+
+  // Images need an X display on every rank (IceT composites across all of them).
+  std::string noDisplay;
+  int localDisplay = xDisplayReachable(noDisplay) ? 1 : 0;
+  int everyDisplay = 0;
+  MPI_Allreduce(&localDisplay, &everyDisplay, 1, MPI_INT, MPI_MIN, this->Communicator);
+  this->CanRender = everyDisplay == 1;
+  std::vector<PipelineScript> kept;
+  std::vector<std::string> skipped;
+  for (const auto& script : this->Options.scripts)
+  {
+    if (!this->CanRender && scriptRenders(script.path))
+    {
+      skipped.push_back(script.path);
+    }
+    else
+    {
+      kept.push_back(script);
+    }
+  }
+  if (!skipped.empty() && this->Rank == 0)
+  {
+    vtkLogF(WARNING,
+            "canopy: no X display (%s on at least one rank): rendering pipeline(s) %s will not "
+            "run at any step; data extracts still run. Run under 'xvfb-run -a' to get images.",
+            noDisplay.empty() ? "another rank has none" : noDisplay.c_str(),
+            joined(skipped, ", ").c_str());
+  }
+
+  // Scripts find their settings, the plugin and the helper module through these.
+  setenv("CANOPY_OUTPUT_DIRECTORY", this->Options.outputDirectory.c_str(), 1);
+  setenv("CANOPY_CHANNEL", this->Options.channel.c_str(), 1);
+  setenv("CANOPY_PLUGIN", pluginPath().c_str(), 0);
+  std::error_code ignored;
+  std::filesystem::create_directories(this->Options.outputDirectory, ignored);
+
+  this->Processor = vtkSmartPointer<vtkCPProcessor>::New();
+  vtkMPICommunicatorOpaqueComm opaque(&this->Communicator);
+  int started = this->Processor->Initialize(opaque);
+  int everyStarted = 0;
+  MPI_Allreduce(&started, &everyStarted, 1, MPI_INT, MPI_MIN, this->Communicator);
+  if (!everyStarted)
+  {
+    this->Processor->Finalize();
+    this->Processor = nullptr;
+    fail("ParaView Catalyst failed to initialize");
+  }
+
+  vtkPythonInterpreter::Initialize();
+  vtkPythonInterpreter::PrependPythonPath(pipelinesDirectory().c_str());
+  std::ostringstream registration;
+  registration << "import canopy_catalyst\n"
+               << "canopy_catalyst._can_render = " << (this->CanRender ? "True" : "False") << "\n";
+  for (const auto& script : kept)
+  {
+    registration << "canopy_catalyst._register_arguments(" << pythonLiteral(script.path) << ", [";
+    for (const auto& argument : script.arguments)
+    {
+      registration << pythonLiteral(argument) << ", ";
+    }
+    registration << "])\n";
+  }
+  std::string localProblem;
+  if (vtkPythonInterpreter::RunSimpleString(registration.str().c_str()) != 0)
+  {
+    localProblem = "cannot import the canopy_catalyst helper module from '" + pipelinesDirectory() +
+                   "' (set CANOPY_PIPELINES_DIR)";
+  }
+  else
+  {
+    try
+    {
+      for (const auto& script : kept)
+      {
+        this->Scripts.push_back(
+            std::make_unique<CatalystScript>(script.path, this->Options.channel));
+      }
+    }
+    catch (const std::exception& error)
+    {
+      localProblem = error.what();
+    }
+  }
+  const auto startFailures = gatherFailures(this->Communicator, localProblem);
+  if (!startFailures.empty())
+  {
+    this->Scripts.clear();
+    this->Processor->Finalize();
+    this->Processor = nullptr;
+    fail(joined(startFailures, "\n"));
+  }
+
+  this->Open = true;
+  driverOpen = true;
+  this->Guard = std::make_unique<FinalizeGuard>([this] { this->close(); });
+  vtkVLogF(vtkLogger::VERBOSITY_TRACE, "canopy: open with %zu pipeline(s), output in '%s'",
+           this->Scripts.size(), this->Options.outputDirectory.c_str());
+}
+
+const InSitu::Driver::Requests& InSitu::Driver::requestAll(std::int64_t step, double time)
+{
+  Requests& requests = this->LastRequests;
+  if (requests.valid && requests.step == step && requests.time == time)
+  {
+    return requests;
+  }
+  requests = Requests{step, time, std::vector<bool>(this->Scripts.size(), false), {}, true};
+  std::vector<int> states(this->Scripts.size(), 0);
+  std::string localErrors;
+  for (std::size_t i = 0; i < this->Scripts.size(); ++i)
+  {
+    std::string error;
+    switch (this->Scripts[i]->request(step, time, error))
+    {
+    case CatalystScript::Request::NotDue:
+      states[i] = 0;
+      break;
+    case CatalystScript::Request::Due:
+      states[i] = 1;
+      break;
+    case CatalystScript::Request::Failed:
+      states[i] = 2;
+      localErrors += (localErrors.empty() ? "" : "; ") + error;
+      break;
+    }
+  }
+  const auto agreed = agreeOnStates(this->Communicator, states);
+  bool anyProblem = false;
+  for (std::size_t i = 0; i < this->Scripts.size(); ++i)
+  {
+    anyProblem = anyProblem || agreed.maximum[i] == 2 || agreed.minimum[i] != agreed.maximum[i];
+    requests.due[i] = agreed.minimum[i] == 1 && agreed.maximum[i] == 1;
+  }
+  if (anyProblem)
+  {
+    std::string local =
+        localErrors.empty() ? std::string() : "step " + std::to_string(step) + ": " + localErrors;
+    requests.failures = gatherFailures(this->Communicator, local);
+    for (std::size_t i = 0; i < this->Scripts.size(); ++i)
+    {
+      if (agreed.maximum[i] != 2 && agreed.minimum[i] != agreed.maximum[i])
+      {
+        requests.failures.push_back("step " + std::to_string(step) + ": ranks disagree whether '" +
+                                    this->Scripts[i]->path() + "' runs; skipped");
+      }
+    }
+  }
+  return requests;
+}
+
+bool InSitu::Driver::willExecute(std::int64_t step, double time)
+{
+  if (!this->Open)
+  {
+    return false;
+  }
+  const auto& requests = this->requestAll(step, time);
+  return !requests.failures.empty() ||
+         std::any_of(requests.due.begin(), requests.due.end(), [](bool due) { return due; });
+}
+
+FieldRequest InSitu::Driver::fieldsFor(const std::vector<bool>& due,
+                                       const ForestDescription& forest) const
+{
+  std::set<std::string> wanted;
+  for (std::size_t i = 0; i < this->Scripts.size(); ++i)
+  {
+    if (!due[i])
+    {
+      continue;
+    }
+    if (this->Scripts[i]->needsAllFields())
+    {
+      return FieldRequest::all();
+    }
+    for (const auto& name : this->Scripts[i]->neededFields())
+    {
+      wanted.insert(name);
+    }
+  }
+  std::vector<std::string> present;
+  for (const auto& field : forest.fields)
+  {
+    if (wanted.count(field.name) != 0)
+    {
+      present.push_back(field.name);
+      wanted.erase(field.name);
+    }
+  }
+  for (const auto& missing : wanted)
+  {
+    vtkVLogF(vtkLogger::VERBOSITY_TRACE,
+             "canopy: a pipeline asks for field '%s', which the forest does not have",
+             missing.c_str());
+  }
+  return FieldRequest::only(present);
+}
+
+void InSitu::Driver::logFailures(const std::vector<std::string>& failures) const
+{
+  // Ranks above 0 have their stderr silenced by ParaView; every rank's
+  // failures are gathered, so rank 0 reports them all.
+  if (this->Rank != 0)
+  {
+    return;
+  }
+  for (const auto& failure : failures)
+  {
+    vtkLogF(ERROR, "canopy: %s", failure.c_str());
+  }
+}
+
+StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestDescription& forest)
+{
+  const auto start = std::chrono::steady_clock::now();
+  StepReport report;
+  auto finish = [&]() -> StepReport
+  {
+    report.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (this->Options.stepSummary && report.executed && this->Rank == 0)
+    {
+      vtkLogF(INFO,
+              "canopy: step %lld time %g: ran [%s], %zu failure(s), %lld cells on rank 0, %.3f s",
+              static_cast<long long>(step), time, joined(report.pipelinesRun, ", ").c_str(),
+              report.failures.size(), static_cast<long long>(report.localCells), report.seconds);
+    }
+    return report;
+  };
+  if (!this->Open)
+  {
+    report.failures.push_back("rank " + std::to_string(this->Rank) + ", step " +
+                              std::to_string(step) + ": execute() after close()");
+    return finish();
+  }
+
+  const Requests requests = this->requestAll(step, time);
+  this->LastRequests.valid = false; // each execute() asks anew next time
+  report.failures = requests.failures;
+  this->logFailures(requests.failures);
+  if (std::none_of(requests.due.begin(), requests.due.end(), [](bool due) { return due; }))
+  {
+    report.executed = !requests.failures.empty();
+    return finish();
+  }
+  report.executed = true;
+
+  // Build only now, and only with the fields some due pipeline asked for.
+  vtkSmartPointer<vtkHyperTreeGrid> grid;
+  std::string localProblem = outputDirectoryProblem(this->Options.outputDirectory);
+  if (localProblem.empty())
+  {
+    try
+    {
+      grid = buildHyperTreeGrid(forest, this->fieldsFor(requests.due, forest));
+      report.localCells = grid->GetNumberOfCells();
+    }
+    catch (const std::exception& error)
+    {
+      localProblem = std::string("invalid forest: ") + error.what();
+    }
+  }
+  const std::string stepText = "step " + std::to_string(step) + ": ";
+  const auto buildFailures =
+      gatherFailures(this->Communicator, localProblem.empty() ? "" : stepText + localProblem);
+  if (!buildFailures.empty())
+  {
+    this->logFailures(buildFailures);
+    report.failures.insert(report.failures.end(), buildFailures.begin(), buildFailures.end());
+    return finish();
+  }
+
+  for (std::size_t i = 0; i < this->Scripts.size(); ++i)
+  {
+    if (!requests.due[i])
+    {
+      continue;
+    }
+    std::string error;
+    const auto outcome = this->Scripts[i]->execute(grid, error);
+    const auto scriptFailures = gatherFailures(
+        this->Communicator, outcome == CatalystScript::Outcome::Failed ? stepText + error : "");
+    if (!scriptFailures.empty())
+    {
+      this->logFailures(scriptFailures);
+      report.failures.insert(report.failures.end(), scriptFailures.begin(), scriptFailures.end());
+    }
+    else if (outcome == CatalystScript::Outcome::Ran)
+    {
+      report.pipelinesRun.push_back(this->Scripts[i]->path());
+    }
+  }
+  return finish();
+}
+
+void InSitu::Driver::close()
+{
+  if (!this->Open)
+  {
+    return;
+  }
+  this->Open = false;
+  driverOpen = false;
+  if (this->Guard)
+  {
+    this->Guard->disarm();
+  }
+  for (auto& script : this->Scripts)
+  {
+    script->finalize();
+  }
+  this->Scripts.clear();
+  this->Processor->Finalize();
+  this->Processor = nullptr;
+  MPI_Comm_free(&this->Communicator);
+}
+
+InSitu::InSitu(MPI_Comm communicator, InSituOptions options)
+    : Impl(std::make_unique<Driver>(communicator, std::move(options)))
+{
+}
+
+InSitu::~InSitu() = default;
+
+bool InSitu::willExecute(std::int64_t step, double time)
+{
+  return this->Impl->willExecute(step, time);
+}
+
+StepReport InSitu::execute(std::int64_t step, double time, const ForestDescription& forest)
+{
+  return this->Impl->execute(step, time, forest);
+}
+
+void InSitu::close()
+{
+  this->Impl->close();
+}
+
+bool InSitu::isOpen() const
+{
+  return this->Impl->isOpen();
+}
+
+bool InSitu::canRender() const
+{
+  return this->Impl->canRender();
+}
+
+} // namespace canopy

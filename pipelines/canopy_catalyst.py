@@ -1,0 +1,261 @@
+"""Helpers shared by Canopy's Catalyst pipeline scripts (ParaView 5.9+ format).
+
+Canopy's in-situ driver puts this folder on the Python path before it imports
+any script, so a script starts with ``import canopy_catalyst``. A script reads
+its settings with ``settings(...)``: defaults given by the script, overridden by
+environment variables (``CANOPY_FREQUENCY=5``), overridden by the arguments the
+simulation gave this script (``--frequency=5``). Names use underscores in Python
+and in variables, dashes or underscores in arguments.
+"""
+import os
+
+# Filled by the driver at open: script path -> its arguments; whether every
+# rank has an X display.
+_arguments = {}
+_can_render = True
+
+COMMON_DEFAULTS = {
+    "output_directory": "canopy-output",
+    "channel": "grid",
+    "frequency": 1,
+    "fields": "",
+}
+
+
+def _register_arguments(path, arguments):
+    _arguments[os.path.abspath(path)] = list(arguments)
+
+
+def _script_arguments():
+    from paraview import catalyst
+    name = catalyst.get_script_filename()
+    return _arguments.get(os.path.abspath(name), []) if name else []
+
+
+class Settings(dict):
+    """A script's settings; read them as attributes (settings.frequency)."""
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError("no setting named %r" % name) from None
+
+    def list(self, name, convert=str):
+        """A comma-separated setting as a list ('' -> [])."""
+        text = str(self[name]).strip()
+        return [convert(item.strip()) for item in text.split(",") if item.strip()] if text else []
+
+
+def _converted(text, default):
+    if isinstance(default, bool):
+        return str(text).lower() in ("1", "true", "yes", "on")
+    if isinstance(default, int):
+        return int(text)
+    if isinstance(default, float):
+        return float(text)
+    return str(text)
+
+
+def settings(**defaults):
+    """The script's settings: COMMON_DEFAULTS and `defaults`, then CANOPY_<NAME>
+    environment variables, then the script's --name=value arguments. An argument
+    naming no known setting is an error (a typo must not go unnoticed)."""
+    merged = dict(COMMON_DEFAULTS)
+    merged.update(defaults)
+    values = Settings(merged)
+    for name, default in merged.items():
+        text = os.environ.get("CANOPY_" + name.upper())
+        if text is not None:
+            values[name] = _converted(text, default)
+    for argument in _script_arguments():
+        if not argument.startswith("--") or "=" not in argument:
+            raise ValueError("script argument %r is not of the form --name=value" % argument)
+        name, text = argument[2:].split("=", 1)
+        name = name.replace("-", "_")
+        if name not in merged:
+            raise ValueError("script argument %r: no setting named %r (known: %s)"
+                             % (argument, name, ", ".join(sorted(merged))))
+        values[name] = _converted(text, merged[name])
+    return values
+
+
+def catalyst_options(values, cinema=False):
+    """Catalyst options for a script: where extracts go and how often the script runs."""
+    from paraview import catalyst
+    options = catalyst.Options()
+    options.ExtractsOutputDirectory = values.output_directory
+    options.GlobalTrigger.Frequency = int(values.frequency)
+    if cinema:
+        options.GenerateCinemaSpecification = 1
+    return options
+
+
+def load_canopy_plugin(namespace):
+    """Loads the Canopy ParaView plugin into the script's namespace (its globals())."""
+    from paraview.simple import LoadPlugin
+    LoadPlugin(os.environ["CANOPY_PLUGIN"], remote=False, ns=namespace)
+
+
+def simulation_grid(values):
+    """The hypertree grid the simulation passes to Catalyst this step."""
+    from paraview.simple import TrivialProducer
+    return TrivialProducer(registrationName=values.channel)
+
+
+def request_fields(data_description, values, extra=()):
+    """For a script's RequestDataDescription: ask Canopy for the grid with only the
+    fields in the 'fields' setting (plus `extra`); every field when it is empty."""
+    from paraview.vtk import vtkDataObject
+    source = data_description.GetInputDescriptionByName(values.channel)
+    if source is None:
+        return
+    source.GenerateMeshOn()
+    names = values.list("fields") + [name for name in extra if name]
+    if not names:
+        source.AllFieldsOn()
+        return
+    for name in names:
+        source.AddField(name, vtkDataObject.CELL)
+
+
+def set_trigger(extractor, values):
+    extractor.Trigger.Frequency = int(values.frequency)
+
+
+def data_extractor(writer, source, name, file_name, values):
+    """A data extractor ('VTU', 'VTP', 'HTG') writing `file_name` (a parallel
+    file: .pvtu/.pvtp/.phtg listing one piece per rank in a folder of the same
+    name) every `frequency` steps. Pieces are written inline (base64): VTK 9.2's
+    appended mode writes files its own reader rejects."""
+    from paraview.simple import CreateExtractor
+    extractor = CreateExtractor(writer, source, registrationName=name)
+    extractor.Writer.FileName = file_name
+    if "DataMode" in extractor.Writer.ListProperties():
+        extractor.Writer.DataMode = "Binary"
+    set_trigger(extractor, values)
+    return extractor
+
+
+def image_size(values):
+    width, height = (int(n) for n in str(values.image_size).lower().split("x"))
+    return [width, height]
+
+
+def render_view(values):
+    """An off-screen render view of the requested image size."""
+    from paraview.simple import CreateView
+    view = CreateView("RenderView")
+    view.ViewSize = image_size(values)
+    view.OrientationAxesVisibility = 0
+    view.Background = [1.0, 1.0, 1.0]
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    return view
+
+
+def follow_view(surface, view):
+    """Gives the adaptive surface the view's camera and viewport size, so that it
+    builds only what this view shows, nothing finer than a pixel. Call it in
+    catalyst_execute after the camera is set for the step (frame_grid or your own
+    code): moving the camera changes what is culled. (The VTK filter can also read
+    a vtkRenderer directly; from Python in ParaView 5.11 the filter's class is not
+    wrapped, so the helper copies the camera through the proxy's properties.)"""
+    surface.CameraPosition = list(view.CameraPosition)
+    surface.CameraFocalPoint = list(view.CameraFocalPoint)
+    surface.CameraViewUp = list(view.CameraViewUp)
+    surface.ParallelProjection = int(view.CameraParallelProjection)
+    surface.ParallelScale = float(view.CameraParallelScale)
+    surface.ViewAngle = float(view.CameraViewAngle)
+    surface.ViewportSize = list(view.ViewSize)
+
+
+def frame_grid(view, grid, values):
+    """Points the view's camera at the whole grid (the same on every rank: the
+    bounds are gathered over ranks), unless the settings give a camera."""
+    position = values.list("camera_position", float) if values.get("camera_position") else []
+    if position:
+        view.CameraPosition = position
+        view.CameraFocalPoint = values.list("camera_focal_point", float)
+        view.CameraViewUp = values.list("camera_view_up", float) or [0, 1, 0]
+        if values.get("parallel_scale", 0.0) > 0.0:
+            view.CameraParallelProjection = 1
+            view.CameraParallelScale = values.parallel_scale
+        return
+    bounds = grid.GetDataInformation().GetBounds()
+    lengths = [bounds[2 * axis + 1] - bounds[2 * axis] for axis in range(3)]
+    center = [0.5 * (bounds[2 * axis] + bounds[2 * axis + 1]) for axis in range(3)]
+    flat = [axis for axis in range(3) if lengths[axis] == 0.0]
+    width, height = image_size(values)
+    if flat:
+        # A 2D grid: look along its flat axis with a parallel projection.
+        normal = flat[0]
+        up_axis = 1 if normal != 1 else 2
+        across = [axis for axis in range(3) if axis not in (normal, up_axis)][0]
+        view.CameraParallelProjection = 1
+        view.CameraFocalPoint = center
+        position = list(center)
+        position[normal] += max(lengths) + 1.0
+        view.CameraPosition = position
+        up = [0.0, 0.0, 0.0]
+        up[up_axis] = 1.0
+        view.CameraViewUp = up
+        view.CameraParallelScale = 0.5 * max(lengths[up_axis], lengths[across] * height / width)
+    else:
+        view.CameraParallelProjection = 0
+        view.CameraFocalPoint = center
+        diagonal = sum(length * length for length in lengths) ** 0.5
+        view.CameraPosition = [center[0] + 1.2 * diagonal, center[1] + 0.9 * diagonal,
+                               center[2] + 1.5 * diagonal]
+        view.CameraViewUp = [0.0, 1.0, 0.0]
+        view.CameraViewAngle = 30.0
+
+
+def color_by(display, view, grid, field):
+    """Colors the display by a cell field over its global range this step."""
+    from paraview.simple import ColorBy, GetColorTransferFunction
+    if not field:
+        return
+    ColorBy(display, ("CELLS", field))
+    info = grid.GetCellDataInformation().GetArray(field)
+    if info is not None:
+        low, high = info.GetRange(-1 if info.GetNumberOfComponents() > 1 else 0)
+        GetColorTransferFunction(field).RescaleTransferFunction(low, high if high > low else low + 1)
+
+
+def collective(function):
+    """Decorates catalyst_execute so that an exception on some ranks is raised on
+    all of them before anything collective (rendering, parallel writers) starts:
+    otherwise the ranks that did not fail would wait forever for the others."""
+    import functools
+
+    @functools.wraps(function)
+    def guarded(*args, **kwargs):
+        error = None
+        try:
+            function(*args, **kwargs)
+        except Exception as exception:  # noqa: BLE001 - re-raised below on every rank
+            error = exception
+        if not _any_rank(error is not None):
+            return
+        if error is not None:
+            raise error
+        raise RuntimeError("catalyst_execute failed on another rank; this rank skips the step")
+
+    return guarded
+
+
+def _any_rank(flag):
+    from paraview.modules.vtkRemotingCore import vtkProcessModule
+    from paraview.vtk.vtkParallelCore import vtkCommunicator
+    from paraview.vtk import vtkIntArray
+    controller = vtkProcessModule.GetProcessModule().GetGlobalController()
+    if controller is None or controller.GetNumberOfProcesses() < 2:
+        return flag
+    local = vtkIntArray()
+    local.InsertNextValue(1 if flag else 0)
+    total = vtkIntArray()
+    controller.AllReduce(local, total, vtkCommunicator.MAX_OP)
+    return total.GetValue(0) != 0

@@ -1,0 +1,55 @@
+# script-version: 2
+"""Canopy pipeline: an image of the adaptive surface, colored by a field.
+
+The surface follows the render view: before each image it takes the view's
+camera and viewport size, so only what the camera sees is built, and nothing
+finer than a pixel (change the camera settings and the culling changes).
+
+Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
+  output_directory  where images go (the driver sets it from its options)
+  frequency         run every N steps (1)
+  image_size        WIDTHxHEIGHT (800x600)
+  color_by          cell field to color by ('' : solid color)
+  fields            fields Canopy wraps for this script ('' : every field)
+  pixel_threshold   stop refining below this many pixels (1.0)
+  camera_position, camera_focal_point, camera_view_up   'x,y,z' ('' : frame the grid)
+  parallel_scale    > 0: parallel projection with this scale (with camera_position)
+  surface_extract   also write the surface the camera saw as .vtp (false)
+  cinema            write a Cinema specification (data.csv) at the end (false)
+  file_prefix       image file names: <prefix>_<step>.png ("surface")
+"""
+import canopy_catalyst as canopy
+from paraview.simple import CreateExtractor, Show
+
+settings = canopy.settings(image_size="800x600", color_by="", pixel_threshold=1.0,
+                           camera_position="", camera_focal_point="", camera_view_up="",
+                           parallel_scale=0.0, surface_extract=False, cinema=False,
+                           file_prefix="surface")
+options = canopy.catalyst_options(settings, cinema=settings.cinema)
+canopy.load_canopy_plugin(globals())
+
+grid = canopy.simulation_grid(settings)
+view = canopy.render_view(settings)
+surface = CanopyAdaptiveSurface(Input=grid, PixelThreshold=settings.pixel_threshold,  # noqa: F821
+                                Fields=settings.list("fields"))
+display = Show(surface, view)
+
+image = CreateExtractor("PNG", view, registrationName="surface_image")
+image.Writer.FileName = settings.file_prefix + "_{timestep:06d}.png"
+image.Writer.ImageResolution = canopy.image_size(settings)
+canopy.set_trigger(image, settings)
+
+if settings.surface_extract:
+    canopy.data_extractor("VTP", surface, "surface_data",
+                          settings.file_prefix + "_{timestep:06d}.pvtp", settings)
+
+
+def RequestDataDescription(datadescription):
+    canopy.request_fields(datadescription, settings, extra=[settings.color_by])
+
+
+@canopy.collective
+def catalyst_execute(info):
+    canopy.frame_grid(view, grid, settings)
+    canopy.follow_view(surface, view)
+    canopy.color_by(display, view, grid, settings.color_by)

@@ -1,0 +1,482 @@
+// A stand-in simulation for the in-situ tests: it owns a forest (paper case A
+// or B, or a synthetic front that moves each step), gives each MPI rank its
+// share (whole trees, or every tree split p4est-style with the parts a rank
+// does not own masked), and calls canopy::InSitu every step exactly as a
+// simulation would. Rank 0 prints each step's report and writes the
+// brute-force totals the output checkers compare against (expected.json).
+//
+// Usage: canopy_insitu_run --output DIR --script PATH [--arg ARG]... [options]
+//   --case A|A-masked|B|B-masked|moving-2d|moving-3d   (A)
+//   --steps N (1)  --distribute trees|split (trees)  --empty-rank R
+//   --corrupt-rank R --corrupt-step S   (that rank passes a malformed tree then)
+//   --no-close (rely on MPI_Finalize)  --summary
+#include "DescriptorForest.h"
+#include "PaperCaseDefinitions.h"
+#include "SyntheticForest.h"
+
+#include "canopy/InSitu.h"
+
+#include <mpi.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+
+struct Arguments
+{
+  std::string output;
+  std::string forestCase = "A";
+  std::vector<canopy::PipelineScript> scripts;
+  int steps = 1;
+  std::string distribute = "trees";
+  int emptyRank = -1;
+  int corruptRank = -1;
+  int corruptStep = -1;
+  bool close = true;
+  bool summary = false;
+};
+
+Arguments parse(int argc, char** argv)
+{
+  Arguments a;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string key = argv[i];
+    auto value = [&]() -> std::string
+    {
+      if (i + 1 >= argc)
+      {
+        throw std::invalid_argument(key + " needs a value");
+      }
+      return argv[++i];
+    };
+    if (key == "--output")
+      a.output = value();
+    else if (key == "--case")
+      a.forestCase = value();
+    else if (key == "--script")
+      a.scripts.push_back({value(), {}});
+    else if (key == "--arg")
+    {
+      if (a.scripts.empty())
+        throw std::invalid_argument("--arg before any --script");
+      a.scripts.back().arguments.push_back(value());
+    }
+    else if (key == "--steps")
+      a.steps = std::stoi(value());
+    else if (key == "--distribute")
+      a.distribute = value();
+    else if (key == "--empty-rank")
+      a.emptyRank = std::stoi(value());
+    else if (key == "--corrupt-rank")
+      a.corruptRank = std::stoi(value());
+    else if (key == "--corrupt-step")
+      a.corruptStep = std::stoi(value());
+    else if (key == "--no-close")
+      a.close = false;
+    else if (key == "--summary")
+      a.summary = true;
+    else
+      throw std::invalid_argument("unknown option " + key);
+  }
+  if (a.output.empty())
+  {
+    throw std::invalid_argument("--output is required");
+  }
+  return a;
+}
+
+/// A whole forest, as the simulation holds it before distribution.
+class SimulationState
+{
+public:
+  virtual ~SimulationState() = default;
+  virtual const canopy::ForestDescription& forest() const = 0;
+};
+
+class DescriptorState : public SimulationState
+{
+public:
+  explicit DescriptorState(const canopy::testing::SourceParameters& p) : Forest(p) {}
+  const canopy::ForestDescription& forest() const override { return Forest.description(); }
+
+private:
+  canopy::testing::DescriptorForest Forest;
+};
+
+class SyntheticState : public SimulationState
+{
+public:
+  SyntheticState(int dimension, int step)
+  {
+    canopy::tools::SyntheticForestOptions o;
+    o.dimension = dimension;
+    o.rootsPerAxis = dimension == 2 ? 8 : 4;
+    o.maxLevels = dimension == 2 ? 7 : 5;
+    o.cutaway = false;
+    o.frontRadius = 0.3 + 0.08 * step; // the front moves outwards every step
+    Forest = std::make_unique<canopy::tools::SyntheticForest>(o);
+  }
+  const canopy::ForestDescription& forest() const override { return Forest->description(); }
+
+private:
+  std::unique_ptr<canopy::tools::SyntheticForest> Forest;
+};
+
+std::unique_ptr<SimulationState> makeState(const std::string& name, int step)
+{
+  using namespace canopy::testing;
+  if (name == "A" || name == "A-masked")
+    return std::make_unique<DescriptorState>(paperCaseA(name == "A-masked"));
+  if (name == "B" || name == "B-masked")
+    return std::make_unique<DescriptorState>(paperCaseB(name == "B-masked"));
+  if (name == "moving-2d")
+    return std::make_unique<SyntheticState>(2, step);
+  if (name == "moving-3d")
+    return std::make_unique<SyntheticState>(3, step);
+  throw std::invalid_argument("unknown case " + name);
+}
+
+/// Per node of a tree, breadth-first: level and integer position at that level.
+struct NodeInfo
+{
+  int level;
+  std::int64_t position[3];
+  bool visible;
+};
+
+std::vector<NodeInfo> walkTree(const canopy::ForestDescription& f,
+                               const canopy::TreeDescription& tree, const std::uint8_t* mask)
+{
+  const int b = f.branchFactor;
+  const int children = f.dimension == 2 ? b * b : b * b * b;
+  std::vector<NodeInfo> nodes;
+  nodes.reserve(tree.numberOfNodes);
+  nodes.push_back({0, {0, 0, 0}, !(mask && mask[0])});
+  // The flat axis of a 2D forest: the one with a single point.
+  const std::size_t points[3] = {f.rootGrid.pointsX, f.rootGrid.pointsY, f.rootGrid.pointsZ};
+  std::vector<int> axes;
+  for (int a = 0; a < 3; ++a)
+    if (f.dimension == 3 || points[a] > 1)
+      axes.push_back(a);
+  for (std::size_t n = 0; n < nodes.size() && nodes.size() < tree.numberOfNodes; ++n)
+  {
+    if (!tree.refinement[n])
+      continue;
+    for (int c = 0; c < children; ++c)
+    {
+      NodeInfo child{nodes[n].level + 1, {0, 0, 0}, false};
+      int rest = c;
+      for (int a = 0; a < 3; ++a)
+        child.position[a] = nodes[n].position[a];
+      for (int a : axes)
+      {
+        child.position[a] = nodes[n].position[a] * b + rest % b;
+        rest /= b;
+      }
+      const std::size_t index = nodes.size();
+      child.visible = nodes[n].visible && !(mask && mask[index]);
+      nodes.push_back(child);
+    }
+  }
+  return nodes;
+}
+
+/// Every node's storage slot, tree by tree (the description's own order).
+std::vector<std::vector<std::int64_t>> slotsOf(const canopy::ForestDescription& f)
+{
+  std::vector<std::vector<std::int64_t>> slots;
+  std::int64_t next = 0;
+  for (const auto& tree : f.trees)
+  {
+    std::vector<std::int64_t> s(tree.numberOfNodes);
+    for (std::size_t n = 0; n < tree.numberOfNodes; ++n)
+      s[n] = tree.storageSlots ? tree.storageSlots[n] : next + static_cast<std::int64_t>(n);
+    next += static_cast<std::int64_t>(tree.numberOfNodes);
+    slots.push_back(std::move(s));
+  }
+  return slots;
+}
+
+/// What this rank hands to Canopy: its own copy of the data of its trees, in
+/// its own breadth-first order (as a distributed simulation stores it).
+class RankForest
+{
+public:
+  RankForest(const canopy::ForestDescription& whole, const std::vector<std::size_t>& ownTrees)
+  {
+    Description.dimension = whole.dimension;
+    Description.branchFactor = whole.branchFactor;
+    Description.maxLevels = whole.maxLevels;
+    Description.rootGrid = whole.rootGrid;
+    const auto slots = slotsOf(whole);
+    // Leaves-only fields are indexed by leaf rank in slot order.
+    std::vector<std::int64_t> leafIndexOfSlot;
+    {
+      std::int64_t total = 0;
+      for (const auto& s : slots)
+        total += static_cast<std::int64_t>(s.size());
+      std::vector<char> isLeaf(static_cast<std::size_t>(total), 0);
+      for (std::size_t t = 0; t < whole.trees.size(); ++t)
+        for (std::size_t n = 0; n < whole.trees[t].numberOfNodes; ++n)
+          isLeaf[static_cast<std::size_t>(slots[t][n])] = whole.trees[t].refinement[n] ? 0 : 1;
+      leafIndexOfSlot.assign(isLeaf.size(), -1);
+      std::int64_t leaf = 0;
+      for (std::size_t s = 0; s < isLeaf.size(); ++s)
+        if (isLeaf[s])
+          leafIndexOfSlot[s] = leaf++;
+    }
+    for (const auto& field : whole.fields)
+    {
+      const std::size_t valueBytes = canopy::sizeOf(field.type);
+      const std::size_t tupleBytes = valueBytes * static_cast<std::size_t>(field.components);
+      auto& bytes = Storage.emplace_back();
+      std::size_t tuples = 0;
+      for (std::size_t t : ownTrees)
+      {
+        const auto& tree = whole.trees[t];
+        for (std::size_t n = 0; n < tree.numberOfNodes; ++n)
+        {
+          std::int64_t index = slots[t][n];
+          if (field.centering == canopy::Centering::LeavesOnly)
+          {
+            if (tree.refinement[n])
+              continue;
+            index = leafIndexOfSlot[static_cast<std::size_t>(index)];
+          }
+          const auto i = static_cast<std::size_t>(index);
+          for (int c = 0; c < field.components; ++c)
+          {
+            const char* source = nullptr;
+            const auto cc = static_cast<std::size_t>(c);
+            switch (field.layout)
+            {
+            case canopy::Layout::AoS:
+              source = static_cast<const char*>(field.data) + i * tupleBytes + cc * valueBytes;
+              break;
+            case canopy::Layout::Strided:
+              source = static_cast<const char*>(field.data) + i * field.tupleStrideBytes +
+                       cc * valueBytes;
+              break;
+            case canopy::Layout::SoA:
+              source = static_cast<const char*>(field.componentData[cc]) + i * valueBytes;
+              break;
+            }
+            bytes.insert(bytes.end(), source, source + valueBytes);
+          }
+          ++tuples;
+        }
+      }
+      canopy::FieldDescription local = field;
+      local.layout = canopy::Layout::AoS;
+      local.componentData.clear();
+      local.tupleStrideBytes = 0;
+      local.data = bytes.data();
+      local.numberOfTuples = tuples;
+      Description.fields.push_back(local);
+    }
+    for (std::size_t t : ownTrees)
+    {
+      canopy::TreeDescription tree = whole.trees[t];
+      tree.storageSlots = nullptr; // this rank stores its trees breadth-first, back to back
+      Description.trees.push_back(tree);
+    }
+  }
+  canopy::ForestDescription& description() { return Description; }
+
+private:
+  std::vector<std::vector<char>> Storage;
+  canopy::ForestDescription Description;
+};
+
+/// Split mode: every rank describes every tree, masking what it does not own:
+/// a level-1 child subtree belongs to rank (child index % ranks); an unrefined
+/// root to rank (tree position % ranks).
+class SplitForest
+{
+public:
+  SplitForest(const canopy::ForestDescription& whole, int rank, int size) : Description(whole)
+  {
+    for (std::size_t t = 0; t < whole.trees.size(); ++t)
+    {
+      const auto& tree = whole.trees[t];
+      std::vector<std::uint8_t> mask(tree.numberOfNodes, 0);
+      if (tree.masked)
+        mask.assign(tree.masked, tree.masked + tree.numberOfNodes);
+      if (!tree.refinement[0])
+      {
+        if (static_cast<int>(t % static_cast<std::size_t>(size)) != rank)
+          mask[0] = 1;
+      }
+      else
+      {
+        const int children = whole.dimension == 2
+                                 ? whole.branchFactor * whole.branchFactor
+                                 : whole.branchFactor * whole.branchFactor * whole.branchFactor;
+        for (int c = 0; c < children; ++c)
+          if (c % size != rank)
+            mask[1 + static_cast<std::size_t>(c)] = 1;
+      }
+      Masks.push_back(std::move(mask));
+    }
+    for (std::size_t t = 0; t < Description.trees.size(); ++t)
+      Description.trees[t].masked = Masks[t].data();
+  }
+  canopy::ForestDescription& description() { return Description; }
+
+private:
+  std::vector<std::vector<std::uint8_t>> Masks;
+  canopy::ForestDescription Description;
+};
+
+/// Brute-force totals of the whole forest (rank 0 writes them for the checkers).
+std::string totalsJson(const canopy::ForestDescription& f, int step, double time)
+{
+  std::int64_t leaves = 0;
+  std::int64_t boundaryFaces = 0;
+  std::map<int, std::int64_t> byLevel;
+  std::int64_t rootCells[3] = {1, 1, 1};
+  const std::size_t points[3] = {f.rootGrid.pointsX, f.rootGrid.pointsY, f.rootGrid.pointsZ};
+  for (int a = 0; a < 3; ++a)
+    rootCells[a] = points[a] > 1 ? static_cast<std::int64_t>(points[a]) - 1 : 1;
+  for (const auto& tree : f.trees)
+  {
+    const auto nodes = walkTree(f, tree, tree.masked);
+    const std::int64_t root[3] = {tree.rootIndex % rootCells[0],
+                                  (tree.rootIndex / rootCells[0]) % rootCells[1],
+                                  tree.rootIndex / (rootCells[0] * rootCells[1])};
+    for (std::size_t n = 0; n < nodes.size(); ++n)
+    {
+      if (tree.refinement[n] || !nodes[n].visible)
+        continue;
+      ++leaves;
+      ++byLevel[nodes[n].level];
+      if (f.dimension == 3)
+      {
+        const auto scale = static_cast<std::int64_t>(std::pow(f.branchFactor, nodes[n].level));
+        for (int a = 0; a < 3; ++a)
+        {
+          const std::int64_t g = root[a] * scale + nodes[n].position[a];
+          boundaryFaces += (g == 0) + (g == rootCells[a] * scale - 1);
+        }
+      }
+    }
+  }
+  std::ostringstream json;
+  json << "{\"step\": " << step << ", \"time\": " << time << ", \"leaves\": " << leaves
+       << ", \"trees\": " << f.trees.size() << ", \"boundary_faces\": " << boundaryFaces
+       << ", \"leaves_by_level\": {";
+  bool first = true;
+  for (const auto& [level, count] : byLevel)
+  {
+    json << (first ? "" : ", ") << "\"" << level << "\": " << count;
+    first = false;
+  }
+  json << "}}";
+  return json.str();
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  MPI_Init(&argc, &argv);
+  int rank = 0;
+  int size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  int status = 0;
+  std::unique_ptr<canopy::InSitu> insitu;
+  try
+  {
+    const Arguments args = parse(argc, argv);
+    canopy::InSituOptions options;
+    options.scripts = args.scripts;
+    options.outputDirectory = args.output;
+    options.stepSummary = args.summary;
+    insitu = std::make_unique<canopy::InSitu>(MPI_COMM_WORLD, options);
+
+    std::ofstream expected;
+    if (rank == 0)
+      expected.open(args.output + "/expected.json");
+    if (rank == 0)
+      expected << "[\n";
+    for (int step = 0; step < args.steps; ++step)
+    {
+      const double time = 0.1 * step;
+      auto state = makeState(args.forestCase, step);
+      const auto& whole = state->forest();
+      if (rank == 0)
+        expected << (step ? ",\n" : "") << totalsJson(whole, step, time);
+
+      std::unique_ptr<RankForest> byTrees;
+      std::unique_ptr<SplitForest> split;
+      canopy::ForestDescription* local = nullptr;
+      if (args.distribute == "split")
+      {
+        split = std::make_unique<SplitForest>(whole, rank, size);
+        local = &split->description();
+      }
+      else
+      {
+        // Whole trees, round robin over the ranks that own any.
+        std::vector<std::size_t> own;
+        const int owners = args.emptyRank >= 0 && size > 1 ? size - 1 : size;
+        const int me = args.emptyRank >= 0 && rank > args.emptyRank ? rank - 1 : rank;
+        for (std::size_t t = 0; t < whole.trees.size(); ++t)
+          if (rank != args.emptyRank &&
+              static_cast<int>(t % static_cast<std::size_t>(owners)) == me)
+            own.push_back(t);
+        byTrees = std::make_unique<RankForest>(whole, own);
+        local = &byTrees->description();
+      }
+      if (rank == args.corruptRank && step == args.corruptStep && !local->trees.empty())
+      {
+        // One byte short: the refinement does not describe a complete tree.
+        local->trees[0].numberOfNodes -= 1;
+      }
+      const auto report = insitu->execute(step, time, *local);
+      if (rank == 0)
+      {
+        std::cout << "step " << step << (report.executed ? " executed" : " idle") << " ran "
+                  << report.pipelinesRun.size() << " failures " << report.failures.size() << "\n";
+        for (const auto& failure : report.failures)
+          std::cout << "  failure: " << failure << "\n";
+      }
+    }
+    if (rank == 0)
+      expected << "\n]\n";
+    if (args.close)
+      insitu->close();
+  }
+  catch (const std::exception& error)
+  {
+    std::cerr << "rank " << rank << ": " << error.what() << "\n";
+    status = 2;
+  }
+  if (status == 0 && insitu && insitu->isOpen())
+  {
+    // --no-close: MPI_Finalize itself must close the driver (Catalyst first).
+    MPI_Finalize();
+    const bool closedByFinalize = !insitu->isOpen();
+    if (rank == 0)
+      std::cout << (closedByFinalize ? "MPI_Finalize closed the driver\n"
+                                     : "the driver is still open after MPI_Finalize\n");
+    insitu.reset();
+    return closedByFinalize ? 0 : 1;
+  }
+  insitu.reset();
+  MPI_Finalize();
+  return status;
+}
