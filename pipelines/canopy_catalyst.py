@@ -184,7 +184,10 @@ def frame_grid(view, grid, values):
             view.CameraParallelProjection = 1
             view.CameraParallelScale = values.parallel_scale
         return
-    bounds = grid.GetDataInformation().GetBounds()
+    local = grid.GetDataInformation().GetBounds()
+    low = _reduce([local[2 * axis] for axis in range(3)], "MIN_OP")
+    high = _reduce([local[2 * axis + 1] for axis in range(3)], "MAX_OP")
+    bounds = [value for axis in range(3) for value in (low[axis], high[axis])]
     lengths = [bounds[2 * axis + 1] - bounds[2 * axis] for axis in range(3)]
     center = [0.5 * (bounds[2 * axis] + bounds[2 * axis + 1]) for axis in range(3)]
     flat = [axis for axis in range(3) if lengths[axis] == 0.0]
@@ -220,8 +223,13 @@ def color_by(display, view, grid, field):
         return
     ColorBy(display, ("CELLS", field))
     info = grid.GetCellDataInformation().GetArray(field)
-    if info is not None:
-        low, high = info.GetRange(-1 if info.GetNumberOfComponents() > 1 else 0)
+    local = (info.GetRange(-1 if info.GetNumberOfComponents() > 1 else 0) if info is not None
+             else (float("inf"), float("-inf")))
+    # Data information is rank-local in Catalyst: agree on the range, or each
+    # rank would color with its own.
+    low = _reduce([local[0]], "MIN_OP")[0]
+    high = _reduce([local[1]], "MAX_OP")[0]
+    if low <= high:
         GetColorTransferFunction(field).RescaleTransferFunction(low, high if high > low else low + 1)
 
 
@@ -248,14 +256,20 @@ def collective(function):
 
 
 def _any_rank(flag):
+    return _reduce([1.0 if flag else 0.0], "MAX_OP")[0] != 0.0
+
+
+def _reduce(values, operation):
+    """Element-wise MIN_OP / MAX_OP / SUM_OP of `values` over all ranks."""
     from paraview.modules.vtkRemotingCore import vtkProcessModule
     from paraview.vtk.vtkParallelCore import vtkCommunicator
-    from paraview.vtk import vtkIntArray
+    from paraview.vtk import vtkDoubleArray
     controller = vtkProcessModule.GetProcessModule().GetGlobalController()
     if controller is None or controller.GetNumberOfProcesses() < 2:
-        return flag
-    local = vtkIntArray()
-    local.InsertNextValue(1 if flag else 0)
-    total = vtkIntArray()
-    controller.AllReduce(local, total, vtkCommunicator.MAX_OP)
-    return total.GetValue(0) != 0
+        return list(values)
+    local = vtkDoubleArray()
+    for value in values:
+        local.InsertNextValue(value)
+    total = vtkDoubleArray()
+    controller.AllReduce(local, total, getattr(vtkCommunicator, operation))
+    return [total.GetValue(i) for i in range(total.GetNumberOfTuples())]

@@ -7,22 +7,27 @@
 namespace canopy
 {
 
-bool xDisplayReachable(std::string& why)
+XDisplayConnection::XDisplayConnection()
 {
   const char* name = std::getenv("DISPLAY");
   if (name == nullptr || *name == '\0')
   {
-    why = "DISPLAY is not set";
-    return false;
+    this->Why = "DISPLAY is not set";
+    return;
   }
-  Display* display = XOpenDisplay(name);
-  if (display == nullptr)
+  this->Display = XOpenDisplay(name);
+  if (this->Display == nullptr)
   {
-    why = std::string("cannot open the X display '") + name + "'";
-    return false;
+    this->Why = std::string("cannot open the X display '") + name + "'";
   }
-  XCloseDisplay(display);
-  return true;
+}
+
+XDisplayConnection::~XDisplayConnection()
+{
+  if (this->Display != nullptr)
+  {
+    XCloseDisplay(static_cast<::Display*>(this->Display));
+  }
 }
 
 } // namespace canopy

@@ -290,13 +290,14 @@ void validateFields(const ForestDescription& forest, const ForestLayout& layout,
     switch (field.layout)
     {
     case Layout::AoS:
-      if (field.data == nullptr)
+      // A rank without trees may pass no memory at all: null with zero tuples.
+      if (field.data == nullptr && field.numberOfTuples > 0)
       {
         problems.add(name, ": data pointer is null");
       }
       break;
     case Layout::Strided:
-      if (field.data == nullptr)
+      if (field.data == nullptr && field.numberOfTuples > 0)
       {
         problems.add(name, ": data pointer is null");
       }
@@ -320,7 +321,7 @@ void validateFields(const ForestDescription& forest, const ForestLayout& layout,
       }
       for (std::size_t c = 0; c < field.componentData.size(); ++c)
       {
-        if (field.componentData[c] == nullptr)
+        if (field.componentData[c] == nullptr && field.numberOfTuples > 0)
         {
           problems.add(name, ": component ", c, " pointer is null");
         }

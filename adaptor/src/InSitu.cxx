@@ -119,6 +119,7 @@ private:
   bool CanRender = false;
   bool Open = false;
   Requests LastRequests;
+  std::unique_ptr<XDisplayConnection> Display;
   std::unique_ptr<FinalizeGuard> Guard;
 };
 
@@ -182,8 +183,9 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   }
 
   // Images need an X display on every rank (IceT composites across all of them).
-  std::string noDisplay;
-  int localDisplay = xDisplayReachable(noDisplay) ? 1 : 0;
+  this->Display = std::make_unique<XDisplayConnection>();
+  const std::string noDisplay = this->Display->why();
+  int localDisplay = this->Display->connected() ? 1 : 0;
   int everyDisplay = 0;
   MPI_Allreduce(&localDisplay, &everyDisplay, 1, MPI_INT, MPI_MIN, this->Communicator);
   this->CanRender = everyDisplay == 1;
@@ -439,7 +441,13 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
     }
     catch (const std::exception& error)
     {
-      localProblem = std::string("invalid forest: ") + error.what();
+      // One line per failure in the report: the problems, separated by ';'.
+      std::string problems = error.what();
+      for (auto& c : problems)
+      {
+        c = c == '\n' ? ';' : c;
+      }
+      localProblem = "invalid forest: " + problems;
     }
   }
   const std::string stepText = "step " + std::to_string(step) + ": ";
@@ -494,6 +502,7 @@ void InSitu::Driver::close()
   this->Scripts.clear();
   this->Processor->Finalize();
   this->Processor = nullptr;
+  this->Display.reset();
   MPI_Comm_free(&this->Communicator);
 }
 

@@ -344,6 +344,7 @@ private:
 std::string totalsJson(const canopy::ForestDescription& f, int step, double time)
 {
   std::int64_t leaves = 0;
+  std::int64_t nodesTotal = 0;
   std::int64_t boundaryFaces = 0;
   std::map<int, std::int64_t> byLevel;
   std::int64_t rootCells[3] = {1, 1, 1};
@@ -353,6 +354,7 @@ std::string totalsJson(const canopy::ForestDescription& f, int step, double time
   for (const auto& tree : f.trees)
   {
     const auto nodes = walkTree(f, tree, tree.masked);
+    nodesTotal += static_cast<std::int64_t>(nodes.size());
     const std::int64_t root[3] = {tree.rootIndex % rootCells[0],
                                   (tree.rootIndex / rootCells[0]) % rootCells[1],
                                   tree.rootIndex / (rootCells[0] * rootCells[1])};
@@ -375,8 +377,8 @@ std::string totalsJson(const canopy::ForestDescription& f, int step, double time
   }
   std::ostringstream json;
   json << "{\"step\": " << step << ", \"time\": " << time << ", \"leaves\": " << leaves
-       << ", \"trees\": " << f.trees.size() << ", \"boundary_faces\": " << boundaryFaces
-       << ", \"leaves_by_level\": {";
+       << ", \"nodes\": " << nodesTotal << ", \"trees\": " << f.trees.size()
+       << ", \"boundary_faces\": " << boundaryFaces << ", \"leaves_by_level\": {";
   bool first = true;
   for (const auto& [level, count] : byLevel)
   {

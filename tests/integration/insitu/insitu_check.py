@@ -1,0 +1,337 @@
+"""Runs an in-situ test command, then checks what the pipelines wrote, by content.
+
+usage: python3 insitu_check.py CHECK OUTPUT_DIR [REFERENCE_DIR] -- COMMAND...
+
+COMMAND (usually canopy_insitu_run under mpirun / xvfb-run) writes into
+OUTPUT_DIR, including expected.json: the simulation's brute-force totals per
+step. CHECK names one of the check_* functions below. Runs with Debian's
+/usr/bin/python3, which imports ParaView's VTK (python3-paraview).
+"""
+import glob
+import json
+import os
+import re
+import subprocess
+import sys
+
+import numpy
+from paraview.vtk.util.numpy_support import vtk_to_numpy
+from paraview.vtk.vtkIOImage import vtkPNGReader
+from paraview.vtk.vtkIOXML import (vtkXMLHyperTreeGridReader, vtkXMLPPolyDataReader,
+                                   vtkXMLPUnstructuredGridReader)
+
+FAILURES = []
+
+
+def expect(condition, message):
+    print(("ok:     " if condition else "FAILED: ") + message)
+    if not condition:
+        FAILURES.append(message)
+
+
+def run(command):
+    shutil_rmtree(OUTPUT)
+    os.makedirs(OUTPUT, exist_ok=True)
+    os.environ.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    log = result.stdout
+    with open(os.path.join(OUTPUT, "run.log"), "w") as out:
+        out.write(log)
+    print(log[-4000:])
+    return result.returncode, log
+
+
+def shutil_rmtree(path):
+    import shutil
+    shutil.rmtree(path, ignore_errors=True)
+
+
+def expected():
+    with open(os.path.join(OUTPUT, "expected.json")) as source:
+        return json.load(source)
+
+
+def path(name, directory=None):
+    return os.path.join(directory or OUTPUT, name)
+
+
+def polydata(name, directory=None):
+    reader = vtkXMLPPolyDataReader()
+    reader.SetFileName(path(name, directory))
+    reader.Update()
+    return reader.GetOutput()
+
+
+def unstructured(name):
+    reader = vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(path(name))
+    reader.Update()
+    return reader.GetOutput()
+
+
+def htg_pieces(prefix, step):
+    """ParaView 5.11 writes a .phtg summary that its own reader crashes on (VTK
+    9.2), so the pieces (one per rank) are read one by one."""
+    pieces = sorted(glob.glob(path("%s_%06d/%s_%06d_*.htg" % (prefix, step, prefix, step))))
+    grids = []
+    for piece in pieces:
+        reader = vtkXMLHyperTreeGridReader()
+        reader.SetFileName(piece)
+        reader.Update()
+        grids.append(reader.GetOutput())
+    return grids
+
+
+def image(name, directory=None):
+    reader = vtkPNGReader()
+    reader.SetFileName(path(name, directory))
+    reader.Update()
+    data = reader.GetOutput()
+    width, height, _ = data.GetDimensions()
+    return vtk_to_numpy(data.GetPointData().GetScalars()).reshape(height, width, -1)[:, :, :3]
+
+
+def covered_pixels(pixels):
+    """Pixels not of the white background."""
+    return int((pixels.min(axis=2) < 250).sum())
+
+
+def cell_array(data, name):
+    return vtk_to_numpy(data.GetCellData().GetArray(name))
+
+
+def steps_ran(log):
+    return [int(m.group(1)) for m in re.finditer(r"^step (\d+) executed ran (\d+) failures 0$",
+                                                log, re.M) if int(m.group(2)) > 0]
+
+
+def compare_images(a, b, label):
+    """np N against np 1: IceT composites the ranks' pieces; pixels may differ
+    only on a few edges where faces of different ranks meet."""
+    difference = numpy.abs(a.astype(int) - b.astype(int)).max(axis=2)
+    differing = int((difference > 0).sum())
+    expect(a.shape == b.shape, "%s: same image size %s" % (label, a.shape))
+    expect(differing <= 0.0005 * difference.size and difference.max() <= 40,
+           "%s: %d of %d pixels differ (limit 0.05%%), largest difference %d (limit 40)"
+           % (label, differing, difference.size, difference.max()))
+
+
+# ---- checks ------------------------------------------------------------------
+
+def check_surface_image_case_a(code, log):
+    """Case A, 600x400, every 2nd step of 3: images at steps 0 and 2 only; the
+    surface extract holds one quad per visible leaf (nothing is sub-pixel here)."""
+    expect(code == 0, "the simulation exits normally")
+    totals = expected()
+    expect(sorted(os.path.basename(p) for p in glob.glob(path("surface_*.png"))) ==
+           ["surface_000000.png", "surface_000002.png"], "images at steps 0 and 2 only")
+    pixels = image("surface_000002.png")
+    # The grid is 3 x 3 units; the view fits the height: 400/3 pixels per unit.
+    expect(abs(covered_pixels(pixels) - 400 * 400) <= 0.01 * 400 * 400,
+           "the grid covers 400x400 pixels (%d)" % covered_pixels(pixels))
+    colors = len(numpy.unique(pixels.reshape(-1, 3), axis=0))
+    expect(colors >= 6, "colored by Depth: %d distinct colors" % colors)
+    surface = polydata("surface_000002.pvtp")
+    expect(surface.GetNumberOfCells() == totals[2]["leaves"],
+           "surface quads %d = visible leaves %d" % (surface.GetNumberOfCells(),
+                                                     totals[2]["leaves"]))
+    expect(numpy.array_equal(cell_array(surface, "Depth"), cell_array(surface, "Level")),
+           "each quad carries its own cell's Depth")
+
+
+def check_surface_zoomed_case_a(code, log):
+    """A camera given to the script culls: only quads meeting the view remain,
+    and every leaf inside the view is there."""
+    expect(code == 0, "the simulation exits normally")
+    surface = polydata("surface_000000.pvtp")
+    # Camera at (0.75, 0.75), parallel scale 0.5, 600x400: x in [0, 1.5], y in [0.25, 1.25].
+    view = (0.0, 1.5, 0.25, 1.25)
+    total = expected()[0]["leaves"]
+    expect(0 < surface.GetNumberOfCells() < total,
+           "zoomed: %d of %d quads" % (surface.GetNumberOfCells(), total))
+    outside = 0
+    for c in range(surface.GetNumberOfCells()):
+        b = surface.GetCell(c).GetBounds()
+        if b[1] < view[0] - 1e-9 or b[0] > view[1] + 1e-9 or b[3] < view[2] - 1e-9 or \
+                b[2] > view[3] + 1e-9:
+            outside += 1
+    expect(outside == 0, "no quad outside the view (%d)" % outside)
+    full = polydata("surface_000000.pvtp", REFERENCE) if REFERENCE else None
+    if full is not None:
+        kept = set(cell_array(surface, "OriginalCellId").tolist())
+        missing = 0
+        for c in range(full.GetNumberOfCells()):
+            b = full.GetCell(c).GetBounds()
+            inside = b[0] > view[0] and b[1] < view[1] and b[2] > view[2] and b[3] < view[3]
+            if inside and int(cell_array(full, "OriginalCellId")[c]) not in kept:
+                missing += 1
+        expect(missing == 0, "every leaf inside the view is kept (%d missing)" % missing)
+
+
+def check_selection_points_case_a(code, log):
+    expect(code == 0, "the simulation exits normally")
+    selection = unstructured("selection_000000.pvtu")
+    # (0.1,0.1), (2.2,1.6) and the domain corner (3,3) select a cell each; (5,5) is outside.
+    expect(selection.GetNumberOfCells() == 3, "3 cells selected (%d)" % selection.GetNumberOfCells())
+    expect(all(selection.GetCellType(c) == 9 for c in range(selection.GetNumberOfCells())),
+           "as VTK_QUAD cells")
+    ids = sorted(cell_array(selection, "OriginalCellId").tolist())
+    expect(len(set(ids)) == 3, "three distinct original cells %s" % ids)
+
+
+def check_selection_ids_case_a(code, log):
+    expect(code == 0, "the simulation exits normally")
+    selection = unstructured("selection_000000.pvtu")
+    ids = sorted(cell_array(selection, "OriginalCellId").tolist())
+    expect(ids == [0, 7, 20], "ids 0 (a coarse root), 7, 20 selected: %s" % ids)
+
+
+def check_selection_range_moving(code, log):
+    """Value range on refinementLevel over 3 steps of the moving front: the count
+    of leaves at levels 3..4 follows the simulation's own count each step."""
+    expect(code == 0, "the simulation exits normally")
+    for entry in expected():
+        step = entry["step"]
+        want = sum(entry["leaves_by_level"].get(str(level), 0) for level in (3, 4))
+        got = unstructured("selection_%06d.pvtu" % step).GetNumberOfCells()
+        expect(got == want, "step %d: %d leaves at levels 3-4 (expected %d)" % (step, got, want))
+
+
+def check_data_extracts(code, log):
+    """Every step: the .htg pieces hold every node, the full-resolution surface one
+    quad per leaf (2D) or one face per boundary leaf face (3D, unmasked)."""
+    expect(code == 0, "the simulation exits normally")
+    for entry in expected():
+        step = entry["step"]
+        grids = htg_pieces("grid", step)
+        nodes = sum(g.GetNumberOfCells() for g in grids)
+        expect(nodes == entry["nodes"], "step %d: .htg pieces hold %d nodes (expected %d)"
+               % (step, nodes, entry["nodes"]))
+        surface = polydata("grid_surface_%06d.pvtp" % step)
+        faces = surface.GetNumberOfCells()
+        want = entry["boundary_faces"] if entry["boundary_faces"] else entry["leaves"]
+        if RANKS == 1 or not entry["boundary_faces"]:
+            expect(faces == want, "step %d: surface has %d cells (expected %d)" % (step, faces, want))
+        else:
+            # Whole trees per rank: faces against another rank's trees are boundary too.
+            expect(faces >= want, "step %d: surface has %d >= %d cells" % (step, faces, want))
+
+
+def check_moving_2d(code, log):
+    """Four steps of a moving front: data extracts right every step, images
+    every step, and the images change as the front moves."""
+    check_data_extracts(code, log)
+    images = [image("surface_%06d.png" % step) for step in range(4)]
+    for step in range(1, 4):
+        changed = int((numpy.abs(images[step].astype(int) - images[step - 1].astype(int))
+                       .max(axis=2) > 0).sum())
+        expect(changed > 100, "the image changes from step %d to %d (%d pixels)"
+               % (step - 1, step, changed))
+
+
+def check_mpi_against_np1(code, log):
+    """np 2/4 against the np 1 reference run: the same images (IceT compositing),
+    and extract totals that add up to the same numbers."""
+    check_data_extracts(code, log)
+    for name in sorted(os.path.basename(p) for p in glob.glob(path("surface_*.png", REFERENCE))):
+        compare_images(image(name), image(name, REFERENCE), name)
+    for name in sorted(os.path.basename(p) for p in glob.glob(path("selection_*.pvtu"))):
+        got = unstructured(name).GetNumberOfCells()
+        reference = vtkXMLPUnstructuredGridReader()
+        reference.SetFileName(path(name, REFERENCE))
+        reference.Update()
+        want = reference.GetOutput().GetNumberOfCells()
+        expect(got == want, "%s: %d selected cells over all ranks (np 1: %d)" % (name, got, want))
+
+
+def check_mpi_split(code, log):
+    """Trees split between ranks (each masks what it does not own): every leaf
+    appears exactly once in the 2D surface, and the image equals np 1's."""
+    expect(code == 0, "the simulation exits normally")
+    for entry in expected():
+        step = entry["step"]
+        surface = polydata("grid_surface_%06d.pvtp" % step)
+        ids = cell_array(surface, "OriginalCellId")
+        expect(surface.GetNumberOfCells() == entry["leaves"],
+               "step %d: %d quads over all ranks = %d leaves" % (step, surface.GetNumberOfCells(),
+                                                                 entry["leaves"]))
+        expect(len(numpy.unique(ids)) == len(ids), "step %d: no leaf twice" % step)
+    for name in sorted(os.path.basename(p) for p in glob.glob(path("surface_*.png", REFERENCE))):
+        compare_images(image(name), image(name, REFERENCE), name)
+
+
+def check_python_error(code, log):
+    """The script raises at step 1 on every rank: step 1 is reported with rank,
+    step and the Python message, nothing is extracted then, steps 0 and 2 run."""
+    expect(code == 0, "the simulation exits normally")
+    expect(re.search(r"failure: rank 0, step 1: the script .*marker_script.py' raised", log)
+           is not None, "the failure names rank, step and script")
+    expect("RuntimeError: failing on purpose at step 1" in log, "the Python message is shown")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    pieces = [len(htg_pieces("grid", step)) for step in range(3)]
+    expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
+
+
+def check_python_error_one_rank(code, log):
+    """The script raises at step 1 on rank 1 only: no rank waits for it (the
+    test would time out), every rank skips the step, both ranks are reported."""
+    expect(code == 0, "the simulation exits normally")
+    expect(re.search(r"failure: rank 1, step 1: the script .*marker_script.py' raised", log)
+           is not None, "rank 1's failure is reported (by rank 0)")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    pieces = [len(htg_pieces("grid", step)) for step in range(3)]
+    expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
+
+
+def check_no_display(code, log):
+    """No X display: the image pipeline is skipped with one message, the
+    selection extract is still written."""
+    expect(code == 0, "the simulation exits normally (no abort)")
+    expect(log.count("no X display") == 1, "one message about the display (%d)"
+           % log.count("no X display"))
+    expect("surface_image.py" in log and "xvfb-run" in log, "it names the script and the remedy")
+    expect(not glob.glob(path("*.png")), "no image written")
+    expect(unstructured("selection_000001.pvtu").GetNumberOfCells() == 3,
+           "the selection extract is written")
+
+
+def check_unwritable_output(code, log):
+    expect(code == 0, "the simulation exits normally")
+    failures = re.findall(r"failure: rank 0, step (\d+): the output directory .* cannot be created",
+                          log)
+    expect(failures == ["0", "1", "2"], "each step reported with rank and step: %s" % failures)
+
+
+def check_invalid_forest_one_rank(code, log):
+    """Rank 1 passes a malformed tree at step 1: every rank skips step 1 (nobody
+    waits in a collective), the failure names rank 1 and its tree."""
+    expect(code == 0, "the simulation exits normally")
+    expect(re.search(r"failure: rank 1, step 1: invalid forest: .*tree", log) is not None,
+           "the failure names rank 1, step 1 and the tree")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    expect(len(htg_pieces("grid", 1)) == 0 and len(htg_pieces("grid", 2)) == RANKS,
+           "no extract at step 1, all pieces at step 2")
+
+
+def check_forgotten_close(code, log):
+    expect(code == 0, "the simulation exits normally")
+    expect("MPI_Finalize closed the driver" in log, "MPI_Finalize closed the driver")
+    expect(os.path.exists(path("finalized.txt")), "the script's catalyst_finalize ran")
+
+
+def check_bad_script(code, log):
+    expect(code == 2, "open fails (exit code %d)" % code)
+    expect(re.search(r"pipeline script '.*no_such_script.py': no such file", log) is not None,
+           "the error names the script and the problem")
+
+
+if __name__ == "__main__":
+    separator = sys.argv.index("--")
+    CHECK, OUTPUT = sys.argv[1], sys.argv[2]
+    REFERENCE = sys.argv[3] if separator > 3 else None
+    COMMAND = sys.argv[separator + 1:]
+    RANKS = int(COMMAND[COMMAND.index("-np") + 1]) if "-np" in COMMAND else 1
+    exit_code, output = run(COMMAND)
+    globals()["check_" + CHECK](exit_code, output)
+    print("%d check(s) failed" % len(FAILURES) if FAILURES else "all checks passed")
+    sys.exit(1 if FAILURES else 0)
