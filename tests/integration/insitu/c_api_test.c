@@ -1,0 +1,169 @@
+/* Canopy's C API from a C program (compiled as C99): a 2x1 forest whose first
+ * root is refined once, a value-range selection pipeline every second step,
+ * bad arguments, a malformed tree. Checks return codes, messages, the
+ * extract's cell count (read from the written piece) and that the
+ * simulation's arrays are unchanged.
+ * Usage: canopy_c_api_test SELECTION_SCRIPT OUTPUT_DIR */
+#include <canopy/canopy.h>
+
+#include <mpi.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int failures = 0;
+
+#define CHECK(condition, message)                                                                  \
+  do                                                                                               \
+  {                                                                                                \
+    if (!(condition))                                                                              \
+    {                                                                                              \
+      fprintf(stderr, "FAILED: %s (%s:%d): %s\n", message, __FILE__, __LINE__,                     \
+              canopy_last_error());                                                                \
+      ++failures;                                                                                  \
+    }                                                                                              \
+    else                                                                                           \
+    {                                                                                              \
+      printf("ok: %s\n", message);                                                                 \
+    }                                                                                              \
+  } while (0)
+
+/* NumberOfCells of this rank's piece of selection_<step>.pvtu, -1 if absent. */
+static long selected_cells(const char* directory, int step, int rank)
+{
+  char path[4096];
+  snprintf(path, sizeof path, "%s/selection_%06d/selection_%06d_%d.vtu", directory, step, step,
+           rank);
+  FILE* file = fopen(path, "r");
+  if (!file)
+  {
+    return -1;
+  }
+  char text[4096];
+  size_t length = fread(text, 1, sizeof text - 1, file);
+  fclose(file);
+  text[length] = '\0';
+  const char* found = strstr(text, "NumberOfCells=\"");
+  return found ? strtol(found + strlen("NumberOfCells=\""), NULL, 10) : -1;
+}
+
+static double checksum(const double* values, size_t count)
+{
+  double sum = 0.0;
+  for (size_t i = 0; i < count; ++i)
+  {
+    sum += values[i] * (double)(i + 1);
+  }
+  return sum;
+}
+
+int main(int argc, char** argv)
+{
+  if (argc != 3)
+  {
+    fprintf(stderr, "usage: canopy_c_api_test SELECTION_SCRIPT OUTPUT_DIR\n");
+    return 2;
+  }
+  MPI_Init(&argc, &argv);
+  int rank = 0;
+  int size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+
+  /* The simulation's arrays: a 2x1 root grid, root 0 refined into 4 leaves;
+   * rank r owns the roots with index % size == r (with more than 2 ranks,
+   * some own nothing). Nodes stored breadth-first, trees back to back. */
+  const double x[3] = {0.0, 1.0, 2.0};
+  const double y[2] = {0.0, 1.0};
+  const double z[1] = {0.0};
+  const unsigned char refined[5] = {1, 0, 0, 0, 0};
+  const unsigned char leaf[1] = {0};
+  double density[6] = {0.5, 1.0, 2.0, 3.0, 4.0, /* root 0: coarse value, 4 leaves */
+                       2.5};                    /* root 1 */
+  const int owns_root0 = rank == 0;
+  const int owns_root1 = rank == 1 % size;
+  const double* my_density = owns_root0 ? density : density + 5;
+  const size_t my_nodes = (owns_root0 ? 5 : 0) + (owns_root1 ? 1 : 0);
+  const double before = checksum(density, 6);
+
+  /* Bad arguments are refused with a message, nothing done. */
+  CHECK(canopy_options_add_script(NULL, "x.py") == CANOPY_INVALID_ARGUMENT,
+        "NULL options refused");
+  CHECK(strstr(canopy_last_error(), "NULL options") != NULL, "and the message says so");
+  canopy_options* options = canopy_options_create();
+  CHECK(canopy_options_add_script_argument(options, "--x=1") == CANOPY_INVALID_ARGUMENT,
+        "an argument before any script refused");
+  CHECK(canopy_options_add_script(options, argv[1]) == CANOPY_OK, "script added");
+  canopy_options_add_script_argument(options, "--selection=range");
+  canopy_options_add_script_argument(options, "--value-field=density");
+  canopy_options_add_script_argument(options, "--value-range=1.5,3.5");
+  canopy_options_add_script_argument(options, "--frequency=2");
+  CHECK(canopy_options_set_output_directory(options, argv[2]) == CANOPY_OK, "output directory");
+  CHECK(canopy_options_set_channel(options, "") == CANOPY_INVALID_ARGUMENT,
+        "an empty channel refused");
+
+  canopy_insitu* insitu = NULL;
+  CHECK(canopy_open(MPI_COMM_WORLD, options, &insitu) == CANOPY_OK && insitu != NULL, "open");
+  canopy_options_destroy(options);
+
+  canopy_forest* forest = canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1);
+  CHECK(canopy_forest_add_field(forest, "density", 42, 1, density, 0, 5, CANOPY_EVERY_NODE) ==
+          CANOPY_INVALID_ARGUMENT,
+        "an unknown value type refused");
+  CHECK(strstr(canopy_last_error(), "unknown value type 42") != NULL, "and named");
+
+  for (int step = 0; step < 4; ++step)
+  {
+    canopy_forest_clear(forest);
+    if (owns_root0)
+    {
+      canopy_forest_add_tree(forest, 0, refined, 5, NULL, NULL);
+    }
+    if (owns_root1)
+    {
+      canopy_forest_add_tree(forest, 1, leaf, 1, NULL, NULL);
+    }
+    canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, my_nodes ? my_density : NULL,
+                            0, my_nodes, CANOPY_EVERY_NODE);
+    int will = -1;
+    CHECK(canopy_will_execute(insitu, step, 0.5 * step, &will) == CANOPY_OK, "will_execute");
+    /* Step 0 imports the script; then every second step. */
+    CHECK(will == (step % 2 == 0), "will_execute says whether the pipeline runs");
+    CHECK(canopy_execute(insitu, step, 0.5 * step, forest) == CANOPY_OK, "execute");
+  }
+  /* Leaves 2.0, 3.0 and 2.5 are in [1.5, 3.5]; the coarse 0.5 and leaves 1.0, 4.0 are not. */
+  long total = 0;
+  for (int r = 0; r < size; ++r)
+  {
+    long cells = selected_cells(argv[2], 2, r);
+    total += cells > 0 ? cells : 0;
+  }
+  if (rank == 0)
+  {
+    CHECK(total == 3, "3 cells selected at step 2 over all ranks");
+    CHECK(selected_cells(argv[2], 1, 0) == -1, "nothing written at step 1");
+  }
+
+  /* A malformed tree on rank 0: every rank skips the step, the call says why. */
+  canopy_forest_clear(forest);
+  if (owns_root0)
+  {
+    canopy_forest_add_tree(forest, 0, refined, 3, NULL, NULL); /* 3 of its 5 nodes */
+  }
+  if (owns_root1)
+  {
+    canopy_forest_add_tree(forest, 1, leaf, 1, NULL, NULL);
+  }
+  canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, my_nodes ? my_density : NULL, 0,
+                          my_nodes, CANOPY_EVERY_NODE);
+  CHECK(canopy_execute(insitu, 4, 2.0, forest) == CANOPY_STEP_FAILED, "a malformed tree fails");
+  CHECK(strstr(canopy_last_error(), "rank 0, step 4: invalid forest") != NULL,
+        "naming rank and step");
+  CHECK(canopy_execute(NULL, 5, 2.5, forest) == CANOPY_INVALID_ARGUMENT, "NULL handle refused");
+
+  CHECK(checksum(density, 6) == before, "the simulation's arrays are unchanged");
+  CHECK(canopy_close(&insitu) == CANOPY_OK && insitu == NULL, "close");
+  canopy_forest_destroy(forest);
+  MPI_Finalize();
+  return failures == 0 ? 0 : 1;
+}
