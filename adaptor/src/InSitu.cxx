@@ -439,15 +439,19 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
       grid = buildHyperTreeGrid(forest, this->fieldsFor(requests.due, forest));
       report.localCells = grid->GetNumberOfCells();
     }
-    catch (const std::exception& error)
+    catch (const InvalidForest& error)
     {
       // One line per failure in the report: the problems, separated by ';'.
-      std::string problems = error.what();
-      for (auto& c : problems)
+      std::string problems;
+      for (const auto& problem : error.problems())
       {
-        c = c == '\n' ? ';' : c;
+        problems += (problems.empty() ? "" : "; ") + problem;
       }
       localProblem = "invalid forest: " + problems;
+    }
+    catch (const std::exception& error)
+    {
+      localProblem = std::string("cannot build the grid: ") + error.what();
     }
   }
   const std::string stepText = "step " + std::to_string(step) + ": ";

@@ -37,7 +37,7 @@ std::string pipelinesDirectory()
   {
     return fromEnvironment;
   }
-  const auto installed = libraryDirectory().parent_path() / "share" / "canopy" / "pipelines";
+  const auto installed = libraryDirectory() / CANOPY_PIPELINES_FROM_LIBDIR;
   std::error_code error;
   if (std::filesystem::exists(installed / "canopy_catalyst.py", error))
   {

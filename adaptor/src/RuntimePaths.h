@@ -12,8 +12,8 @@ namespace canopy
 /// CANOPY_PLUGIN if set; else <libdir>/canopy-plugins/CanopyPlugin/CanopyPlugin.so.
 std::string pluginPath();
 
-/// CANOPY_PIPELINES_DIR if set; else <prefix>/share/canopy/pipelines next to an
-/// installed library; else the source tree's pipelines/ (build tree).
+/// CANOPY_PIPELINES_DIR if set; else <datadir>/canopy/pipelines of the prefix the
+/// library is installed in; else the source tree's pipelines/ (build tree).
 std::string pipelinesDirectory();
 
 } // namespace canopy

@@ -451,10 +451,14 @@ int main(int argc, char** argv)
       const auto report = insitu->execute(step, time, *local);
       if (rank == 0)
       {
-        std::cout << "step " << step << (report.executed ? " executed" : " idle") << " ran "
-                  << report.pipelinesRun.size() << " failures " << report.failures.size() << "\n";
+        // One write per report: the checker reads stdout and ParaView's stderr
+        // from one pipe, and whole lines must not interleave.
+        std::ostringstream text;
+        text << "step " << step << (report.executed ? " executed" : " idle") << " ran "
+             << report.pipelinesRun.size() << " failures " << report.failures.size() << "\n";
         for (const auto& failure : report.failures)
-          std::cout << "  failure: " << failure << "\n";
+          text << "  failure: " << failure << "\n";
+        std::cout << text.str() << std::flush;
       }
     }
     if (rank == 0)

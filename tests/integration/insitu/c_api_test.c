@@ -87,8 +87,7 @@ int main(int argc, char** argv)
   const double before = checksum(density, 6);
 
   /* Bad arguments are refused with a message, nothing done. */
-  CHECK(canopy_options_add_script(NULL, "x.py") == CANOPY_INVALID_ARGUMENT,
-        "NULL options refused");
+  CHECK(canopy_options_add_script(NULL, "x.py") == CANOPY_INVALID_ARGUMENT, "NULL options refused");
   CHECK(strstr(canopy_last_error(), "NULL options") != NULL, "and the message says so");
   canopy_options* options = canopy_options_create();
   CHECK(canopy_options_add_script_argument(options, "--x=1") == CANOPY_INVALID_ARGUMENT,
@@ -108,7 +107,7 @@ int main(int argc, char** argv)
 
   canopy_forest* forest = canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1);
   CHECK(canopy_forest_add_field(forest, "density", 42, 1, density, 0, 5, CANOPY_EVERY_NODE) ==
-          CANOPY_INVALID_ARGUMENT,
+            CANOPY_INVALID_ARGUMENT,
         "an unknown value type refused");
   CHECK(strstr(canopy_last_error(), "unknown value type 42") != NULL, "and named");
 
@@ -123,8 +122,8 @@ int main(int argc, char** argv)
     {
       canopy_forest_add_tree(forest, 1, leaf, 1, NULL, NULL);
     }
-    canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, my_nodes ? my_density : NULL,
-                            0, my_nodes, CANOPY_EVERY_NODE);
+    canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, my_nodes ? my_density : NULL, 0,
+                            my_nodes, CANOPY_EVERY_NODE);
     int will = -1;
     CHECK(canopy_will_execute(insitu, step, 0.5 * step, &will) == CANOPY_OK, "will_execute");
     /* Step 0 imports the script; then every second step. */
