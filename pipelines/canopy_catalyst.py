@@ -80,13 +80,17 @@ def settings(**defaults):
     return values
 
 
-def catalyst_options(values, cinema=False):
-    """Catalyst options for a script: where extracts go and how often the script runs."""
+def catalyst_options(values, cinema=None):
+    """Catalyst options for a script: where extracts go and how often the script runs.
+    With `cinema` (a folder name ending in .cdb), the script's extracts go into that
+    Cinema database inside the output directory, indexed by data.csv at the end."""
     from paraview import catalyst
     options = catalyst.Options()
     options.ExtractsOutputDirectory = values.output_directory
     options.GlobalTrigger.Frequency = int(values.frequency)
     if cinema:
+        # A Cinema database is a folder named *.cdb holding the images and data.csv.
+        options.ExtractsOutputDirectory = os.path.join(values.output_directory, cinema)
         options.GenerateCinemaSpecification = 1
     return options
 

@@ -15,7 +15,8 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   camera_position, camera_focal_point, camera_view_up   'x,y,z' ('' : frame the grid)
   parallel_scale    > 0: parallel projection with this scale (with camera_position)
   surface_extract   also write the surface the camera saw as .vtp (false)
-  cinema            write a Cinema specification (data.csv) at the end (false)
+  cinema            write the images as a Cinema database instead: surface.cdb/ in the
+                    output directory, indexed by data.csv at the end (false)
   file_prefix       image file names: <prefix>_<step>.png ("surface")
 """
 import canopy_catalyst as canopy
@@ -25,7 +26,7 @@ settings = canopy.settings(image_size="800x600", color_by="", pixel_threshold=1.
                            camera_position="", camera_focal_point="", camera_view_up="",
                            parallel_scale=0.0, surface_extract=False, cinema=False,
                            file_prefix="surface")
-options = canopy.catalyst_options(settings, cinema=settings.cinema)
+options = canopy.catalyst_options(settings, cinema="surface.cdb" if settings.cinema else None)
 canopy.load_canopy_plugin(globals())
 
 grid = canopy.simulation_grid(settings)

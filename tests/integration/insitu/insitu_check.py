@@ -188,13 +188,20 @@ def check_selection_ids_case_a(code, log):
 
 def check_selection_range_moving(code, log):
     """Value range on refinementLevel over 3 steps of the moving front: the count
-    of leaves at levels 3..4 follows the simulation's own count each step."""
+    of leaves at levels 3..4 follows the simulation's own count each step, and
+    only the field the script asked for (--fields) reaches the pipeline."""
     expect(code == 0, "the simulation exits normally")
     for entry in expected():
         step = entry["step"]
         want = sum(entry["leaves_by_level"].get(str(level), 0) for level in (3, 4))
-        got = unstructured("selection_%06d.pvtu" % step).GetNumberOfCells()
+        selection = unstructured("selection_%06d.pvtu" % step)
+        got = selection.GetNumberOfCells()
         expect(got == want, "step %d: %d leaves at levels 3-4 (expected %d)" % (step, got, want))
+        if step > 0:  # step 0 imports the script: every field is wrapped then
+            data = selection.GetCellData()
+            names = sorted(data.GetArrayName(i) for i in range(data.GetNumberOfArrays()))
+            expect(names == ["Level", "OriginalCellId", "refinementLevel"],
+                   "step %d: only the requested field was wrapped: %s" % (step, names))
 
 
 def check_data_extracts(code, log):
@@ -221,12 +228,31 @@ def check_moving_2d(code, log):
     """Four steps of a moving front: data extracts right every step, images
     every step, and the images change as the front moves."""
     check_data_extracts(code, log)
+    summaries = re.findall(r"canopy: step (\d) time [0-9.e-]+: ran \[.*surface_image.py, .*"
+                           r"data_extracts.py\], 0 failure\(s\), (\d+) cells", log)
+    expect([int(step) for step, _ in summaries] == [0, 1, 2, 3],
+           "one summary line per step: %s" % summaries)
+    expect([int(cells) for _, cells in summaries] == [entry["nodes"] for entry in expected()],
+           "summaries give the grid's cells each step")
     images = [image("surface_%06d.png" % step) for step in range(4)]
     for step in range(1, 4):
         changed = int((numpy.abs(images[step].astype(int) - images[step - 1].astype(int))
                        .max(axis=2) > 0).sum())
         expect(changed > 100, "the image changes from step %d to %d (%d pixels)"
                % (step - 1, step, changed))
+
+
+def check_cinema(code, log):
+    """--cinema=1: the images and a data.csv index form a Cinema database."""
+    expect(code == 0, "the simulation exits normally")
+    with open(path("surface.cdb/data.csv")) as table:
+        rows = [line.strip().split(",") for line in table if line.strip()]
+    expect(rows[0] == ["producer", "time", "FILE_png"], "data.csv header %s" % rows[0])
+    expect([row[2] for row in rows[1:]] == ["surface_%06d.png" % step for step in range(3)],
+           "one row per step: %s" % [row[2] for row in rows[1:]])
+    expect([float(row[1]) for row in rows[1:]] == [0.0, 0.1, 0.2], "with each step's time")
+    expect(all(covered_pixels(image("surface.cdb/" + row[2])) > 1000 for row in rows[1:]),
+           "every listed image exists and shows the grid")
 
 
 def check_mpi_against_np1(code, log):
