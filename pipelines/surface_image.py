@@ -12,6 +12,7 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   color_by          cell field to color by ('' : solid color)
   fields            fields Canopy wraps for this script ('' : every field)
   pixel_threshold   stop refining below this many pixels (1.0)
+  show_edges        draw the cells' edges: the mesh the camera sees (false)
   camera_position, camera_focal_point, camera_view_up   'x,y,z' ('' : frame the grid)
   parallel_scale    > 0: parallel projection with this scale (with camera_position)
   surface_extract   also write the surface the camera saw as .vtp (false)
@@ -25,6 +26,7 @@ from paraview.simple import CreateExtractor, Show
 settings = canopy.settings(image_size="800x600", color_by="", pixel_threshold=1.0,
                            camera_position="", camera_focal_point="", camera_view_up="",
                            parallel_scale=0.0, surface_extract=False, cinema=False,
+                           show_edges=False,
                            file_prefix="surface")
 options = canopy.catalyst_options(settings, cinema="surface.cdb" if settings.cinema else None)
 canopy.load_canopy_plugin(globals())
@@ -34,6 +36,9 @@ view = canopy.render_view(settings)
 surface = CanopyAdaptiveSurface(Input=grid, PixelThreshold=settings.pixel_threshold,  # noqa: F821
                                 Fields=settings.list("fields"))
 display = Show(surface, view)
+if settings.show_edges:
+    display.SetRepresentationType("Surface With Edges")
+    display.EdgeColor = [0.15, 0.15, 0.15]
 
 image = CreateExtractor("PNG", view, registrationName="surface_image")
 image.Writer.FileName = settings.file_prefix + "_{timestep:06d}.png"

@@ -1,0 +1,250 @@
+#include "MiniAppOptions.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace miniamr
+{
+namespace
+{
+
+std::vector<double> numbers(const std::string& text, const std::string& option)
+{
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ','))
+  {
+    try
+    {
+      std::size_t used = 0;
+      values.push_back(std::stod(item, &used));
+      if (used != item.size())
+        throw std::invalid_argument(item);
+    }
+    catch (const std::exception&)
+    {
+      throw std::invalid_argument(option + ": '" + item + "' is not a number");
+    }
+  }
+  return values;
+}
+
+int integer(const std::string& text, const std::string& option)
+{
+  const auto values = numbers(text, option);
+  if (values.size() != 1 || values[0] != std::floor(values[0]))
+    throw std::invalid_argument(option + " needs an integer, not '" + text + "'");
+  return static_cast<int>(values[0]);
+}
+
+MovingObject parseObject(const std::string& text, int dimension)
+{
+  const auto colon = text.find(':');
+  const std::string kind = text.substr(0, colon);
+  const auto v = numbers(colon == std::string::npos ? "" : text.substr(colon + 1), "--object");
+  const std::size_t d = static_cast<std::size_t>(dimension);
+  MovingObject object;
+  if (kind == "sphere")
+  {
+    if (v.size() != 2 * d + 1)
+      throw std::invalid_argument(
+          "--object sphere:" + std::string(d == 2 ? "cx,cy,r,vx,vy" : "cx,cy,cz,r,vx,vy,vz") +
+          " (got '" + text + "')");
+    object.kind = MovingObject::Kind::Sphere;
+    for (std::size_t a = 0; a < d; ++a)
+    {
+      object.center[a] = v[a];
+      object.velocity[a] = v[d + 1 + a];
+    }
+    object.radius = v[d];
+    if (object.radius <= 0)
+      throw std::invalid_argument("--object sphere: the radius must be positive");
+  }
+  else if (kind == "plane")
+  {
+    if (v.size() != d + 2)
+      throw std::invalid_argument("--object plane:" + std::string(d == 2 ? "nx,ny" : "nx,ny,nz") +
+                                  ",offset,speed (got '" + text + "')");
+    object.kind = MovingObject::Kind::Plane;
+    double length = 0;
+    for (std::size_t a = 0; a < d; ++a)
+    {
+      object.normal[a] = v[a];
+      length += v[a] * v[a];
+    }
+    if (length == 0)
+      throw std::invalid_argument("--object plane: the normal is zero");
+    for (auto& n : object.normal)
+      n /= std::sqrt(length);
+    object.offset = v[d];
+    object.speed = v[d + 1];
+  }
+  else
+  {
+    throw std::invalid_argument("--object: '" + kind + "' is not sphere or plane");
+  }
+  return object;
+}
+
+} // namespace
+
+MiniAppOptions parseOptions(int argc, char** argv)
+{
+  MiniAppOptions o;
+  std::vector<std::string> objectTexts;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string key = argv[i];
+    auto value = [&]() -> std::string
+    {
+      if (i + 1 >= argc)
+        throw std::invalid_argument(key + " needs a value");
+      return argv[++i];
+    };
+    if (key == "--help" || key == "-h")
+      throw std::invalid_argument("");
+    else if (key == "--dimension")
+      o.dimension = integer(value(), key);
+    else if (key == "--branch-factor")
+      o.branchFactor = integer(value(), key);
+    else if (key == "--roots")
+    {
+      const auto v = numbers(value(), key);
+      if (v.size() == 1)
+        o.roots = {{static_cast<int>(v[0]), static_cast<int>(v[0]), static_cast<int>(v[0])}};
+      else if (v.size() == 2 || v.size() == 3)
+        o.roots = {{static_cast<int>(v[0]), static_cast<int>(v[1]),
+                    static_cast<int>(v.size() == 3 ? v[2] : 1)}};
+      else
+        throw std::invalid_argument("--roots N or NX,NY[,NZ]");
+    }
+    else if (key == "--max-level")
+      o.maxLevel = integer(value(), key);
+    else if (key == "--steps")
+      o.steps = integer(value(), key);
+    else if (key == "--cfl")
+      o.cfl = numbers(value(), key).at(0);
+    else if (key == "--diffusion")
+      o.diffusion = numbers(value(), key).at(0);
+    else if (key == "--velocity")
+    {
+      o.velocity = value();
+      if (o.velocity.rfind("uniform:", 0) == 0)
+      {
+        const auto v = numbers(o.velocity.substr(8), key);
+        for (std::size_t a = 0; a < 3; ++a)
+          o.uniformVelocity[a] = a < v.size() ? v[a] : 0.0;
+        o.velocity = "uniform";
+      }
+      else if (o.velocity != "swirl")
+        throw std::invalid_argument("--velocity swirl or uniform:vx,vy[,vz]");
+    }
+    else if (key == "--refine-gradient")
+      o.refineGradient = numbers(value(), key).at(0);
+    else if (key == "--coarsen-gradient")
+      o.coarsenGradient = numbers(value(), key).at(0);
+    else if (key == "--regrid-every")
+      o.regridEvery = integer(value(), key);
+    else if (key == "--repartition-imbalance")
+      o.repartitionImbalance = numbers(value(), key).at(0);
+    else if (key == "--object")
+      objectTexts.push_back(value());
+    else if (key == "--pipeline")
+    {
+      o.pipelines.push_back(value());
+      o.pipelineArguments.emplace_back();
+    }
+    else if (key == "--pipeline-arg")
+    {
+      if (o.pipelines.empty())
+        throw std::invalid_argument("--pipeline-arg before any --pipeline");
+      o.pipelineArguments.back().push_back(value());
+    }
+    else if (key == "--no-insitu")
+      o.noInSitu = true;
+    else if (key == "--output")
+      o.output = value();
+    else if (key == "--image-every")
+      o.imageEvery = integer(value(), key);
+    else if (key == "--selection-every")
+      o.selectionEvery = integer(value(), key);
+    else if (key == "--extract-every")
+      o.extractEvery = integer(value(), key);
+    else if (key == "--quiet")
+      o.quiet = true;
+    else if (key == "--verify-untouched")
+      o.verifyUntouched = true;
+    else if (key == "--dump")
+      o.dump = value();
+    else
+      throw std::invalid_argument("unknown option '" + key + "'");
+  }
+  if (o.dimension != 2 && o.dimension != 3)
+    throw std::invalid_argument("--dimension must be 2 or 3");
+  if (o.branchFactor != 2 && o.branchFactor != 3)
+    throw std::invalid_argument("--branch-factor must be 2 or 3");
+  for (int a = 0; a < o.dimension; ++a)
+    if (o.roots[a] < 1)
+      throw std::invalid_argument("--roots must be at least 1 per axis");
+  if (o.maxLevel < 0 || o.steps < 0 || o.regridEvery < 1 || o.imageEvery < 1 ||
+      o.selectionEvery < 1 || o.extractEvery < 1)
+    throw std::invalid_argument("--max-level/--steps must be >= 0, the *-every options >= 1");
+  // Node positions are kept in 64-bit integers; keep finest cells countable in 31 bits.
+  double finest = 1;
+  for (int l = 0; l < o.maxLevel; ++l)
+    finest *= o.branchFactor;
+  for (int a = 0; a < o.dimension; ++a)
+    if (finest * o.roots[a] > 2147483647.0)
+      throw std::invalid_argument("--max-level too deep for these roots");
+  if (o.cfl <= 0 || o.cfl > 1)
+    throw std::invalid_argument("--cfl must be in (0, 1]");
+  if (o.diffusion < 0)
+    throw std::invalid_argument("--diffusion must be >= 0");
+  for (const auto& text : objectTexts)
+    o.objects.push_back(parseObject(text, o.dimension));
+  if (objectTexts.empty())
+  {
+    // miniAMR's default spirit: two objects crossing the domain.
+    MovingObject a;
+    a.center = {{0.25, 0.3, 0.5}};
+    a.radius = 0.12;
+    a.velocity = {{0.6, 0.35, 0.2}};
+    MovingObject b;
+    b.kind = MovingObject::Kind::Plane;
+    b.normal = {{1.0, 0.0, 0.0}};
+    b.offset = 0.8;
+    b.speed = -0.4;
+    o.objects = {a, b};
+  }
+  if (o.pipelines.size() == 1 && o.pipelines[0] == "none")
+  {
+    o.pipelines.clear();
+    o.pipelineArguments.clear();
+    o.noInSitu = true;
+  }
+  return o;
+}
+
+std::string usage()
+{
+  return R"(canopy_miniamr: an AMR mini-app (miniAMR-style) running Canopy in situ.
+
+Mesh:     --dimension 2|3 (2)  --branch-factor 2|3 (2)  --roots N|NX,NY[,NZ] (16)
+          --max-level L (6)    --regrid-every K (1)
+          --refine-gradient G (0.05)  --coarsen-gradient G (0.01)
+Objects:  --object sphere:cx,cy[,cz],r,vx,vy[,vz]   --object plane:nx,ny[,nz],offset,speed
+          (repeatable; default: a sphere and a plane crossing the domain; velocities
+          in domain lengths per 100 steps; spheres bounce off the walls)
+Physics:  --steps S (40)  --cfl C (0.5)  --velocity swirl|uniform:vx,vy[,vz] (swirl)
+          --diffusion D (0)
+MPI:      --repartition-imbalance R (1.1): repartition when max/mean leaves per rank > R
+In situ:  --output DIR (canopy-output)  --no-insitu
+          --pipeline SCRIPT [--pipeline-arg ARG]...   (replaces the default pipelines)
+          --image-every N (5)  --selection-every N (10)  --extract-every N (20)
+Output:   --quiet  --verify-untouched  --dump FILE
+)";
+}
+
+} // namespace miniamr

@@ -1,0 +1,64 @@
+// The mini-app's command line.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace miniamr
+{
+
+/// An object moving through the domain; refinement follows its surface.
+struct MovingObject
+{
+  enum class Kind
+  {
+    Sphere, ///< center, radius, velocity; bounces off the domain's walls
+    Plane   ///< normal, offset (n . x = offset), speed along the normal; periodic
+  };
+  Kind kind = Kind::Sphere;
+  std::array<double, 3> center{{0.5, 0.5, 0.5}}; ///< sphere
+  double radius = 0.1;                           ///< sphere
+  std::array<double, 3> velocity{{0, 0, 0}};     ///< sphere
+  std::array<double, 3> normal{{1, 0, 0}};       ///< plane (normalized on parse)
+  double offset = 0.5;                           ///< plane
+  double speed = 0.0;                            ///< plane
+};
+
+struct MiniAppOptions
+{
+  int dimension = 2;
+  int branchFactor = 2;
+  std::array<int, 3> roots{{16, 16, 16}};
+  int maxLevel = 6;
+  int steps = 40;
+  double cfl = 0.5;
+  double diffusion = 0.0;
+  std::string velocity = "swirl"; ///< swirl | uniform:vx,vy[,vz]
+  std::array<double, 3> uniformVelocity{{1.0, 0.5, 0.25}};
+  double refineGradient = 0.05;  ///< refine where a face jump exceeds this
+  double coarsenGradient = 0.01; ///< may coarsen where every face jump is below this
+  int regridEvery = 1;
+  double repartitionImbalance = 1.1; ///< repartition when max/mean leaves exceeds this
+  std::vector<MovingObject> objects;
+  // In situ.
+  std::vector<std::string> pipelines; ///< empty: the default set; "none": no Canopy
+  std::vector<std::vector<std::string>> pipelineArguments;
+  bool noInSitu = false;
+  std::string output = "canopy-output";
+  int imageEvery = 5;
+  int selectionEvery = 10;
+  int extractEvery = 20;
+  // Reporting.
+  bool quiet = false;
+  bool verifyUntouched = false;
+  std::string dump; ///< write the final leaves (key and value) to this file
+};
+
+/// Parses argv; throws std::invalid_argument naming the bad option.
+MiniAppOptions parseOptions(int argc, char** argv);
+
+/// The options table (also in docs/miniapp.md).
+std::string usage();
+
+} // namespace miniamr

@@ -1,0 +1,97 @@
+// The mini-app's simulation on one MPI rank: an advected (optionally diffused)
+// scalar on the leaves of an adaptive forest, explicit and conservative.
+//
+// Layout (the simulation's own): every rank knows every tree's topology; it
+// stores values only for the trees it owns, leaves-only, tree by tree in tree
+// order and breadth-first within a tree: `scalar` (double), `velocity` (3
+// doubles per leaf, interleaved), `level` and `rank` (doubles). Canopy reads
+// these arrays in place every step (see describeForCanopy).
+#pragma once
+
+#include "AmrForest.h"
+#include "HaloExchange.h"
+#include "MiniAppOptions.h"
+#include "MovingObjects.h"
+
+#include <canopy/ForestDescription.h>
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace miniamr
+{
+
+class Simulation
+{
+public:
+  /// Collective. Builds the initial mesh around the objects and the initial blob.
+  Simulation(const MiniAppOptions& options, MPI_Comm communicator);
+
+  /// Collective. One time step: halo exchange, finite-volume update, then (every
+  /// regridEvery steps) refinement/coarsening and, when imbalanced, repartition.
+  void advance();
+
+  int step() const { return Step; }
+  double time() const { return Time; }
+  double timeStep() const { return Dt; }
+  /// Collective: sum of value x volume over every leaf.
+  double totalMass() const;
+  /// Collective: (max leaves on a rank) / (mean leaves per rank).
+  double imbalance() const;
+  std::int64_t globalLeaves() const { return Forest.totalLeaves(); }
+  std::int64_t globalNodes() const { return Forest.totalNodes(); }
+  std::int64_t localLeaves() const { return static_cast<std::int64_t>(Scalar.size()); }
+  int repartitions() const { return Repartitions; }
+
+  /// This rank's trees and leaves-only fields, borrowed: valid until advance().
+  canopy::ForestDescription describeForCanopy() const;
+
+  /// A hash of every array Canopy borrows (to prove Canopy never writes them).
+  std::uint64_t borrowedArraysChecksum() const;
+
+  /// Collective: rank 0 writes every leaf as "level x y z value" sorted by key.
+  void dump(const std::string& path) const;
+
+  const AmrForest& forest() const { return Forest; }
+  const MovingObjects& objects() const { return Objects; }
+  /// This rank's value of an own leaf (tree, leaf), or NaN if not owned.
+  double valueOf(std::int32_t tree, std::int32_t leaf) const;
+  /// The objects' clock: like miniAMR, objects move a fixed distance per step
+  /// (their velocities are in domain lengths per 100 steps), not with the flow.
+  double objectClock() const { return Step / 100.0; }
+
+private:
+  double valueAcross(const AmrForest::FaceNeighbour& neighbour) const;
+  std::array<double, 3> velocityAt(const std::array<double, 3>& x) const;
+  double initialValue(const std::array<double, 3>& x) const;
+  std::vector<std::int8_t> ownWishes() const;
+  void regrid(bool initial);
+  void repartitionIfImbalanced(bool force);
+  void afterTopologyChange();
+  double computeTimeStep() const;
+
+  MiniAppOptions Options;
+  MPI_Comm Communicator;
+  int Rank = 0;
+  int Size = 1;
+  AmrForest Forest;
+  MovingObjects Objects;
+  std::vector<int> Owner;               ///< per tree
+  std::vector<std::int64_t> LeafOffset; ///< per tree: first value index if owned, else -1
+  std::vector<std::int32_t> OwnTrees;   ///< in tree order
+  std::vector<double> Scalar;           ///< own leaves
+  std::vector<double> Velocity;         ///< own leaves, 3 per leaf
+  std::vector<double> Level;            ///< own leaves (leaves-only fields are averaged: doubles)
+  std::vector<double> RankField;        ///< own leaves
+  HaloExchange Halo;
+  std::vector<double> RootX, RootY, RootZ;
+  int Step = 0;
+  double Time = 0.0;
+  double Dt = 0.0;
+  int Repartitions = 0;
+};
+
+} // namespace miniamr

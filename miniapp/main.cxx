@@ -1,0 +1,163 @@
+// canopy_miniamr: a miniAMR-style adaptive mesh mini-app that runs Canopy in
+// situ. Objects moving through a periodic unit domain drive refinement, a
+// conservative finite-volume scheme advects a scalar on the leaves, MPI ranks
+// own contiguous ranges of root trees. Every step the simulation hands its own
+// arrays to Canopy through the public API (canopy::InSitu), zero-copy.
+// Run with --help for the options (also in docs/miniapp.md).
+#include "MiniAppOptions.h"
+#include "Simulation.h"
+
+#include <canopy/InSitu.h>
+
+#include <mpi.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace
+{
+
+/// The default pipelines: images of the adaptive surface, a selection of the
+/// blob (scalar above 0.5) and full data extracts, from Canopy's pipelines/.
+std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOptions& o)
+{
+  std::vector<canopy::PipelineScript> scripts;
+  if (!o.pipelines.empty())
+  {
+    for (std::size_t i = 0; i < o.pipelines.size(); ++i)
+      scripts.push_back({o.pipelines[i], o.pipelineArguments[i]});
+    return scripts;
+  }
+  const std::string dir = CANOPY_MINIAPP_PIPELINES_DIR;
+  const std::string every = "--frequency=";
+  scripts.push_back({dir + "/surface_image.py",
+                     {every + std::to_string(o.imageEvery), "--color-by=scalar", "--fields=scalar",
+                      "--image-size=1024x1024", "--show-edges=1", "--pixel-threshold=3"}});
+  scripts.push_back({dir + "/selection_extract.py",
+                     {every + std::to_string(o.selectionEvery), "--selection=range",
+                      "--value-field=scalar", "--value-range=0.5,1e30"}});
+  scripts.push_back({dir + "/data_extracts.py", {every + std::to_string(o.extractEvery)}});
+  return scripts;
+}
+
+double seconds(std::chrono::steady_clock::time_point since)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  MPI_Init(&argc, &argv);
+  int rank = 0;
+  int size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  int status = 0;
+  try
+  {
+    miniamr::MiniAppOptions options;
+    try
+    {
+      options = miniamr::parseOptions(argc, argv);
+    }
+    catch (const std::invalid_argument& error)
+    {
+      if (rank == 0)
+      {
+        if (*error.what())
+          std::cerr << "canopy_miniamr: " << error.what() << "\n\n";
+        std::cerr << miniamr::usage();
+      }
+      MPI_Finalize();
+      return *error.what() ? 2 : 0;
+    }
+
+    miniamr::Simulation simulation(options, MPI_COMM_WORLD);
+    std::unique_ptr<canopy::InSitu> insitu;
+    if (!options.noInSitu)
+    {
+      canopy::InSituOptions insituOptions;
+      insituOptions.scripts = pipelineScripts(options);
+      insituOptions.outputDirectory = options.output;
+      insitu = std::make_unique<canopy::InSitu>(MPI_COMM_WORLD, insituOptions);
+    }
+    const double initialMass = simulation.totalMass();
+    if (rank == 0 && !options.quiet)
+      std::printf("canopy_miniamr: %dD, branch factor %d, %d ranks, %lld leaves, dt %.3g, "
+                  "mass %.15g\n",
+                  options.dimension, options.branchFactor, size,
+                  static_cast<long long>(simulation.globalLeaves()), simulation.timeStep(),
+                  initialMass);
+
+    double canopySeconds = 0;
+    int pipelineFailures = 0;
+    bool untouched = true;
+    double worstMassChange = 0;
+    for (int step = 0; step <= options.steps; ++step)
+    {
+      if (step > 0)
+        simulation.advance();
+      double canopyStep = 0;
+      if (insitu)
+      {
+        const auto start = std::chrono::steady_clock::now();
+        if (insitu->willExecute(simulation.step(), simulation.time()))
+        {
+          const auto forest = simulation.describeForCanopy();
+          const auto before = options.verifyUntouched ? simulation.borrowedArraysChecksum() : 0;
+          const auto report = insitu->execute(simulation.step(), simulation.time(), forest);
+          pipelineFailures += static_cast<int>(report.failures.size());
+          if (options.verifyUntouched && simulation.borrowedArraysChecksum() != before)
+            untouched = false;
+        }
+        canopyStep = seconds(start);
+        canopySeconds += canopyStep;
+      }
+      const double mass = simulation.totalMass();
+      const double change = std::abs(mass - initialMass) / std::abs(initialMass);
+      worstMassChange = std::max(worstMassChange, change);
+      const double imbalance = simulation.imbalance();
+      double slowestCanopy = 0;
+      MPI_Reduce(&canopyStep, &slowestCanopy, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+      if (rank == 0 && !options.quiet)
+        std::printf("step %4d  time %.4f  leaves %8lld  cells %8lld  imbalance %.3f  "
+                    "mass change %.2e  canopy %.1f ms\n",
+                    simulation.step(), simulation.time(),
+                    static_cast<long long>(simulation.globalLeaves()),
+                    static_cast<long long>(simulation.globalNodes()), imbalance, change,
+                    1e3 * slowestCanopy);
+      std::fflush(stdout);
+    }
+    if (insitu)
+      insitu->close();
+    if (!options.dump.empty())
+      simulation.dump(options.dump);
+    int localUntouched = untouched ? 1 : 0;
+    int allUntouched = 0;
+    MPI_Allreduce(&localUntouched, &allUntouched, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (rank == 0)
+    {
+      std::printf("done: %d steps, %lld leaves, worst relative mass change %.2e, "
+                  "%d repartition(s), canopy %.2f s, %d pipeline failure(s)\n",
+                  options.steps, static_cast<long long>(simulation.globalLeaves()), worstMassChange,
+                  simulation.repartitions(), canopySeconds, pipelineFailures);
+      if (options.verifyUntouched)
+        std::printf("simulation arrays untouched by Canopy: %s\n", allUntouched ? "yes" : "NO");
+    }
+    status = allUntouched ? 0 : 1;
+  }
+  catch (const std::exception& error)
+  {
+    std::cerr << "canopy_miniamr (rank " << rank << "): " << error.what() << "\n";
+    status = 1;
+  }
+  MPI_Finalize();
+  return status;
+}
