@@ -51,7 +51,7 @@ Simulation::Simulation(const MiniAppOptions& options, MPI_Comm communicator)
         Scalar[static_cast<std::size_t>(LeafOffset[static_cast<std::size_t>(tree)] + node.leaf)] =
             initialValue(Forest.cellCenter(node.key));
   for (int level = 0; level < Options.maxLevel; ++level)
-    regrid(true);
+    regrid(true, false);
   repartitionIfImbalanced(true);
   Repartitions = 0;
   Dt = computeTimeStep();
@@ -160,12 +160,17 @@ void Simulation::advance()
   Step += 1;
   if (Step % Options.regridEvery == 0)
   {
-    regrid(false);
+    // Gradients refine or coarsen one level per regrid; the objects' surfaces are
+    // refined to the finest level at once (they move faster than one level a step).
+    regrid(false, false);
+    while (regrid(false, true))
+    {
+    }
     repartitionIfImbalanced(false);
   }
 }
 
-std::vector<std::int8_t> Simulation::ownWishes() const
+std::vector<std::int8_t> Simulation::ownWishes(bool objectsOnly) const
 {
   std::vector<std::int8_t> wishes(Scalar.size(), 0);
   std::vector<AmrForest::FaceNeighbour> across;
@@ -183,9 +188,11 @@ std::vector<std::int8_t> Simulation::ownWishes() const
         high[a] += Forest.cellSize(a, node.key.level);
       if (Objects.surfaceCrosses(low, high, objectClock()))
       {
-        wishes[index] = 1;
+        wishes[index] = node.key.level < Options.maxLevel ? 1 : 0;
         continue;
       }
+      if (objectsOnly)
+        continue;
       double jump = 0;
       for (int axis = 0; axis < Options.dimension; ++axis)
         for (int side = -1; side <= 1; side += 2)
@@ -200,10 +207,18 @@ std::vector<std::int8_t> Simulation::ownWishes() const
   return wishes;
 }
 
-void Simulation::regrid(bool initial)
+bool Simulation::regrid(bool initial, bool objectsOnly)
 {
   Halo.exchange(Communicator, Scalar);
-  const auto mine = ownWishes();
+  const auto mine = ownWishes(objectsOnly);
+  if (objectsOnly)
+  {
+    int local = std::any_of(mine.begin(), mine.end(), [](std::int8_t w) { return w > 0; });
+    int any = 0;
+    MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, Communicator);
+    if (!any)
+      return false;
+  }
   // Every rank rebuilds every tree, so every rank needs every wish: owners are
   // contiguous in rank order, so gathering in rank order gives tree order.
   int count = static_cast<int>(mine.size());
@@ -257,6 +272,7 @@ void Simulation::regrid(bool initial)
           Scalar[static_cast<std::size_t>(LeafOffset[static_cast<std::size_t>(tree)] + node.leaf)] =
               initialValue(Forest.cellCenter(node.key));
   }
+  return true;
 }
 
 double Simulation::imbalance() const

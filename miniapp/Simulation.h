@@ -67,8 +67,10 @@ private:
   double valueAcross(const AmrForest::FaceNeighbour& neighbour) const;
   std::array<double, 3> velocityAt(const std::array<double, 3>& x) const;
   double initialValue(const std::array<double, 3>& x) const;
-  std::vector<std::int8_t> ownWishes() const;
-  void regrid(bool initial);
+  std::vector<std::int8_t> ownWishes(bool objectsOnly) const;
+  /// One regrid pass; objectsOnly: refine only where objects' surfaces are, and
+  /// return false (nothing done) when no leaf there is below the finest level.
+  bool regrid(bool initial, bool objectsOnly);
   void repartitionIfImbalanced(bool force);
   void afterTopologyChange();
   double computeTimeStep() const;

@@ -197,14 +197,16 @@ def frame_grid(view, grid, values):
     flat = [axis for axis in range(3) if lengths[axis] == 0.0]
     width, height = image_size(values)
     if flat:
-        # A 2D grid: look along its flat axis with a parallel projection.
+        # A 2D grid: look along its flat axis with a parallel projection, from the
+        # side that keeps the in-plane axes right-handed on screen (x right, y up
+        # for XY, x right and z up for XZ, z right and y up for YZ).
         normal = flat[0]
         up_axis = 1 if normal != 1 else 2
         across = [axis for axis in range(3) if axis not in (normal, up_axis)][0]
         view.CameraParallelProjection = 1
         view.CameraFocalPoint = center
         position = list(center)
-        position[normal] += max(lengths) + 1.0
+        position[normal] += (max(lengths) + 1.0) * (1.0 if normal == 2 else -1.0)
         view.CameraPosition = position
         up = [0.0, 0.0, 0.0]
         up[up_axis] = 1.0
@@ -240,7 +242,9 @@ def color_by(display, view, grid, field):
 def collective(function):
     """Decorates catalyst_execute so that an exception on some ranks is raised on
     all of them before anything collective (rendering, parallel writers) starts:
-    otherwise the ranks that did not fail would wait forever for the others."""
+    otherwise the ranks that did not fail would wait forever for the others.
+    The decorated function itself must not make collective calls (frame_grid,
+    color_by, GetDataInformation, ...): a rank that raised would not be there."""
     import functools
 
     @functools.wraps(function)

@@ -54,8 +54,8 @@ def RequestDataDescription(datadescription):
     canopy.request_fields(datadescription, settings, extra=[settings.color_by])
 
 
-@canopy.collective
 def catalyst_execute(info):
+    # frame_grid and color_by agree over ranks (collectives): every rank calls them.
     canopy.frame_grid(view, grid, settings)
     canopy.follow_view(surface, view)
     canopy.color_by(display, view, grid, settings.color_by)

@@ -8,7 +8,7 @@ build="${1:-$here/build}"
 packages=(
   cmake g++ make pkg-config
   paraview-dev python3-paraview libopenmpi-dev openmpi-bin
-  xvfb xauth libgl1-mesa-dri libgtest-dev libbenchmark-dev
+  xvfb xauth x11-utils libgl1-mesa-dri libgtest-dev libbenchmark-dev
   libfreetype-dev libglew-dev libx11-dev libxt-dev libxml2-dev libnetcdf-dev
   libhdf5-openmpi-dev libboost-dev liblz4-dev libdouble-conversion-dev libutfcpp-dev
   libexpat1-dev liblzma-dev libpng-dev libjpeg-dev libtiff-dev zlib1g-dev libgl-dev

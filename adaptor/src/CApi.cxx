@@ -6,6 +6,7 @@
 #include "canopy/InSitu.h"
 
 #include <memory>
+#include <new>
 #include <string>
 
 struct canopy_options
@@ -32,6 +33,21 @@ int failWith(int status, std::string message)
 {
   lastError = std::move(message);
   return status;
+}
+
+/// Runs an allocating step; false if it threw (no exception may reach C).
+template <typename Step>
+bool withoutThrowing(Step step)
+{
+  try
+  {
+    step();
+    return true;
+  }
+  catch (...)
+  {
+    return false;
+  }
 }
 
 int succeed()
@@ -130,7 +146,10 @@ extern "C"
       return failWith(CANOPY_INVALID_ARGUMENT,
                       "canopy_options_add_script: NULL options or empty script path");
     }
-    options->options.scripts.push_back({path, {}});
+    if (!withoutThrowing([&] { options->options.scripts.push_back({path, {}}); }))
+    {
+      return failWith(CANOPY_INVALID_ARGUMENT, "canopy_options_add_script: out of memory");
+    }
     return succeed();
   }
 
@@ -146,7 +165,10 @@ extern "C"
       return failWith(CANOPY_INVALID_ARGUMENT,
                       "canopy_options_add_script_argument: add a script first");
     }
-    options->options.scripts.back().arguments.emplace_back(argument);
+    if (!withoutThrowing([&] { options->options.scripts.back().arguments.emplace_back(argument); }))
+    {
+      return failWith(CANOPY_INVALID_ARGUMENT, "canopy_options_add_script_argument: out of memory");
+    }
     return succeed();
   }
 
@@ -229,8 +251,15 @@ extern "C"
     {
       return failWith(CANOPY_INVALID_ARGUMENT, "canopy_forest_add_tree: the forest handle is NULL");
     }
-    forest->description.trees.push_back(
-        {root_index, refinement, number_of_nodes, masked, storage_slots});
+    if (!withoutThrowing(
+            [&]
+            {
+              forest->description.trees.push_back(
+                  {root_index, refinement, number_of_nodes, masked, storage_slots});
+            }))
+    {
+      return failWith(CANOPY_INVALID_ARGUMENT, "canopy_forest_add_tree: out of memory");
+    }
     return succeed();
   }
 
@@ -257,7 +286,10 @@ extern "C"
       field.layout = canopy::Layout::Strided;
       field.tupleStrideBytes = tuple_stride_bytes;
     }
-    forest->description.fields.push_back(std::move(field));
+    if (!withoutThrowing([&] { forest->description.fields.push_back(std::move(field)); }))
+    {
+      return failWith(CANOPY_INVALID_ARGUMENT, "canopy_forest_add_field: out of memory");
+    }
     return succeed();
   }
 
@@ -279,7 +311,10 @@ extern "C"
     field.layout = canopy::Layout::SoA;
     field.componentData.assign(component_data, component_data + components);
     field.numberOfTuples = number_of_tuples;
-    forest->description.fields.push_back(std::move(field));
+    if (!withoutThrowing([&] { forest->description.fields.push_back(std::move(field)); }))
+    {
+      return failWith(CANOPY_INVALID_ARGUMENT, "canopy_forest_add_field_soa: out of memory");
+    }
     return succeed();
   }
 
@@ -310,32 +345,64 @@ extern "C"
 
   int canopy_will_execute(canopy_insitu* insitu, int64_t step, double time, int* will_execute)
   {
-    if (insitu == nullptr || will_execute == nullptr)
+    if (insitu == nullptr)
     {
-      return failWith(CANOPY_INVALID_ARGUMENT,
-                      "canopy_will_execute: NULL handle or NULL result pointer");
+      return failWith(CANOPY_INVALID_ARGUMENT, "canopy_will_execute: NULL handle");
     }
-    *will_execute = insitu->driver->willExecute(step, time) ? 1 : 0;
-    return succeed();
+    try
+    {
+      // Collective: asked even when the result pointer is NULL, so that the
+      // other ranks are not left waiting.
+      const bool will = insitu->driver->willExecute(step, time);
+      if (will_execute == nullptr)
+      {
+        return failWith(CANOPY_INVALID_ARGUMENT, "canopy_will_execute: NULL result pointer");
+      }
+      *will_execute = will ? 1 : 0;
+      return succeed();
+    }
+    catch (const std::exception& error)
+    {
+      return failWith(CANOPY_STEP_FAILED, std::string("canopy_will_execute: ") + error.what());
+    }
+    catch (...)
+    {
+      return failWith(CANOPY_STEP_FAILED, "canopy_will_execute: unknown error");
+    }
   }
 
   int canopy_execute(canopy_insitu* insitu, int64_t step, double time, const canopy_forest* forest)
   {
-    if (insitu == nullptr || forest == nullptr)
+    if (insitu == nullptr)
     {
-      return failWith(CANOPY_INVALID_ARGUMENT, "canopy_execute: NULL handle or NULL forest");
+      return failWith(CANOPY_INVALID_ARGUMENT, "canopy_execute: NULL handle");
     }
-    const auto report = insitu->driver->execute(step, time, forest->description);
-    if (!report.failures.empty())
+    try
     {
-      std::string message;
+      // Collective: a NULL forest still takes part (as an empty, invalid one) so
+      // that every rank skips the step together.
+      static const canopy::ForestDescription nothing{};
+      const auto report =
+          insitu->driver->execute(step, time, forest ? forest->description : nothing);
+      std::string message = forest ? "" : "canopy_execute: NULL forest on this rank";
       for (const auto& failure : report.failures)
       {
         message += (message.empty() ? "" : "\n") + failure;
       }
-      return failWith(CANOPY_STEP_FAILED, message);
+      if (forest == nullptr)
+      {
+        return failWith(CANOPY_INVALID_ARGUMENT, message);
+      }
+      return report.failures.empty() ? succeed() : failWith(CANOPY_STEP_FAILED, message);
     }
-    return succeed();
+    catch (const std::exception& error)
+    {
+      return failWith(CANOPY_STEP_FAILED, std::string("canopy_execute: ") + error.what());
+    }
+    catch (...)
+    {
+      return failWith(CANOPY_STEP_FAILED, "canopy_execute: unknown error");
+    }
   }
 
   int canopy_close(canopy_insitu** insitu)
@@ -344,10 +411,18 @@ extern "C"
     {
       return failWith(CANOPY_INVALID_ARGUMENT, "canopy_close: NULL handle");
     }
-    (*insitu)->driver->close();
+    int status = CANOPY_OK;
+    try
+    {
+      (*insitu)->driver->close();
+    }
+    catch (...)
+    {
+      status = failWith(CANOPY_STEP_FAILED, "canopy_close: error while finalizing Catalyst");
+    }
     delete *insitu;
     *insitu = nullptr;
-    return succeed();
+    return status == CANOPY_OK ? succeed() : status;
   }
 
 } // extern "C"

@@ -30,10 +30,9 @@ CatalystScript::Request CatalystScript::request(std::int64_t step, double time, 
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
   input->GenerateMeshOff();
   input->AllFieldsOff();
-  if (this->ImportFailed)
+  if (this->Disabled)
   {
-    error = "the script '" + this->Path + "' failed to import earlier";
-    return Request::Failed;
+    return Request::NotDue;
   }
   if (!this->Imported)
   {
@@ -41,6 +40,14 @@ CatalystScript::Request CatalystScript::request(std::int64_t step, double time, 
     input->GenerateMeshOn();
     return Request::Due;
   }
+  return this->requestAfterImport(error);
+}
+
+CatalystScript::Request CatalystScript::requestAfterImport(std::string& error)
+{
+  auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
+  input->GenerateMeshOff();
+  input->AllFieldsOff();
   if (!this->Helper->RequestDataDescription(this->Description))
   {
     error = "Python error in RequestDataDescription of '" + this->Path + "'";
@@ -66,49 +73,40 @@ std::vector<std::string> CatalystScript::neededFields() const
   return names;
 }
 
-CatalystScript::Outcome CatalystScript::execute(vtkDataObject* grid, std::string& error)
+bool CatalystScript::import(vtkDataObject* grid, std::string& error)
+{
+  // As ParaView's V2 pipeline does: import with the grid present, so that the
+  // script's module-level code can build its pipeline on real data.
+  auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
+  input->SetGrid(grid);
+  const bool ok = this->Helper->Import(this->Description) &&
+                  this->Helper->CatalystInitialize(this->Description);
+  input->SetGrid(nullptr);
+  this->Imported = ok;
+  if (!ok)
+  {
+    error = "the script '" + this->Path + "' failed to import (Python message above)";
+  }
+  return ok;
+}
+
+bool CatalystScript::run(vtkDataObject* grid, std::string& error)
 {
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
   input->SetGrid(grid);
-  Outcome outcome = Outcome::Ran;
-  if (!this->Imported)
-  {
-    // The first run imports the script with the grid present, as ParaView's
-    // V2 pipeline does, then asks it whether it is due at all.
-    if (!this->Helper->Import(this->Description) ||
-        !this->Helper->CatalystInitialize(this->Description))
-    {
-      this->ImportFailed = true;
-      error = "the script '" + this->Path + "' failed to import (Python message above)";
-      input->SetGrid(nullptr);
-      return Outcome::Failed;
-    }
-    this->Imported = true;
-    input->GenerateMeshOff();
-    input->AllFieldsOff();
-    if (!this->Helper->RequestDataDescription(this->Description))
-    {
-      error = "Python error in RequestDataDescription of '" + this->Path + "'";
-      outcome = Outcome::Failed;
-    }
-    else if (!this->Description->GetIfAnyGridNecessary())
-    {
-      outcome = Outcome::NotDue;
-    }
-  }
-  if (outcome == Outcome::Ran && !this->Helper->CatalystExecute(this->Description))
+  const bool ok = this->Helper->CatalystExecute(this->Description);
+  // Do not keep the simulation's memory referenced from the description.
+  input->SetGrid(nullptr);
+  if (!ok)
   {
     error = "the script '" + this->Path + "' raised an error (Python message above)";
-    outcome = Outcome::Failed;
   }
-  // Do not keep the simulation's memory referenced between steps.
-  input->SetGrid(nullptr);
-  return outcome;
+  return ok;
 }
 
 void CatalystScript::finalize()
 {
-  if (this->Imported)
+  if (this->Imported && !this->Disabled)
   {
     this->Helper->CatalystFinalize();
   }

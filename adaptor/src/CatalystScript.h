@@ -35,26 +35,29 @@ public:
     Failed
   };
 
-  /// Whether the script runs at this step. Before the first run the script has
+  /// Whether the script runs at this step. Before its first run the script has
   /// not been imported (ParaView imports V2 scripts with data present), so it is
-  /// due, with every field. On Failed, `error` says why.
+  /// due, with every field. A disabled script is never due. On Failed, `error`
+  /// says why.
   Request request(std::int64_t step, double time, std::string& error);
 
-  /// Fields the script asked for at the last request(): `all` or the listed names.
+  /// Fields the script asked for at the last request: `all` or the listed names.
   bool needsAllFields() const;
   std::vector<std::string> neededFields() const;
 
-  enum class Outcome
-  {
-    Ran,
-    NotDue, ///< only on the first run: imported, then found not due at this step
-    Failed
-  };
+  bool imported() const { return Imported; }
+  /// Imports the script with `grid` present and runs its catalyst_initialize.
+  bool import(vtkDataObject* grid, std::string& error);
+  /// Right after import: asks the script itself whether it is due at this step.
+  Request requestAfterImport(std::string& error);
+  /// Runs the script on `grid` (catalyst_execute, then its extractors).
+  bool run(vtkDataObject* grid, std::string& error);
 
-  /// Imports the script if needed and runs it on `grid`. Never throws.
-  Outcome execute(vtkDataObject* grid, std::string& error);
+  /// Never runs again, nor is finalized (used when its import failed on some rank).
+  void disable() { Disabled = true; }
+  bool disabled() const { return Disabled; }
 
-  /// Runs the script's catalyst_finalize (if it was imported).
+  /// Runs the script's catalyst_finalize (if it was imported and is not disabled).
   void finalize();
 
   const std::string& path() const { return Path; }
@@ -65,7 +68,7 @@ private:
   vtkNew<vtkCPPythonScriptV2Helper> Helper;
   vtkNew<vtkCPDataDescription> Description;
   bool Imported = false;
-  bool ImportFailed = false;
+  bool Disabled = false;
 };
 
 } // namespace canopy

@@ -30,11 +30,12 @@ namespace canopy
 namespace
 {
 
-/// A Python string literal for any text (paths, arguments).
+/// A Python expression for any text (paths, arguments): a bytes literal decoded
+/// as UTF-8, so non-ASCII text arrives intact.
 std::string pythonLiteral(const std::string& text)
 {
   std::ostringstream out;
-  out << '"';
+  out << "b\"";
   for (unsigned char c : text)
   {
     if (c == '\\' || c == '"')
@@ -51,7 +52,7 @@ std::string pythonLiteral(const std::string& text)
       out << c;
     }
   }
-  out << '"';
+  out << "\".decode(\"utf-8\", \"surrogateescape\")";
   return out.str();
 }
 
@@ -83,6 +84,9 @@ std::string outputDirectoryProblem(const std::string& directory)
 
 /// Only one driver may be open per process: ParaView's Catalyst state is global.
 bool driverOpen = false;
+/// ParaView 5.11's Catalyst cannot be initialized again once finalized (the
+/// second vtkCPProcessor::Initialize aborts the process).
+bool catalystStarted = false;
 
 } // namespace
 
@@ -149,7 +153,12 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   std::vector<std::string> problems;
   if (driverOpen)
   {
-    problems.push_back("another canopy::InSitu is open in this process (close it first)");
+    problems.push_back("another canopy::InSitu is open in this process");
+  }
+  else if (catalystStarted)
+  {
+    problems.push_back("Catalyst was already started and finalized in this process; ParaView "
+                       "5.11 cannot start it again (open one canopy::InSitu per run)");
   }
   if (this->Options.scripts.empty())
   {
@@ -163,12 +172,27 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   {
     problems.push_back("the output directory is empty");
   }
+  // Absolute paths: ParaView imports scripts lazily, and the simulation may
+  // change its working directory after open.
+  std::error_code ignoredError;
+  for (auto& script : this->Options.scripts)
+  {
+    script.path = std::filesystem::absolute(script.path, ignoredError).lexically_normal().string();
+  }
+  this->Options.outputDirectory =
+      std::filesystem::absolute(this->Options.outputDirectory, ignoredError).string();
+  std::set<std::string> seen;
   for (const auto& script : this->Options.scripts)
   {
     std::string why;
     if (!scriptReadable(script.path, why))
     {
       problems.push_back("pipeline script '" + script.path + "': " + why);
+    }
+    if (!seen.insert(script.path).second)
+    {
+      problems.push_back("pipeline script '" + script.path +
+                         "' is given twice (copy it to run it with other arguments)");
     }
   }
   const auto optionFailures = gatherFailures(this->Communicator, joined(problems, "; "));
@@ -189,11 +213,22 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   int everyDisplay = 0;
   MPI_Allreduce(&localDisplay, &everyDisplay, 1, MPI_INT, MPI_MIN, this->Communicator);
   this->CanRender = everyDisplay == 1;
+  // Rank 0 decides which scripts render, so that every rank keeps the same list.
+  std::vector<int> renders(this->Options.scripts.size(), 0);
+  if (this->Rank == 0)
+  {
+    for (std::size_t i = 0; i < renders.size(); ++i)
+    {
+      renders[i] = scriptRenders(this->Options.scripts[i].path) ? 1 : 0;
+    }
+  }
+  MPI_Bcast(renders.data(), static_cast<int>(renders.size()), MPI_INT, 0, this->Communicator);
   std::vector<PipelineScript> kept;
   std::vector<std::string> skipped;
-  for (const auto& script : this->Options.scripts)
+  for (std::size_t i = 0; i < renders.size(); ++i)
   {
-    if (!this->CanRender && scriptRenders(script.path))
+    const auto& script = this->Options.scripts[i];
+    if (!this->CanRender && renders[i])
     {
       skipped.push_back(script.path);
     }
@@ -218,6 +253,7 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   std::error_code ignored;
   std::filesystem::create_directories(this->Options.outputDirectory, ignored);
 
+  catalystStarted = true;
   this->Processor = vtkSmartPointer<vtkCPProcessor>::New();
   vtkMPICommunicatorOpaqueComm opaque(&this->Communicator);
   int started = this->Processor->Initialize(opaque);
@@ -464,24 +500,57 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
     return finish();
   }
 
+  // Each phase that can fail on some ranks only (import, the script's own
+  // request, the run) ends in an agreement, so no rank enters a script's
+  // collectives alone.
+  auto agree = [&](const std::string& localError)
+  {
+    auto failures =
+        gatherFailures(this->Communicator, localError.empty() ? "" : stepText + localError);
+    this->logFailures(failures);
+    report.failures.insert(report.failures.end(), failures.begin(), failures.end());
+    return failures.empty();
+  };
   for (std::size_t i = 0; i < this->Scripts.size(); ++i)
   {
     if (!requests.due[i])
     {
       continue;
     }
+    auto& script = *this->Scripts[i];
     std::string error;
-    const auto outcome = this->Scripts[i]->execute(grid, error);
-    const auto scriptFailures = gatherFailures(
-        this->Communicator, outcome == CatalystScript::Outcome::Failed ? stepText + error : "");
-    if (!scriptFailures.empty())
+    if (!script.imported())
     {
-      this->logFailures(scriptFailures);
-      report.failures.insert(report.failures.end(), scriptFailures.begin(), scriptFailures.end());
+      const bool imported = script.import(grid, error);
+      if (!agree(imported ? "" : error + "; the script is disabled"))
+      {
+        script.disable(); // on every rank, also where the import worked
+        continue;
+      }
+      const auto state = script.requestAfterImport(error);
+      const int local = state == CatalystScript::Request::Failed ? 2
+                        : state == CatalystScript::Request::Due  ? 1
+                                                                 : 0;
+      const auto agreed = agreeOnStates(this->Communicator, {local});
+      if (agreed.maximum[0] == 2)
+      {
+        agree(local == 2 ? error : "");
+        continue;
+      }
+      if (agreed.minimum[0] != agreed.maximum[0])
+      {
+        agree(this->Rank == 0 ? "ranks disagree whether '" + script.path() + "' runs; skipped"
+                              : "");
+        continue;
+      }
+      if (agreed.maximum[0] == 0)
+      {
+        continue; // imported, and not due at this step
+      }
     }
-    else if (outcome == CatalystScript::Outcome::Ran)
+    if (agree(script.run(grid, error) ? "" : error))
     {
-      report.pipelinesRun.push_back(this->Scripts[i]->path());
+      report.pipelinesRun.push_back(script.path());
     }
   }
   return finish();

@@ -1,5 +1,7 @@
 #include "ScriptInspection.h"
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -23,8 +25,10 @@ Verdict inspectSource(const std::string& text)
   std::smatch match;
   if (std::regex_search(text, match, overrideLine))
   {
-    return (match[1].str() == "no" || match[1].str() == "NO") ? Verdict::DoesNotRender
-                                                              : Verdict::Renders;
+    std::string answer = match[1].str();
+    std::transform(answer.begin(), answer.end(), answer.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return answer == "no" ? Verdict::DoesNotRender : Verdict::Renders;
   }
   static const std::regex renderingCall(
       R"((CreateView|GetActiveViewOrCreate|CreateRenderView|SaveScreenshot|render_view)\s*\()"
@@ -49,8 +53,10 @@ bool scriptRenders(const std::string& path)
   if (fs::is_directory(path, error))
   {
     bool renders = false;
-    for (const auto& entry : fs::recursive_directory_iterator(path, error))
+    for (fs::recursive_directory_iterator it(path, error), end; !error && it != end;
+         it.increment(error))
     {
+      const auto& entry = *it;
       if (entry.path().extension() == ".py")
       {
         const Verdict verdict = inspectSource(readText(entry.path()));

@@ -56,12 +56,12 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-/// What one execute() call did. Identical on every rank.
+/// What one execute() call did. Identical on every rank but for localCells and seconds.
 struct StepReport
 {
   bool executed = false;                 ///< some pipeline ran (successfully or not)
   std::vector<std::string> pipelinesRun; ///< scripts that completed this step
-  std::vector<std::string> failures;     ///< "rank R step S: message", every rank's
+  std::vector<std::string> failures;     ///< "rank R, step S: message", every rank's
   std::int64_t localCells = 0;           ///< cells of this rank's grid (0 when not built)
   double seconds = 0.0;                  ///< wall time of the call on this rank
 };
@@ -70,14 +70,17 @@ class InSitu
 {
 public:
   /// Open: starts Catalyst on `communicator` (duplicated; the caller keeps its own)
-  /// and prepares every script. Collective.
+  /// and prepares every script (paths made absolute; a script may appear once).
+  /// Collective. Once per process: ParaView 5.11's Catalyst cannot be restarted
+  /// after close, so a second InSitu throws InSituError.
   InSitu(MPI_Comm communicator, InSituOptions options);
   /// Closes if still open.
   ~InSitu();
   InSitu(const InSitu&) = delete;
   InSitu& operator=(const InSitu&) = delete;
 
-  /// Whether any pipeline runs at this step; when false, execute() for the same
+  /// Whether any pipeline runs at this step (or a script's RequestDataDescription
+  /// failed, which execute() then reports); when false, execute() for the same
   /// step and time returns at once, and the simulation may skip preparing its
   /// forest. Collective, cheap (no grid is built).
   bool willExecute(std::int64_t step, double time);

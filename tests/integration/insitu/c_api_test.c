@@ -159,9 +159,20 @@ int main(int argc, char** argv)
   CHECK(strstr(canopy_last_error(), "rank 0, step 4: invalid forest") != NULL,
         "naming rank and step");
   CHECK(canopy_execute(NULL, 5, 2.5, forest) == CANOPY_INVALID_ARGUMENT, "NULL handle refused");
+  /* A NULL forest on the last rank: every rank still takes part and skips the step. */
+  const int status = canopy_execute(insitu, 6, 3.0, rank == size - 1 ? NULL : forest);
+  CHECK(status == (rank == size - 1 ? CANOPY_INVALID_ARGUMENT : CANOPY_STEP_FAILED),
+        "a NULL forest fails the step on every rank, without a hang");
 
   CHECK(checksum(density, 6) == before, "the simulation's arrays are unchanged");
   CHECK(canopy_close(&insitu) == CANOPY_OK && insitu == NULL, "close");
+  /* ParaView 5.11's Catalyst cannot start twice in a process: a clear error. */
+  canopy_options* again = canopy_options_create();
+  canopy_options_add_script(again, argv[1]);
+  CHECK(canopy_open(MPI_COMM_WORLD, again, &insitu) == CANOPY_OPEN_FAILED && insitu == NULL,
+        "a second open is refused");
+  CHECK(strstr(canopy_last_error(), "cannot start it again") != NULL, "saying why");
+  canopy_options_destroy(again);
   canopy_forest_destroy(forest);
   MPI_Finalize();
   return failures == 0 ? 0 : 1;

@@ -309,6 +309,25 @@ def check_python_error_one_rank(code, log):
     expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
 
 
+def check_import_error_one_rank(code, log):
+    """The script fails to import on rank 1 only: no rank runs it alone (the test
+    would time out), the failure is reported once, the script is disabled."""
+    expect(code == 0, "the simulation exits normally")
+    expect(len(re.findall(r"failure: rank 1, step 0: the script .*marker_script.py' failed to "
+                          r"import .*; the script is disabled", log)) == 1,
+           "rank 1's import failure is reported once, at step 0")
+    expect(steps_ran(log) == [], "the script never runs (%s)" % steps_ran(log))
+    expect(not glob.glob(path("ran_*.txt")) and not glob.glob(path("grid_*")),
+           "no rank ran it: no outputs")
+    expect(not os.path.exists(path("finalized.txt")), "a disabled script is not finalized")
+
+
+def check_duplicate_script(code, log):
+    expect(code == 2, "open fails (exit code %d)" % code)
+    expect(re.search(r"marker_script.py' is given twice", log) is not None,
+           "the error names the script given twice")
+
+
 def check_no_display(code, log):
     """No X display: the image pipeline is skipped with one message, the
     selection extract is still written."""

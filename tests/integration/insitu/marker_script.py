@@ -1,22 +1,28 @@
 # script-version: 2
 """Test pipeline: records each step it runs (ran_<step>.txt and an .htg extract
 of the grid), raises at the steps in --fail-steps on the ranks in --fail-ranks
-(all, or a rank number), and writes finalized.txt from catalyst_finalize."""
+(all, or a rank number), raises at import on --fail-import-rank, and writes
+finalized.txt from catalyst_finalize."""
 import os
 
 import canopy_catalyst as canopy
 from paraview.simple import PassArrays
 
-settings = canopy.settings(fail_steps="", fail_ranks="all")
+
+def my_rank():
+    from paraview.modules.vtkRemotingCore import vtkProcessModule
+    return vtkProcessModule.GetProcessModule().GetPartitionId()
+
+
+settings = canopy.settings(fail_steps="", fail_ranks="all", fail_import_rank=-1)
+if settings.fail_import_rank == my_rank():
+    raise RuntimeError("failing on purpose at import on rank %d" % my_rank())
 options = canopy.catalyst_options(settings)
 grid = canopy.simulation_grid(settings)
 canopy.data_extractor("HTG", PassArrays(Input=grid), "grid_htg", "grid_{timestep:06d}.phtg",
                       settings)
 
 
-def my_rank():
-    from paraview.modules.vtkRemotingCore import vtkProcessModule
-    return vtkProcessModule.GetProcessModule().GetPartitionId()
 
 
 @canopy.collective
