@@ -1,4 +1,4 @@
-// README's main job until the mini-app exists: build a synthetic AMR forest
+// A stand-in simulation for benchmarks and file tests: build a synthetic AMR forest
 // through Canopy's public API and write it as a .htg file ParaView opens.
 //
 // Usage: canopy_write_synthetic_forest [--output DIR] [--dimension 2|3]

@@ -1,4 +1,4 @@
-// The synthetic forest of README's main job, written by tools/HtgFileWriter and
+// The synthetic forest (the benchmarks' load), written by tools/HtgFileWriter and
 // read back with the reader ParaView uses, is the same grid: every node that a
 // cursor can reach has the same topology, mask and field values (vectors come
 // back as one scalar array per component, see HtgFileWriter.h for why).

@@ -1,6 +1,6 @@
-"""README's main job writes a .htg file that ParaView opens with the right content.
+"""The synthetic-forest tool writes a .htg file that ParaView opens with the right content.
 
-Run with pvpython: main_job_opens_in_paraview.py <canopy_write_synthetic_forest> <work dir>
+Run with pvpython: synthetic_forest_opens_in_paraview.py <canopy_write_synthetic_forest> <work dir>
 """
 import os
 import re
@@ -11,7 +11,7 @@ from paraview import servermanager
 from paraview.simple import OpenDataFile
 
 
-def run_main_job(tool, output, *extra):
+def run_tool(tool, output, *extra):
     result = subprocess.run([tool, "--output", output, *extra], capture_output=True, text=True,
                             check=True)
     match = re.search(r"(\d+) cells \((\d+) leaves\)", result.stdout)
@@ -40,10 +40,10 @@ def main():
 
     # Without the cut-away every cell is in the file.
     full_dir = os.path.join(work, "full")
-    cells, leaves = run_main_job(tool, full_dir, "--levels", str(levels), "--no-cutaway")
+    cells, leaves = run_tool(tool, full_dir, "--levels", str(levels), "--no-cutaway")
     data = open_in_paraview(os.path.join(full_dir, "synthetic_forest.htg"))
     check(data.GetNumberOfCells() == cells,
-          "ParaView sees %d cells, the main job built %d" % (data.GetNumberOfCells(), cells))
+          "ParaView sees %d cells, the tool built %d" % (data.GetNumberOfCells(), cells))
     check(not data.HasMask(), "no mask expected without the cut-away")
     cd = data.GetCellData()
     names = sorted(cd.GetArrayName(i) for i in range(cd.GetNumberOfArrays()))
@@ -58,13 +58,13 @@ def main():
 
     # With the cut-away, masked subtrees are pruned from the file.
     cut_dir = os.path.join(work, "cutaway")
-    cut_cells, _ = run_main_job(tool, cut_dir, "--levels", str(levels))
+    cut_cells, _ = run_tool(tool, cut_dir, "--levels", str(levels))
     check(cut_cells == cells, "the cut-away must not change the forest")
     data = open_in_paraview(os.path.join(cut_dir, "synthetic_forest.htg"))
     check(data.HasMask(), "the cut-away is a mask")
     check(0 < data.GetNumberOfCells() < cells,
           "masked subtrees pruned: %d of %d" % (data.GetNumberOfCells(), cells))
-    print("main job output opens in ParaView: %d cells, %d with the cut-away"
+    print("the synthetic forest opens in ParaView: %d cells, %d with the cut-away"
           % (cells, data.GetNumberOfCells()))
 
 
