@@ -166,6 +166,16 @@ void AmrForest::faceNeighbours(const NodeKey& key, int axis, int side,
   }
 }
 
+std::array<double, 3> AmrForest::faceCenter(const FaceNeighbour& neighbour, int axis) const
+{
+  auto center = cellCenter(neighbour.finer);
+  const std::int64_t extent = cellsAcross(axis, neighbour.finer.level);
+  const std::int64_t face =
+      (neighbour.finer.position[axis] + (neighbour.finerSide > 0 ? 1 : 0)) % extent;
+  center[axis] = static_cast<double>(face) / static_cast<double>(extent);
+  return center;
+}
+
 void AmrForest::finish(Tree& tree) const
 {
   tree.refinement.resize(tree.nodes.size());

@@ -102,6 +102,11 @@ public:
   void faceNeighbours(const NodeKey& key, int axis, int side,
                       std::vector<FaceNeighbour>& out) const;
 
+  /// The center of a face between two leaves, from the finer one: the same from
+  /// both sides to the last bit (the coordinate along the axis comes from an
+  /// integer face index, wrapped at the periodic boundary).
+  std::array<double, 3> faceCenter(const FaceNeighbour& neighbour, int axis) const;
+
   /// Rebuilds every tree from per-leaf wishes (tree by tree, leaves breadth-first):
   /// +1 refine (below maxLevel), -1 may coarsen (a family coarsens when all its
   /// children are leaves that may), 0 keep. `onTree(t, oldTree, newTree)` is called

@@ -20,23 +20,33 @@ std::vector<double> numbers(const std::string& text, const std::string& option)
     {
       std::size_t used = 0;
       values.push_back(std::stod(item, &used));
-      if (used != item.size())
+      if (used != item.size() || !std::isfinite(values.back()))
         throw std::invalid_argument(item);
     }
     catch (const std::exception&)
     {
-      throw std::invalid_argument(option + ": '" + item + "' is not a number");
+      throw std::invalid_argument(option + ": '" + item + "' is not a finite number");
     }
   }
   return values;
 }
 
-int integer(const std::string& text, const std::string& option)
+/// Exactly one finite number.
+double single(const std::string& text, const std::string& option)
 {
   const auto values = numbers(text, option);
-  if (values.size() != 1 || values[0] != std::floor(values[0]))
+  if (values.size() != 1 || !std::isfinite(values[0]))
+    throw std::invalid_argument(option + " needs one finite number, not '" + text + "'");
+  return values[0];
+}
+
+/// Exactly one integer that fits an int.
+int integer(const std::string& text, const std::string& option)
+{
+  const double value = single(text, option);
+  if (value != std::floor(value) || std::abs(value) > 1e9)
     throw std::invalid_argument(option + " needs an integer, not '" + text + "'");
-  return static_cast<int>(values[0]);
+  return static_cast<int>(value);
 }
 
 MovingObject parseObject(const std::string& text, int dimension)
@@ -112,22 +122,25 @@ MiniAppOptions parseOptions(int argc, char** argv)
     else if (key == "--roots")
     {
       const auto v = numbers(value(), key);
+      if (v.empty() || v.size() > 3)
+        throw std::invalid_argument("--roots N or NX,NY[,NZ]");
+      for (double n : v)
+        if (n != std::floor(n) || n < 1 || n > 65536)
+          throw std::invalid_argument("--roots: each count must be an integer in 1..65536");
       if (v.size() == 1)
         o.roots = {{static_cast<int>(v[0]), static_cast<int>(v[0]), static_cast<int>(v[0])}};
-      else if (v.size() == 2 || v.size() == 3)
+      else
         o.roots = {{static_cast<int>(v[0]), static_cast<int>(v[1]),
                     static_cast<int>(v.size() == 3 ? v[2] : 1)}};
-      else
-        throw std::invalid_argument("--roots N or NX,NY[,NZ]");
     }
     else if (key == "--max-level")
       o.maxLevel = integer(value(), key);
     else if (key == "--steps")
       o.steps = integer(value(), key);
     else if (key == "--cfl")
-      o.cfl = numbers(value(), key).at(0);
+      o.cfl = single(value(), key);
     else if (key == "--diffusion")
-      o.diffusion = numbers(value(), key).at(0);
+      o.diffusion = single(value(), key);
     else if (key == "--velocity")
     {
       o.velocity = value();
@@ -142,13 +155,13 @@ MiniAppOptions parseOptions(int argc, char** argv)
         throw std::invalid_argument("--velocity swirl or uniform:vx,vy[,vz]");
     }
     else if (key == "--refine-gradient")
-      o.refineGradient = numbers(value(), key).at(0);
+      o.refineGradient = single(value(), key);
     else if (key == "--coarsen-gradient")
-      o.coarsenGradient = numbers(value(), key).at(0);
+      o.coarsenGradient = single(value(), key);
     else if (key == "--regrid-every")
       o.regridEvery = integer(value(), key);
     else if (key == "--repartition-imbalance")
-      o.repartitionImbalance = numbers(value(), key).at(0);
+      o.repartitionImbalance = single(value(), key);
     else if (key == "--object")
       objectTexts.push_back(value());
     else if (key == "--pipeline")
@@ -188,19 +201,23 @@ MiniAppOptions parseOptions(int argc, char** argv)
   for (int a = 0; a < o.dimension; ++a)
     if (o.roots[a] < 1)
       throw std::invalid_argument("--roots must be at least 1 per axis");
+  if (!(o.repartitionImbalance >= 1))
+    throw std::invalid_argument("--repartition-imbalance must be >= 1");
   if (o.maxLevel < 0 || o.steps < 0 || o.regridEvery < 1 || o.imageEvery < 1 ||
       o.selectionEvery < 1 || o.extractEvery < 1)
     throw std::invalid_argument("--max-level/--steps must be >= 0, the *-every options >= 1");
-  // Node positions are kept in 64-bit integers; keep finest cells countable in 31 bits.
+  // Every rank holds the whole forest's topology: keep the finest level's cells
+  // per axis at most 2^20 (a fully refined forest would not fit anyway).
   double finest = 1;
-  for (int l = 0; l < o.maxLevel; ++l)
+  for (int l = 0; l < o.maxLevel && finest <= 1e12; ++l)
     finest *= o.branchFactor;
   for (int a = 0; a < o.dimension; ++a)
-    if (finest * o.roots[a] > 2147483647.0)
-      throw std::invalid_argument("--max-level too deep for these roots");
-  if (o.cfl <= 0 || o.cfl > 1)
+    if (finest * o.roots[a] > 1048576.0)
+      throw std::invalid_argument("--max-level: at most 2^20 finest cells per axis "
+                                  "(roots x branch factor^max level)");
+  if (!(o.cfl > 0 && o.cfl <= 1))
     throw std::invalid_argument("--cfl must be in (0, 1]");
-  if (o.diffusion < 0)
+  if (!(o.diffusion >= 0))
     throw std::invalid_argument("--diffusion must be >= 0");
   for (const auto& text : objectTexts)
     o.objects.push_back(parseObject(text, o.dimension));

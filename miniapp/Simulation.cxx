@@ -89,11 +89,11 @@ double Simulation::computeTimeStep() const
       speed += std::abs(Options.uniformVelocity[a]);
   else
     speed = Options.dimension == 3 ? 2.5 : 2.0;
-  double dt = speed > 0 ? Options.cfl * finest / speed : std::numeric_limits<double>::max();
-  if (Options.diffusion > 0)
-    dt =
-        std::min(dt, Options.cfl * finest * finest / (2.0 * Options.dimension * Options.diffusion));
-  return dt;
+  // Upwind advection and explicit diffusion together: their rates add up.
+  const double rate =
+      speed / finest + 2.0 * Options.dimension * Options.diffusion / (finest * finest);
+  // Nothing moves or diffuses: any step is stable; take one a unit speed would allow.
+  return rate > 0 ? Options.cfl / rate : Options.cfl * finest;
 }
 
 double Simulation::valueAcross(const AmrForest::FaceNeighbour& neighbour) const
@@ -137,11 +137,7 @@ void Simulation::advance()
           for (const auto& neighbour : across)
           {
             const double v = valueAcross(neighbour);
-            auto face = Forest.cellCenter(neighbour.finer);
-            face[axis] =
-                Forest.cellLow(neighbour.finer)[axis] +
-                (neighbour.finerSide > 0 ? Forest.cellSize(axis, neighbour.finer.level) : 0.0);
-            const double normal = velocityAt(face)[axis] * side;
+            const double normal = velocityAt(Forest.faceCenter(neighbour, axis))[axis] * side;
             double flux = normal * (normal > 0 ? u : v) * neighbour.area;
             if (Options.diffusion > 0)
             {
@@ -438,6 +434,12 @@ std::uint64_t Simulation::borrowedArraysChecksum() const
 
 void Simulation::dump(const std::string& path) const
 {
+  // Rank 0 writes; every rank learns whether it can, so that all throw together.
+  std::FILE* out = Rank == 0 ? std::fopen(path.c_str(), "w") : nullptr;
+  int opened = Rank != 0 || out != nullptr ? 1 : 0;
+  MPI_Bcast(&opened, 1, MPI_INT, 0, Communicator);
+  if (!opened)
+    throw std::runtime_error("cannot write " + path);
   // Five doubles per leaf: level, x, y, z, value.
   std::vector<double> mine;
   for (auto tree : OwnTrees)
@@ -466,9 +468,6 @@ void Simulation::dump(const std::string& path) const
     std::copy(all.begin() + static_cast<std::ptrdiff_t>(5 * i),
               all.begin() + static_cast<std::ptrdiff_t>(5 * i + 5), rows[i].begin());
   std::sort(rows.begin(), rows.end());
-  std::FILE* out = std::fopen(path.c_str(), "w");
-  if (!out)
-    throw std::runtime_error("cannot write " + path);
   for (const auto& r : rows)
     std::fprintf(out, "%d %lld %lld %lld %.17g\n", static_cast<int>(r[0]),
                  static_cast<long long>(r[1]), static_cast<long long>(r[2]),

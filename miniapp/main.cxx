@@ -122,6 +122,9 @@ int main(int argc, char** argv)
       }
       const double mass = simulation.totalMass();
       const double change = std::abs(mass - initialMass) / std::abs(initialMass);
+      if (!std::isfinite(change))
+        throw std::runtime_error("the solution is no longer finite at step " +
+                                 std::to_string(simulation.step()) + " (unstable settings?)");
       worstMassChange = std::max(worstMassChange, change);
       const double imbalance = simulation.imbalance();
       double slowestCanopy = 0;
@@ -155,7 +158,11 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& error)
   {
+    // The mini-app's own errors may strike one rank between collectives: end
+    // the whole job rather than leave the other ranks waiting.
     std::cerr << "canopy_miniamr (rank " << rank << "): " << error.what() << "\n";
+    if (size > 1)
+      MPI_Abort(MPI_COMM_WORLD, 1);
     status = 1;
   }
   MPI_Finalize();
