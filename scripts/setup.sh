@@ -6,7 +6,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$here/build}"
 
 packages=(
-  cmake g++ make pkg-config
+  cmake g++ gfortran make pkg-config
   paraview-dev python3-paraview libopenmpi-dev openmpi-bin
   xvfb xauth x11-utils libgl1-mesa-dri libgtest-dev libbenchmark-dev
   libfreetype-dev libglew-dev libx11-dev libxt-dev libxml2-dev libnetcdf-dev
