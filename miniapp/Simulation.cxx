@@ -205,7 +205,9 @@ std::vector<std::int8_t> Simulation::ownWishes(bool objectsOnly) const
 
 bool Simulation::regrid(bool initial, bool objectsOnly)
 {
-  Halo.exchange(Communicator, Scalar);
+  // Gradient wishes read neighbours' values; object wishes are geometry only.
+  if (!objectsOnly)
+    Halo.exchange(Communicator, Scalar);
   const auto mine = ownWishes(objectsOnly);
   if (objectsOnly)
   {

@@ -27,15 +27,13 @@ CatalystScript::Request CatalystScript::request(std::int64_t step, double time, 
 {
   this->Description->SetTimeData(time, static_cast<vtkIdType>(step));
   this->Description->ResetInputDescriptions();
-  auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
-  input->GenerateMeshOff();
-  input->AllFieldsOff();
   if (this->Disabled)
   {
     return Request::NotDue;
   }
   if (!this->Imported)
   {
+    auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
     input->AllFieldsOn();
     input->GenerateMeshOn();
     return Request::Due;

@@ -9,30 +9,17 @@ import glob
 import os
 import re
 import shutil
-import subprocess
 import sys
 
 import numpy
-from paraview.vtk.util.numpy_support import vtk_to_numpy
-from paraview.vtk.vtkIOImage import vtkPNGReader
-from paraview.vtk.vtkIOXML import (vtkXMLHyperTreeGridReader, vtkXMLPPolyDataReader,
-                                   vtkXMLPUnstructuredGridReader)
 
-FAILURES = []
-
-
-def expect(condition, message):
-    print(("ok:     " if condition else "FAILED: ") + message)
-    if not condition:
-        FAILURES.append(message)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from output_checks import (cell_array, expect, finish, read_htg_pieces, read_png,  # noqa: E402
+                           read_polydata, read_unstructured, run_command)
 
 
 def run(command):
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            env=env)
-    print(result.stdout[-3000:])
-    return result.returncode, result.stdout
+    return run_command(command, tail=3000)
 
 
 def read_dump(path):
@@ -42,12 +29,6 @@ def read_dump(path):
             level, x, y, z, value = line.split()
             rows[(int(level), int(x), int(y), int(z))] = float(value)
     return rows
-
-
-def reader_output(reader, path):
-    reader.SetFileName(path)
-    reader.Update()
-    return reader.GetOutput()
 
 
 def check_insitu(output, command):
@@ -68,10 +49,8 @@ def check_insitu(output, command):
     images = sorted(glob.glob(os.path.join(output, "surface_*.png")))
     expect(len(images) >= 2, "%d images" % len(images))
     for name in images:
-        reader = vtkPNGReader()
-        data = reader_output(reader, name)
-        width, height, _ = data.GetDimensions()
-        pixels = vtk_to_numpy(data.GetPointData().GetScalars()).reshape(height, width, -1)[:, :, :3]
+        pixels = read_png(name)
+        height, width, _ = pixels.shape
         colors = len(numpy.unique(pixels.reshape(-1, 3), axis=0))
         dark = int((pixels.max(axis=2) < 100).sum())  # cell edges (the colormap is brighter)
         expect(colors > 50 and dark > 0.01 * width * height,
@@ -79,26 +58,23 @@ def check_insitu(output, command):
                % (os.path.basename(name), colors, dark))
 
     # The selection (scalar >= 0.5) at the last step is the dump's leaves >= 0.5.
-    selection = reader_output(vtkXMLPUnstructuredGridReader(),
-                              os.path.join(output, "selection_%06d.pvtu" % last))
+    selection = read_unstructured(os.path.join(output, "selection_%06d.pvtu" % last))
     want = sum(1 for value in final.values() if value >= 0.5)
     expect(selection.GetNumberOfCells() == want and want > 0,
            "selection at step %d: %d cells, %d leaves have scalar >= 0.5"
            % (last, selection.GetNumberOfCells(), want))
-    values = vtk_to_numpy(selection.GetCellData().GetArray("scalar"))
+    values = cell_array(selection, "scalar")
     expect(sorted(values.tolist()) == sorted(v for v in final.values() if v >= 0.5),
            "with the simulation's own values")
 
     # The .htg pieces hold every node; the full 2D surface one quad per leaf.
-    pieces = glob.glob(os.path.join(output, "grid_%06d" % last, "grid_%06d_*.htg" % last))
-    nodes = sum(reader_output(vtkXMLHyperTreeGridReader(), p).GetNumberOfCells() for p in pieces)
+    nodes = sum(grid.GetNumberOfCells() for grid in read_htg_pieces(output, "grid", last))
     expect(nodes == cells, "HTG extract at step %d: %d nodes (the simulation has %d)"
            % (last, nodes, cells))
-    surface = reader_output(vtkXMLPPolyDataReader(),
-                            os.path.join(output, "grid_surface_%06d.pvtp" % last))
+    surface = read_polydata(os.path.join(output, "grid_surface_%06d.pvtp" % last))
     expect(surface.GetNumberOfCells() == leaves, "surface extract: %d quads for %d leaves"
            % (surface.GetNumberOfCells(), leaves))
-    scalar = vtk_to_numpy(surface.GetCellData().GetArray("scalar"))
+    scalar = cell_array(surface, "scalar")
     expect(abs(float(scalar.sum()) - sum(final.values())) < 1e-9 * max(1.0, sum(final.values())),
            "the surface carries the leaves' values")
 
@@ -136,5 +112,4 @@ if __name__ == "__main__":
     separator = sys.argv.index("--")
     check, output = sys.argv[1], sys.argv[2]
     globals()["check_" + check](output, sys.argv[separator + 1:])
-    print("%d check(s) failed" % len(FAILURES) if FAILURES else "all checks passed")
-    sys.exit(1 if FAILURES else 0)
+    finish()

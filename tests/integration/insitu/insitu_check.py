@@ -5,45 +5,30 @@ usage: python3 insitu_check.py CHECK OUTPUT_DIR [REFERENCE_DIR] -- COMMAND...
 COMMAND (usually canopy_insitu_run under mpirun / xvfb-run) writes into
 OUTPUT_DIR, including expected.json: the simulation's brute-force totals per
 step. CHECK names one of the check_* functions below. Runs with Debian's
-/usr/bin/python3, which imports ParaView's VTK (python3-paraview).
+/usr/bin/python3, which imports ParaView's VTK (python3-paraview); the helpers
+shared with the mini-app's checker are in tests/support/output_checks.py.
 """
 import glob
 import json
 import os
 import re
-import subprocess
+import shutil
 import sys
 
 import numpy
-from paraview.vtk.util.numpy_support import vtk_to_numpy
-from paraview.vtk.vtkIOImage import vtkPNGReader
-from paraview.vtk.vtkIOXML import (vtkXMLHyperTreeGridReader, vtkXMLPPolyDataReader,
-                                   vtkXMLPUnstructuredGridReader)
 
-FAILURES = []
-
-
-def expect(condition, message):
-    print(("ok:     " if condition else "FAILED: ") + message)
-    if not condition:
-        FAILURES.append(message)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from output_checks import (cell_array, expect, finish, read_htg_pieces,  # noqa: E402
+                           read_png, read_polydata, read_unstructured, run_command)
 
 
 def run(command):
-    shutil_rmtree(OUTPUT)
+    shutil.rmtree(OUTPUT, ignore_errors=True)
     os.makedirs(OUTPUT, exist_ok=True)
-    os.environ.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    log = result.stdout
+    code, log = run_command(command)
     with open(os.path.join(OUTPUT, "run.log"), "w") as out:
         out.write(log)
-    print(log[-4000:])
-    return result.returncode, log
-
-
-def shutil_rmtree(path):
-    import shutil
-    shutil.rmtree(path, ignore_errors=True)
+    return code, log
 
 
 def expected():
@@ -56,48 +41,24 @@ def path(name, directory=None):
 
 
 def polydata(name, directory=None):
-    reader = vtkXMLPPolyDataReader()
-    reader.SetFileName(path(name, directory))
-    reader.Update()
-    return reader.GetOutput()
+    return read_polydata(path(name, directory))
 
 
-def unstructured(name):
-    reader = vtkXMLPUnstructuredGridReader()
-    reader.SetFileName(path(name))
-    reader.Update()
-    return reader.GetOutput()
+def unstructured(name, directory=None):
+    return read_unstructured(path(name, directory))
 
 
 def htg_pieces(prefix, step):
-    """ParaView 5.11 writes a .phtg summary that its own reader crashes on (VTK
-    9.2), so the pieces (one per rank) are read one by one."""
-    pieces = sorted(glob.glob(path("%s_%06d/%s_%06d_*.htg" % (prefix, step, prefix, step))))
-    grids = []
-    for piece in pieces:
-        reader = vtkXMLHyperTreeGridReader()
-        reader.SetFileName(piece)
-        reader.Update()
-        grids.append(reader.GetOutput())
-    return grids
+    return read_htg_pieces(OUTPUT, prefix, step)
 
 
 def image(name, directory=None):
-    reader = vtkPNGReader()
-    reader.SetFileName(path(name, directory))
-    reader.Update()
-    data = reader.GetOutput()
-    width, height, _ = data.GetDimensions()
-    return vtk_to_numpy(data.GetPointData().GetScalars()).reshape(height, width, -1)[:, :, :3]
+    return read_png(path(name, directory))
 
 
 def covered_pixels(pixels):
     """Pixels not of the white background."""
     return int((pixels.min(axis=2) < 250).sum())
-
-
-def cell_array(data, name):
-    return vtk_to_numpy(data.GetCellData().GetArray(name))
 
 
 def steps_ran(log):
@@ -263,10 +224,7 @@ def check_mpi_against_np1(code, log):
         compare_images(image(name), image(name, REFERENCE), name)
     for name in sorted(os.path.basename(p) for p in glob.glob(path("selection_*.pvtu"))):
         got = unstructured(name).GetNumberOfCells()
-        reference = vtkXMLPUnstructuredGridReader()
-        reference.SetFileName(path(name, REFERENCE))
-        reference.Update()
-        want = reference.GetOutput().GetNumberOfCells()
+        want = unstructured(name, REFERENCE).GetNumberOfCells()
         expect(got == want, "%s: %d selected cells over all ranks (np 1: %d)" % (name, got, want))
 
 
@@ -380,5 +338,4 @@ if __name__ == "__main__":
     RANKS = int(COMMAND[COMMAND.index("-np") + 1]) if "-np" in COMMAND else 1
     exit_code, output = run(COMMAND)
     globals()["check_" + CHECK](exit_code, output)
-    print("%d check(s) failed" % len(FAILURES) if FAILURES else "all checks passed")
-    sys.exit(1 if FAILURES else 0)
+    finish()

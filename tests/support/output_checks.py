@@ -1,0 +1,67 @@
+"""What the in-situ and mini-app checkers share: recording expectations, running
+a command under MPI, and reading the files pipelines write (with Debian's
+/usr/bin/python3, which imports ParaView's VTK)."""
+import glob
+import os
+import subprocess
+import sys
+
+from paraview.vtk.util.numpy_support import vtk_to_numpy
+from paraview.vtk.vtkIOImage import vtkPNGReader
+from paraview.vtk.vtkIOXML import (vtkXMLHyperTreeGridReader, vtkXMLPPolyDataReader,
+                                   vtkXMLPUnstructuredGridReader)
+
+FAILURES = []
+
+
+def expect(condition, message):
+    print(("ok:     " if condition else "FAILED: ") + message)
+    if not condition:
+        FAILURES.append(message)
+
+
+def finish():
+    """Prints the verdict and exits 1 if any expectation failed."""
+    print("%d check(s) failed" % len(FAILURES) if FAILURES else "all checks passed")
+    sys.exit(1 if FAILURES else 0)
+
+
+def run_command(command, tail=4000):
+    """Runs the command (OpenMPI allowed as root); returns (exit code, stdout+stderr)."""
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            env=env)
+    print(result.stdout[-tail:])
+    return result.returncode, result.stdout
+
+
+def _read(reader, path):
+    reader.SetFileName(path)
+    reader.Update()
+    return reader.GetOutput()
+
+
+def read_polydata(path):
+    return _read(vtkXMLPPolyDataReader(), path)
+
+
+def read_unstructured(path):
+    return _read(vtkXMLPUnstructuredGridReader(), path)
+
+
+def read_htg_pieces(directory, prefix, step):
+    """ParaView 5.11 writes a .phtg summary that its own reader crashes on (VTK
+    9.2), so the pieces (one per rank) are read one by one."""
+    pattern = os.path.join(directory, "%s_%06d" % (prefix, step), "%s_%06d_*.htg" % (prefix, step))
+    return [_read(vtkXMLHyperTreeGridReader(), piece) for piece in sorted(glob.glob(pattern))]
+
+
+def read_png(path):
+    """The image's RGB pixels, height x width x 3."""
+    data = _read(vtkPNGReader(), path)
+    width, height, _ = data.GetDimensions()
+    return vtk_to_numpy(data.GetPointData().GetScalars()).reshape(height, width, -1)[:, :, :3]
+
+
+def cell_array(data, name):
+    return vtk_to_numpy(data.GetCellData().GetArray(name))
