@@ -153,6 +153,12 @@ struct TreeDescription
   /// Optional node -> storage-slot map, one entry per node, breadth-first. Either every
   /// tree of the forest has one or none does; see ForestDescription.
   const std::int64_t* storageSlots = nullptr;
+  /// Optional, one byte per node, breadth-first; nonzero = absent: another rank owns
+  /// this part of the tree (a tree split between ranks, as p4est does). An absent node
+  /// is a leaf of this description (describe another rank's part by its coarsest node)
+  /// and is never the root. Absent nodes have no storage slot and no field values:
+  /// the simulation's arrays hold only the nodes this rank has (see docs/api.md).
+  const std::uint8_t* absent = nullptr;
 };
 
 /// The root grid: rectilinear point coordinates per axis, not necessarily uniform.
