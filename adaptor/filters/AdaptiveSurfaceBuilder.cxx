@@ -274,7 +274,10 @@ struct TreeWalk
           continue;
         }
       }
-      const bool stop = tree.isLeaf(n.node) || (haveBox && lodStops(lo, hi));
+      // A node with absent descendants is never drawn whole: other ranks draw
+      // their parts of it, so every pixel keeps exactly one owner.
+      const bool stop =
+          tree.isLeaf(n.node) || (haveBox && lodStops(lo, hi) && !tree.hasAbsentDescendant(n.node));
       if (!stop && grid.dimension() == 3 && !mayExposeInside(n))
       {
         continue; // a solid subtree surrounded by solid neighbours: nothing exposed

@@ -22,7 +22,13 @@ void CellSelection::bounds(const SelectedNode& n, Vec3& lo, Vec3& hi) const
 
 bool CellSelection::hidden(const TreeAccess& tree, vtkIdType node) const
 {
-  return !AllowMasked && Grid.hasMask() && Grid.isMasked(tree.globalIndex(node));
+  if (!Grid.hasMask())
+  {
+    return false;
+  }
+  // Absent cells (another rank's) are never selectable, even with AllowMasked.
+  const vtkIdType global = tree.globalIndex(node);
+  return Grid.isAbsent(global) || (!AllowMasked && Grid.isMasked(global));
 }
 
 namespace

@@ -1,7 +1,10 @@
 #include "HyperTreeAccess.h"
 
+#include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkSMPTools.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <stdexcept>
 #include <string>
@@ -52,6 +55,17 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
   Mask = htg->HasMask() ? htg->GetMask() : nullptr;
   MaskSize = Mask ? Mask->GetNumberOfValues() : 0;
   MaskBits = MaskSize > 0 ? Mask->GetPointer(0) : nullptr;
+  static_assert(AbsentGhostBit == vtkDataSetAttributes::DUPLICATECELL, "VTK's ghost bits");
+  if (auto* ghosts = vtkUnsignedCharArray::SafeDownCast(
+          htg->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName())))
+  {
+    GhostsSize = ghosts->GetNumberOfValues();
+    Ghosts = GhostsSize > 0 ? ghosts->GetPointer(0) : nullptr;
+    for (vtkIdType i = 0; i < GhostsSize && !AnyAbsent; ++i)
+    {
+      AnyAbsent = (Ghosts[i] & AbsentGhostBit) != 0;
+    }
+  }
   NumberOfCells = htg->GetNumberOfCells();
   // Integer positions are int64: stop before f^level overflows.
   for (std::int64_t p = 1; CellsPerRoot.size() < 64; p *= BranchFactor)
@@ -119,21 +133,23 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
     TreeAtRoot[static_cast<std::size_t>(index)] = static_cast<std::int64_t>(Trees.size());
     Trees.push_back(access);
   }
-  if (Mask && Dimension == 3)
+  // Masked descendants: only the 3D surface needs them (to skip solid subtrees).
+  // Absent descendants: level of detail must not stop above them.
+  const bool masked = Mask && Dimension == 3;
+  if (masked || AnyAbsent)
   {
-    // Only the 3D surface needs it (to skip solid subtrees): trees in parallel.
     vtkSMPTools::For(0, static_cast<vtkIdType>(Trees.size()),
                      [&](vtkIdType begin, vtkIdType end)
                      {
                        for (vtkIdType t = begin; t < end; ++t)
                        {
-                         computeMaskedBelow(Trees[static_cast<std::size_t>(t)]);
+                         computeHiddenBelow(Trees[static_cast<std::size_t>(t)], masked, AnyAbsent);
                        }
                      });
   }
 }
 
-void HyperTreeAccess::computeMaskedBelow(TreeAccess& access) const
+void HyperTreeAccess::computeHiddenBelow(TreeAccess& access, bool masked, bool absent) const
 {
   // Children have larger local indices than their parent (breadth-first
   // construction and SubdivideLeaf both append), so one reverse pass suffices.
@@ -146,21 +162,44 @@ void HyperTreeAccess::computeMaskedBelow(TreeAccess& access) const
       access.globalTable[static_cast<std::size_t>(n)] = access.tree->GetGlobalIndexFromLocal(n);
     }
   }
-  access.maskedBelow.assign(static_cast<std::size_t>(vertices), 0);
+  if (masked)
+  {
+    access.maskedBelow.assign(static_cast<std::size_t>(vertices), 0);
+  }
+  if (absent)
+  {
+    access.absentBelow.assign(static_cast<std::size_t>(vertices), 0);
+  }
   for (vtkIdType n = vertices; n-- > 0;)
   {
     if (access.isLeaf(n))
     {
       continue;
     }
-    unsigned char below = 0;
+    unsigned char maskedHere = 0;
+    unsigned char absentHere = 0;
     const vtkIdType first = access.firstChild(n);
     for (vtkIdType c = first; c < first + Children; ++c)
     {
-      below |= static_cast<unsigned char>(isMasked(access.globalIndex(c)) ||
-                                          access.maskedBelow[static_cast<std::size_t>(c)]);
+      const auto child = static_cast<std::size_t>(c);
+      const vtkIdType global = access.globalIndex(c);
+      if (masked)
+      {
+        maskedHere |= static_cast<unsigned char>(isMasked(global) || access.maskedBelow[child]);
+      }
+      if (absent)
+      {
+        absentHere |= static_cast<unsigned char>(isAbsent(global) || access.absentBelow[child]);
+      }
     }
-    access.maskedBelow[static_cast<std::size_t>(n)] = below;
+    if (masked)
+    {
+      access.maskedBelow[static_cast<std::size_t>(n)] = maskedHere;
+    }
+    if (absent)
+    {
+      access.absentBelow[static_cast<std::size_t>(n)] = absentHere;
+    }
   }
 }
 

@@ -37,6 +37,14 @@ struct TreeAccess
   {
     return !maskedBelow.empty() && maskedBelow[static_cast<std::size_t>(node)] != 0;
   }
+  /// Per local node: 1 when a strict descendant is absent (another rank's part of
+  /// a split tree); filled only for grids with absent cells.
+  std::vector<unsigned char> absentBelow;
+
+  bool hasAbsentDescendant(vtkIdType node) const
+  {
+    return !absentBelow.empty() && absentBelow[static_cast<std::size_t>(node)] != 0;
+  }
 
   vtkIdType numberOfVertices = 0;
   int childrenPerNode = 0;
@@ -163,6 +171,17 @@ public:
   }
 
   bool hasMask() const { return Mask != nullptr; }
+  /// Absent cells: parts of split trees another rank owns. Canopy's builder
+  /// masks them and marks them DUPLICATECELL in VTK's ghost array; a masked
+  /// cell without that mark is a hole. Absent cells are never shown or selected,
+  /// and a node with absent descendants is never drawn as one piece (its
+  /// pixels belong to several ranks).
+  bool hasAbsent() const { return AnyAbsent; }
+  bool isAbsent(vtkIdType globalIndex) const
+  {
+    return Ghosts != nullptr && globalIndex < GhostsSize &&
+           (Ghosts[globalIndex] & AbsentGhostBit) != 0;
+  }
   bool isMasked(vtkIdType globalIndex) const
   {
     // vtkBitArray stores the most significant bit first; read it inline. Cells
@@ -172,7 +191,7 @@ public:
   }
 
 private:
-  void computeMaskedBelow(TreeAccess& access) const;
+  void computeHiddenBelow(TreeAccess& access, bool masked, bool absent) const;
 
   int Dimension = 0;
   int BranchFactor = 2;
@@ -191,6 +210,10 @@ private:
   vtkBitArray* Mask = nullptr;
   const unsigned char* MaskBits = nullptr;
   vtkIdType MaskSize = 0;
+  static constexpr unsigned char AbsentGhostBit = 1; ///< vtkDataSetAttributes::DUPLICATECELL
+  const unsigned char* Ghosts = nullptr;
+  vtkIdType GhostsSize = 0;
+  bool AnyAbsent = false;
 };
 
 } // namespace canopy

@@ -96,6 +96,20 @@ vtkSmartPointer<vtkDataArray> wrapTyped(const FieldDescription& field, vtkIdType
   return array;
 }
 
+/// A field read through a cell -> slot table (forests with absent nodes).
+template <typename T>
+vtkSmartPointer<vtkDataArray> wrapMappedTyped(const FieldDescription& field, const CellSlots& slots)
+{
+  using Stored = VtkValue<T>;
+  auto array = vtkSmartPointer<SimulationFieldArray<Stored>>::New();
+  const FieldView<T> view = FieldView<T>::of(field);
+  // Computed tuple 0 (what CellSlots::NoSlot reads): the absent fill.
+  std::vector<Stored> fill(static_cast<std::size_t>(field.components), absentValue<Stored>());
+  array->borrowMapped(storedBases<T>(view.bases), view.strideBytes, slots.slotOfCell,
+                      std::move(fill));
+  return array;
+}
+
 template <typename T>
 vtkSmartPointer<vtkDataArray> wrapLeafTyped(const FieldDescription& field,
                                             const ForestDescription& forest,
@@ -103,7 +117,7 @@ vtkSmartPointer<vtkDataArray> wrapLeafTyped(const FieldDescription& field,
 {
   auto array = vtkSmartPointer<SimulationFieldArray<T>>::New();
   const FieldView<T> view = FieldView<T>::of(field);
-  array->borrowLeaves(view.bases, view.strideBytes, map.slotToTuple,
+  array->borrowMapped(view.bases, view.strideBytes, map.cellToTuple,
                       restrictToCoarse<T>(forest, layout, field, map));
   return array;
 }
@@ -111,23 +125,26 @@ vtkSmartPointer<vtkDataArray> wrapLeafTyped(const FieldDescription& field,
 } // namespace
 
 vtkSmartPointer<vtkDataArray> wrapNodeField(const FieldDescription& field,
-                                            const ForestLayout& layout)
+                                            const ForestLayout& layout, const CellSlots& slots)
 {
   const auto tuples = static_cast<vtkIdType>(layout.totalNodes);
+  const bool mapped = !slots.identity();
   vtkSmartPointer<vtkDataArray> array;
   switch (field.type)
   {
   case ValueType::Float32:
-    array = wrapTyped<float>(field, tuples);
+    array = mapped ? wrapMappedTyped<float>(field, slots) : wrapTyped<float>(field, tuples);
     break;
   case ValueType::Float64:
-    array = wrapTyped<double>(field, tuples);
+    array = mapped ? wrapMappedTyped<double>(field, slots) : wrapTyped<double>(field, tuples);
     break;
   case ValueType::Int32:
-    array = wrapTyped<std::int32_t>(field, tuples);
+    array = mapped ? wrapMappedTyped<std::int32_t>(field, slots)
+                   : wrapTyped<std::int32_t>(field, tuples);
     break;
   case ValueType::Int64:
-    array = wrapTyped<std::int64_t>(field, tuples);
+    array = mapped ? wrapMappedTyped<std::int64_t>(field, slots)
+                   : wrapTyped<std::int64_t>(field, tuples);
     break;
   }
   array->SetName(field.name.c_str());

@@ -1,6 +1,7 @@
 // Turns one borrowed FieldDescription into a vtkDataArray without copying values.
 #pragma once
 
+#include "CellSlots.h"
 #include "LeafRestriction.h"
 #include "canopy/ForestDescription.h"
 #include "canopy/ForestValidation.h"
@@ -12,9 +13,10 @@ class vtkDataArray;
 namespace canopy
 {
 
-/// EveryNode field: wraps `layout.totalNodes` tuples in place.
+/// EveryNode field: wraps it in place, one tuple per cell (absent cells read a
+/// fill value through `slots`).
 vtkSmartPointer<vtkDataArray> wrapNodeField(const FieldDescription& field,
-                                            const ForestLayout& layout);
+                                            const ForestLayout& layout, const CellSlots& slots);
 
 /// LeavesOnly field: borrows the leaf tuples, owns the coarse averages.
 vtkSmartPointer<vtkDataArray> wrapLeafField(const FieldDescription& field,

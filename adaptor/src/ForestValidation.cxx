@@ -113,6 +113,44 @@ void validateRootGrid(const ForestDescription& forest, ForestLayout& layout, Pro
   layout.numberOfRootCells = layout.rootCells[0] * layout.rootCells[1] * layout.rootCells[2];
 }
 
+/// Absent nodes (parts of a split tree another rank owns) are leaves below the
+/// root; they take no storage slot and no field value.
+bool validateAbsentNodes(std::size_t t, const TreeDescription& tree, TreeLayout& shape,
+                         ProblemList& problems)
+{
+  if (tree.absent[0] != 0)
+  {
+    problems.add(treeName(t, tree),
+                 ": the root is absent; leave a tree this rank has no part of out of the forest");
+    return false;
+  }
+  std::size_t absent = 0;
+  std::size_t refinedAbsent = 0;
+  std::size_t firstRefinedAbsent = 0;
+  for (std::size_t n = 1; n < tree.numberOfNodes; ++n)
+  {
+    if (tree.absent[n] == 0)
+    {
+      continue;
+    }
+    ++absent;
+    if (tree.refinement[n] != 0 && refinedAbsent++ == 0)
+    {
+      firstRefinedAbsent = n;
+    }
+  }
+  if (refinedAbsent != 0)
+  {
+    problems.add(treeName(t, tree), ": ", refinedAbsent,
+                 " absent node(s) are refined (first: node ", firstRefinedAbsent,
+                 "); describe another rank's part by its coarsest node, as a leaf");
+    return false;
+  }
+  shape.numberOfPresentNodes = tree.numberOfNodes - absent;
+  shape.numberOfPresentLeaves = shape.numberOfLeaves - absent;
+  return true;
+}
+
 /// Walks the breadth-first refinement bytes level by level and checks they
 /// describe exactly numberOfNodes nodes within maxLevels levels.
 bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayout& shape,
@@ -164,7 +202,9 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
   shape.numberOfNodes = n;
   shape.levels = levels;
   shape.descriptorBits = n - lastLevelSize;
-  return true;
+  shape.numberOfPresentNodes = n;
+  shape.numberOfPresentLeaves = shape.numberOfLeaves;
+  return tree.absent == nullptr || validateAbsentNodes(t, tree, shape, problems);
 }
 
 void validateTrees(const ForestDescription& forest, ForestLayout& layout, ProblemList& problems)
@@ -195,6 +235,7 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
     }
     withSlots += tree.storageSlots != nullptr;
     layout.anyMask = layout.anyMask || tree.masked != nullptr;
+    layout.anyAbsent = layout.anyAbsent || tree.absent != nullptr;
     if (tree.numberOfNodes == 0)
     {
       problems.add(treeName(t, tree), ": numberOfNodes is 0 (a tree has at least its root)");
@@ -212,9 +253,12 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
       shapesValid = false;
       continue;
     }
-    shape.firstSlot = layout.totalNodes;
+    shape.firstSlot = layout.totalPresentNodes;
+    shape.firstCell = layout.totalNodes;
     layout.totalNodes += shape.numberOfNodes;
     layout.totalLeaves += shape.numberOfLeaves;
+    layout.totalPresentNodes += shape.numberOfPresentNodes;
+    layout.totalPresentLeaves += shape.numberOfPresentLeaves;
     layout.totalDescriptorBits += shape.descriptorBits;
   }
   layout.explicitSlots = withSlots > 0;
@@ -228,18 +272,24 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
   {
     return;
   }
-  // Slots of all trees together must be a permutation of 0 .. totalNodes-1.
-  std::vector<bool> slotUsed(layout.totalNodes, false);
+  // Slots of all trees' present nodes together must be a permutation of
+  // 0 .. totalPresentNodes-1 (absent nodes have no slot; their entries are ignored).
+  std::vector<bool> slotUsed(layout.totalPresentNodes, false);
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
   {
     const TreeDescription& tree = forest.trees[t];
     for (std::size_t n = 0; n < tree.numberOfNodes; ++n)
     {
+      if (tree.absent && tree.absent[n])
+      {
+        continue;
+      }
       const std::int64_t slot = tree.storageSlots[n];
-      if (slot < 0 || static_cast<std::size_t>(slot) >= layout.totalNodes)
+      if (slot < 0 || static_cast<std::size_t>(slot) >= layout.totalPresentNodes)
       {
         problems.add(treeName(t, tree), ": node ", n, " has storage slot ", slot, " outside [0, ",
-                     layout.totalNodes, ")");
+                     layout.totalPresentNodes, ")",
+                     layout.anyAbsent ? " (slots number the nodes that are not absent)" : "");
         return;
       }
       if (slotUsed[static_cast<std::size_t>(slot)])
@@ -353,11 +403,12 @@ void validateFields(const ForestDescription& forest, const ForestLayout& layout,
       problems.add(name, ": a leaves-only field must be floating point, coarse values are "
                          "volume averages");
     }
-    const std::size_t needed = leavesOnly ? layout.totalLeaves : layout.totalNodes;
+    const std::size_t needed = leavesOnly ? layout.totalPresentLeaves : layout.totalPresentNodes;
     if (field.numberOfTuples < needed)
     {
       problems.add(name, ": ", field.numberOfTuples, " tuples given but the forest has ", needed,
-                   leavesOnly ? " leaves" : " nodes");
+                   leavesOnly ? " leaves" : " nodes",
+                   layout.anyAbsent ? " that are not absent" : "");
     }
   }
 }

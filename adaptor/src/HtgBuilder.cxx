@@ -1,5 +1,6 @@
 #include "canopy/HtgBuilder.h"
 
+#include "CellSlots.h"
 #include "FieldWrapping.h"
 #include "LeafRestriction.h"
 #include "StorageSlots.h"
@@ -10,6 +11,7 @@
 #include <vtkHyperTree.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkNew.h>
+#include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <cstring>
@@ -105,6 +107,12 @@ void buildTrees(vtkHyperTreeGrid* htg, const ForestDescription& forest, const Fo
     const auto bits = static_cast<vtkIdType>(shape.descriptorBits);
     hyperTree->BuildFromBreadthFirstOrderDescriptor(descriptors, bits, start);
     start += bits;
+    if (layout.anyAbsent)
+    {
+      // Cells numbered breadth-first; fields read through CellSlots.
+      hyperTree->SetGlobalIndexStart(static_cast<vtkIdType>(shape.firstCell));
+      continue;
+    }
     if (!layout.explicitSlots)
     {
       hyperTree->SetGlobalIndexStart(static_cast<vtkIdType>(shape.firstSlot));
@@ -129,23 +137,49 @@ vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const Fo
   {
     std::memset(mask->GetPointer(0), 0, (layout.totalNodes + 7) / 8);
   }
+  // Absent cells are masked too: every filter skips them, as it skips holes.
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
   {
     const TreeDescription& tree = forest.trees[t];
-    if (!tree.masked)
+    if (!tree.masked && !tree.absent)
     {
       continue;
     }
     const TreeLayout& shape = layout.trees[t];
     for (std::size_t n = 0; n < shape.numberOfNodes; ++n)
     {
-      if (tree.masked[n])
+      if ((tree.masked && tree.masked[n]) || isAbsent(tree, n))
       {
-        mask->SetValue(static_cast<vtkIdType>(storageSlot(tree, shape, n)), 1);
+        mask->SetValue(static_cast<vtkIdType>(cellIndex(layout, tree, shape, n)), 1);
       }
     }
   }
   return mask;
+}
+
+/// VTK's ghost array marks absent cells DUPLICATECELL ("another process owns
+/// it"): what tells an absent cell from a masked one (see docs/api.md).
+vtkSmartPointer<vtkUnsignedCharArray> buildAbsentGhosts(const ForestDescription& forest,
+                                                        const ForestLayout& layout)
+{
+  auto ghosts = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  ghosts->SetName(vtkDataSetAttributes::GhostArrayName());
+  ghosts->SetNumberOfValues(static_cast<vtkIdType>(layout.totalNodes));
+  unsigned char* values = ghosts->GetPointer(0);
+  std::memset(values, 0, layout.totalNodes);
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    const TreeDescription& tree = forest.trees[t];
+    const TreeLayout& shape = layout.trees[t];
+    for (std::size_t n = 0; tree.absent && n < shape.numberOfNodes; ++n)
+    {
+      if (tree.absent[n])
+      {
+        values[shape.firstCell + n] = vtkDataSetAttributes::DUPLICATECELL;
+      }
+    }
+  }
+  return ghosts;
 }
 
 } // namespace
@@ -176,11 +210,16 @@ vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& fo
   htg->SetZCoordinates(borrowCoordinates(grid.z, grid.pointsZ));
 
   buildTrees(htg, forest, layout);
-  if (layout.anyMask)
+  if (layout.anyMask || layout.anyAbsent)
   {
     htg->SetMask(buildMask(forest, layout));
   }
+  if (layout.anyAbsent)
+  {
+    htg->GetCellData()->AddArray(buildAbsentGhosts(forest, layout));
+  }
 
+  const CellSlots slots = CellSlots::build(forest, layout);
   std::optional<LeafTupleMap> leafMap;
   for (const FieldDescription* field : fields)
   {
@@ -189,13 +228,13 @@ vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& fo
     {
       if (!leafMap)
       {
-        leafMap = LeafTupleMap::build(forest, layout);
+        leafMap = LeafTupleMap::build(forest, layout, slots);
       }
       array = wrapLeafField(*field, forest, layout, *leafMap);
     }
     else
     {
-      array = wrapNodeField(*field, layout);
+      array = wrapNodeField(*field, layout, slots);
     }
     htg->GetCellData()->AddArray(array);
   }

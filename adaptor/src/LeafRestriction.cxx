@@ -1,35 +1,59 @@
 #include "LeafRestriction.h"
 
 #include "FieldView.h"
-#include "StorageSlots.h"
+#include "SimulationFieldArray.h"
+
+#include <algorithm>
+#include <limits>
 
 namespace canopy
 {
 
-LeafTupleMap LeafTupleMap::build(const ForestDescription& forest, const ForestLayout& layout)
+LeafTupleMap LeafTupleMap::build(const ForestDescription& forest, const ForestLayout& layout,
+                                 const CellSlots& slots)
 {
-  auto slotToTuple = std::make_shared<std::vector<std::int64_t>>(layout.totalNodes);
-  auto& table = *slotToTuple;
-  // First mark which slots hold coarse nodes, then number leaves and coarse
-  // nodes separately in slot order.
+  // Mark which slots hold coarse nodes, then number leaves and coarse nodes
+  // separately in slot order.
+  std::vector<std::int64_t> bySlot(layout.totalPresentNodes);
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
   {
     const TreeDescription& tree = forest.trees[t];
     const TreeLayout& shape = layout.trees[t];
     for (std::size_t n = 0; n < shape.numberOfNodes; ++n)
     {
-      table[storageSlot(tree, shape, n)] = tree.refinement[n] != 0;
+      if (slots.identity())
+      {
+        bySlot[storageSlot(tree, shape, n)] = tree.refinement[n] != 0;
+      }
+      else if (!isAbsent(tree, n))
+      {
+        const auto slot = (*slots.slotOfCell)[shape.firstCell + n];
+        bySlot[static_cast<std::size_t>(slot)] = tree.refinement[n] != 0;
+      }
     }
   }
   std::int64_t leaves = 0;
-  std::int64_t coarse = 0;
-  for (auto& entry : table)
+  std::size_t coarse = 0;
+  for (auto& entry : bySlot)
   {
-    entry = entry ? -(++coarse) : leaves++;
+    entry = entry ? computedEntry(1 + coarse++) : leaves++;
   }
   LeafTupleMap map;
-  map.slotToTuple = std::move(slotToTuple);
-  map.numberOfCoarse = static_cast<std::size_t>(coarse);
+  map.numberOfCoarse = coarse;
+  if (slots.identity())
+  {
+    map.cellToTuple = std::make_shared<std::vector<std::int64_t>>(std::move(bySlot));
+    return map;
+  }
+  const auto& slotOfCell = *slots.slotOfCell;
+  auto byCell = std::make_shared<std::vector<std::int64_t>>(layout.totalNodes);
+  for (std::size_t cell = 0; cell < layout.totalNodes; ++cell)
+  {
+    const std::int64_t slot = slotOfCell[cell];
+    (*byCell)[cell] =
+        slot == CellSlots::NoSlot ? computedEntry(0) : bySlot[static_cast<std::size_t>(slot)];
+  }
+  map.cellToTuple = std::move(byCell);
   return map;
 }
 
@@ -39,8 +63,10 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
 {
   const auto nc = static_cast<std::size_t>(field.components);
   const FieldView<T> leaves = FieldView<T>::of(field);
-  const auto& table = *map.slotToTuple;
-  std::vector<T> coarse(map.numberOfCoarse * nc);
+  const auto& table = *map.cellToTuple;
+  // Computed tuple 0 is what absent cells read.
+  std::vector<T> computed((1 + map.numberOfCoarse) * nc);
+  std::fill(computed.begin(), computed.begin() + static_cast<std::ptrdiff_t>(nc), absentValue<T>());
   const std::size_t children = childrenPerNode(forest);
   std::vector<std::size_t> elderChild;
   std::vector<double> sum(nc);
@@ -70,33 +96,34 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
       std::size_t used = 0;
       for (int pass = 0; pass < 2 && used == 0; ++pass)
       {
-        // Pass 0: unmasked children only; pass 1 (all children masked): every child.
+        // Pass 0: unmasked children only; pass 1 (all masked): every present child.
         for (std::size_t k = 0; k < children; ++k)
         {
           const std::size_t child = elderChild[n] + k;
-          if (pass == 0 && tree.masked && tree.masked[child])
+          if (isAbsent(tree, child) || (pass == 0 && tree.masked && tree.masked[child]))
           {
             continue;
           }
-          const std::int64_t tuple = table[storageSlot(tree, shape, child)];
+          const std::int64_t tuple = table[cellIndex(layout, tree, shape, child)];
           for (std::size_t c = 0; c < nc; ++c)
           {
-            sum[c] +=
-                tuple >= 0
-                    ? static_cast<double>(leaves.at(static_cast<std::size_t>(tuple), c))
-                    : static_cast<double>(coarse[static_cast<std::size_t>(-tuple - 1) * nc + c]);
+            sum[c] += tuple >= 0
+                          ? static_cast<double>(leaves.at(static_cast<std::size_t>(tuple), c))
+                          : static_cast<double>(computed[computedIndexOf(tuple) * nc + c]);
           }
           ++used;
         }
       }
-      const auto target = static_cast<std::size_t>(-table[storageSlot(tree, shape, n)] - 1);
+      const std::size_t target = computedIndexOf(table[cellIndex(layout, tree, shape, n)]);
       for (std::size_t c = 0; c < nc; ++c)
       {
-        coarse[target * nc + c] = static_cast<T>(sum[c] / static_cast<double>(used));
+        // No present child at all: nothing of this node is here.
+        computed[target * nc + c] =
+            used == 0 ? absentValue<T>() : static_cast<T>(sum[c] / static_cast<double>(used));
       }
     }
   }
-  return coarse;
+  return computed;
 }
 
 template std::vector<float> restrictToCoarse<float>(const ForestDescription&, const ForestLayout&,

@@ -5,9 +5,10 @@
 // copying the simulation's values:
 //  - strided fields (a member of an array of records): component c of tuple i is
 //    at componentBase[c] + i * tupleStrideBytes;
-//  - leaves-only fields: tuple i (a storage slot) maps through a shared table
-//    either to a leaf tuple in simulation memory or to a coarse value that
-//    Canopy computed and this array owns.
+//  - mapped fields (leaves-only fields, forests with absent nodes): tuple i (a
+//    cell) maps through a shared table either to a tuple in simulation memory
+//    or to a value that Canopy computed and this array owns (a coarse average,
+//    or the fill value of absent cells).
 // The simulation's memory is never written: any write (VTK filters write only to
 // arrays they created with NewInstance, which start owned) or a request for a raw
 // pointer first detaches the array into an owned AoS copy.
@@ -19,12 +20,32 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
 
 namespace canopy
 {
+
+/// Tuple map entries (see SimulationFieldArray::borrowMapped): >= 0 a borrowed
+/// tuple, < 0 the computed tuple computedIndexOf(entry).
+inline std::int64_t computedEntry(std::size_t computedIndex)
+{
+  return -static_cast<std::int64_t>(computedIndex) - 1;
+}
+inline std::size_t computedIndexOf(std::int64_t entry)
+{
+  return static_cast<std::size_t>(-entry - 1);
+}
+
+/// What an absent cell reads (it is masked, so no filter shows it): NaN for
+/// floating-point fields, 0 for integers.
+template <typename T>
+constexpr T absentValue()
+{
+  return std::numeric_limits<T>::has_quiet_NaN ? std::numeric_limits<T>::quiet_NaN() : T(0);
+}
 
 template <typename T>
 class SimulationFieldArray : public vtkGenericDataArray<SimulationFieldArray<T>, T>
@@ -39,7 +60,7 @@ public:
   vtkAOSArrayNewInstanceMacro(SelfType);
   using ValueType = typename Superclass::ValueType;
 
-  /// Slot -> leaf tuple (>= 0) or -(coarse tuple) - 1 (< 0).
+  /// Tuple -> borrowed tuple (>= 0) or computed tuple (< 0, see computedEntry).
   using TupleMap = std::vector<std::int64_t>;
 
   static SimulationFieldArray* New() { VTK_STANDARD_NEW_BODY(SimulationFieldArray<T>); }
@@ -61,15 +82,15 @@ public:
     this->DataChanged();
   }
 
-  /// Like borrow(), but tuple i is read through map[i]: leaf tuples from the borrowed
-  /// view, coarse tuples from `coarseValues` (AoS, owned by this array).
-  void borrowLeaves(const std::vector<const T*>& componentBase, std::size_t tupleStrideBytes,
-                    std::shared_ptr<const TupleMap> map, std::vector<T> coarseValues)
+  /// Like borrow(), but tuple i is read through map[i]: borrowed tuples from the
+  /// view, computed tuples from `computedValues` (AoS, owned by this array).
+  void borrowMapped(const std::vector<const T*>& componentBase, std::size_t tupleStrideBytes,
+                    std::shared_ptr<const TupleMap> map, std::vector<T> computedValues)
   {
     const auto tuples = static_cast<vtkIdType>(map->size());
     this->borrow(componentBase, tupleStrideBytes, tuples);
     this->Map = std::move(map);
-    this->Coarse = std::move(coarseValues);
+    this->Computed = std::move(computedValues);
   }
 
   /// True while values are read from simulation memory.
@@ -114,9 +135,9 @@ public:
       source = (*this->Map)[static_cast<std::size_t>(tupleIdx)];
       if (source < 0)
       {
-        const auto coarse = static_cast<std::size_t>(-source - 1);
-        return this->Coarse[coarse * static_cast<std::size_t>(this->NumberOfComponents) +
-                            static_cast<std::size_t>(comp)];
+        return this->Computed[computedIndexOf(source) *
+                                  static_cast<std::size_t>(this->NumberOfComponents) +
+                              static_cast<std::size_t>(comp)];
       }
     }
     const auto* address = reinterpret_cast<const unsigned char*>(this->Bases[comp]) +
@@ -187,7 +208,7 @@ private:
   {
     this->Bases.clear();
     this->Map.reset();
-    this->Coarse.clear();
+    this->Computed.clear();
   }
 
   /// Copies the borrowed view into owned memory so a write never reaches the simulation.
@@ -215,7 +236,7 @@ private:
   std::vector<const T*> Bases;
   std::size_t Stride = 0;
   std::shared_ptr<const TupleMap> Map;
-  std::vector<ValueType> Coarse;
+  std::vector<ValueType> Computed;
   std::vector<ValueType> Owned;
 };
 

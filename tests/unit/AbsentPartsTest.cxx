@@ -1,0 +1,483 @@
+// Trees split between ranks (p4est's partition): each rank describes its part
+// with the other ranks' parts absent, and its arrays hold exactly what it has.
+// Checked against the whole forest: every leaf appears on exactly one rank with
+// its value, absent cells are masked and marked as another process's, leaves-only
+// coarse values average the present children, and the adaptive surface never
+// draws a pixel on two ranks (level of detail on split trees).
+#include "HtgWalk.h"
+#include "PartitionedForest.h"
+#include "RandomForest.h"
+
+#include "canopy/HtgBuilder.h"
+#include "vtkCanopyAdaptiveSurface.h"
+#include "vtkCanopyExtractSelection.h"
+
+#include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+namespace canopy::testing
+{
+namespace
+{
+
+/// The value the simulation keeps for a node of the whole forest: unique per node.
+double wholeValue(std::size_t tree, std::size_t node)
+{
+  return 1000.0 * static_cast<double>(tree) + static_cast<double>(node) + 0.25;
+}
+
+/// One rank's part as a simulation would hold it: arrays with its nodes only.
+struct RankPart
+{
+  std::vector<PartitionedTree> trees;
+  std::vector<std::vector<std::int64_t>> slots; ///< depth-first slots, when asked
+  std::vector<double> nodeValues;               ///< present nodes, in slot order
+  std::vector<double> leafValues;               ///< present leaves, in slot order
+  ForestDescription description;
+
+  RankPart(const ForestDescription& whole, int rank, int ranks, bool depthFirstSlots)
+      : trees(partitionForRank(whole, rank, ranks))
+  {
+    description.dimension = whole.dimension;
+    description.branchFactor = whole.branchFactor;
+    description.maxLevels = whole.maxLevels;
+    description.rootGrid = whole.rootGrid;
+    std::size_t children = 1;
+    for (int d = 0; d < whole.dimension; ++d)
+    {
+      children *= static_cast<std::size_t>(whole.branchFactor);
+    }
+    // Present nodes get slots breadth-first (default) or depth-first (slot maps).
+    std::vector<std::pair<std::size_t, std::size_t>> nodeAtSlot; // (tree, node)
+    for (std::size_t t = 0; t < trees.size(); ++t)
+    {
+      const auto& tree = trees[t];
+      std::vector<std::int64_t> slot(tree.refinement.size(), -7); // absent: ignored
+      if (depthFirstSlots)
+      {
+        std::vector<std::size_t> first(tree.refinement.size(), 0);
+        for (std::size_t n = 0, next = 1; n < tree.refinement.size(); ++n)
+        {
+          if (tree.refinement[n])
+          {
+            first[n] = next;
+            next += children;
+          }
+        }
+        auto walk = [&](auto& self, std::size_t n) -> void
+        {
+          if (tree.absent[n])
+          {
+            return;
+          }
+          slot[n] = static_cast<std::int64_t>(nodeAtSlot.size());
+          nodeAtSlot.emplace_back(t, n);
+          for (std::size_t c = 0; tree.refinement[n] && c < children; ++c)
+          {
+            self(self, first[n] + c);
+          }
+        };
+        walk(walk, 0);
+      }
+      else
+      {
+        for (std::size_t n = 0; n < tree.refinement.size(); ++n)
+        {
+          if (!tree.absent[n])
+          {
+            slot[n] = static_cast<std::int64_t>(nodeAtSlot.size());
+            nodeAtSlot.emplace_back(t, n);
+          }
+        }
+      }
+      slots.push_back(std::move(slot));
+    }
+    for (const auto& [t, n] : nodeAtSlot)
+    {
+      const double value = wholeValue(trees[t].wholeTree, trees[t].wholeNode[n]);
+      nodeValues.push_back(value);
+      if (!trees[t].refinement[n])
+      {
+        leafValues.push_back(value);
+      }
+    }
+    for (std::size_t t = 0; t < trees.size(); ++t)
+    {
+      const auto& tree = trees[t];
+      description.trees.push_back({tree.rootIndex, tree.refinement.data(), tree.refinement.size(),
+                                   nullptr, depthFirstSlots ? slots[t].data() : nullptr,
+                                   tree.absent.data()});
+    }
+    description.fields.push_back(
+        FieldDescription::aos("node", nodeValues.data(), nodeValues.size()));
+    description.fields.push_back(FieldDescription::aos("leaf", leafValues.data(), leafValues.size(),
+                                                       1, Centering::LeavesOnly));
+  }
+};
+
+RandomForestOptions splitOptions(int dimension)
+{
+  RandomForestOptions o;
+  o.dimension = dimension;
+  o.rootCells = dimension == 2 ? std::array<std::size_t, 3>{{4, 3, 1}}
+                               : std::array<std::size_t, 3>{{2, 2, 2}};
+  o.maxLevels = dimension == 2 ? 6 : 4;
+  o.refineProbability = 0.55;
+  o.seed = 11;
+  return o;
+}
+
+class AbsentParts : public ::testing::TestWithParam<std::tuple<int, int, bool>>
+{
+};
+
+TEST_P(AbsentParts, EveryLeafOnceWithItsValueAndAbsentCellsMaskedAsAnotherRanks)
+{
+  const auto [dimension, ranks, depthFirst] = GetParam();
+  RandomForest whole(splitOptions(dimension));
+  const std::size_t children = whole.childrenPerNode();
+  std::map<std::pair<std::size_t, std::size_t>, int> seen; // whole leaf -> times seen
+  std::size_t splitTrees = 0;
+  for (int rank = 0; rank < ranks; ++rank)
+  {
+    RankPart part(whole.description(), rank, ranks, depthFirst);
+    const auto htg = buildHyperTreeGrid(part.description);
+    vtkDataArray* node = htg->GetCellData()->GetArray("node");
+    vtkDataArray* leaf = htg->GetCellData()->GetArray("leaf");
+    auto* ghosts = vtkUnsignedCharArray::SafeDownCast(
+        htg->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName()));
+    ASSERT_NE(node, nullptr);
+    ASSERT_NE(leaf, nullptr);
+    for (const auto& tree : part.trees)
+    {
+      const bool split = std::any_of(tree.absent.begin(), tree.absent.end(),
+                                     [](std::uint8_t a) { return a != 0; });
+      splitTrees += split;
+      if (split)
+      {
+        ASSERT_NE(ghosts, nullptr);
+      }
+      forEachNode(htg, tree.rootIndex, tree.refinement, children,
+                  [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor, std::size_t n)
+                  {
+                    const vtkIdType cell = cursor->GetGlobalNodeIndex();
+                    if (tree.absent[n])
+                    {
+                      EXPECT_TRUE(cursor->IsMasked());
+                      EXPECT_EQ(ghosts->GetValue(cell), vtkDataSetAttributes::DUPLICATECELL);
+                      EXPECT_TRUE(std::isnan(node->GetComponent(cell, 0)));
+                      EXPECT_TRUE(std::isnan(leaf->GetComponent(cell, 0)));
+                      return;
+                    }
+                    EXPECT_FALSE(cursor->IsMasked());
+                    if (ghosts)
+                    {
+                      EXPECT_EQ(ghosts->GetValue(cell), 0);
+                    }
+                    const double expected = wholeValue(tree.wholeTree, tree.wholeNode[n]);
+                    EXPECT_EQ(node->GetComponent(cell, 0), expected);
+                    if (cursor->IsLeaf())
+                    {
+                      EXPECT_EQ(leaf->GetComponent(cell, 0), expected);
+                      ++seen[{tree.wholeTree, tree.wholeNode[n]}];
+                    }
+                  });
+    }
+  }
+  if (ranks > 1)
+  {
+    EXPECT_GT(splitTrees, 0u) << "the partition must split some trees";
+  }
+  EXPECT_EQ(seen.size(), whole.numberOfLeaves());
+  for (const auto& [leafId, times] : seen)
+  {
+    EXPECT_EQ(times, 1) << "leaf " << leafId.second << " of tree " << leafId.first;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(DimensionRanksOrder, AbsentParts,
+                         ::testing::Combine(::testing::Values(2, 3), ::testing::Values(1, 2, 3, 4),
+                                            ::testing::Bool()));
+
+/// The volume average over present children, recursively, by brute force.
+double presentAverage(const PartitionedTree& tree, const std::vector<std::size_t>& first,
+                      std::size_t children, std::size_t n)
+{
+  if (!tree.refinement[n])
+  {
+    return wholeValue(tree.wholeTree, tree.wholeNode[n]);
+  }
+  double sum = 0;
+  int used = 0;
+  for (std::size_t c = 0; c < children; ++c)
+  {
+    if (!tree.absent[first[n] + c])
+    {
+      sum += presentAverage(tree, first, children, first[n] + c);
+      ++used;
+    }
+  }
+  return used ? sum / used : std::nan("");
+}
+
+TEST(AbsentPartsLeavesOnly, CoarseValuesAverageThePresentChildrenOnly)
+{
+  RandomForest whole(splitOptions(2));
+  const std::size_t children = whole.childrenPerNode();
+  RankPart part(whole.description(), 1, 3, false);
+  const auto htg = buildHyperTreeGrid(part.description);
+  vtkDataArray* leaf = htg->GetCellData()->GetArray("leaf");
+  std::size_t checkedCoarse = 0;
+  for (const auto& tree : part.trees)
+  {
+    std::vector<std::size_t> first(tree.refinement.size(), 0);
+    for (std::size_t n = 0, next = 1; n < tree.refinement.size(); ++n)
+    {
+      if (tree.refinement[n])
+      {
+        first[n] = next;
+        next += children;
+      }
+    }
+    forEachNode(htg, tree.rootIndex, tree.refinement, children,
+                [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor, std::size_t n)
+                {
+                  if (tree.absent[n] || cursor->IsLeaf())
+                  {
+                    return;
+                  }
+                  ++checkedCoarse;
+                  EXPECT_NEAR(leaf->GetComponent(cursor->GetGlobalNodeIndex(), 0),
+                              presentAverage(tree, first, children, n), 1e-9);
+                });
+  }
+  EXPECT_GT(checkedCoarse, 10u);
+}
+
+TEST(AbsentPartsValidation, ArraysHoldExactlyThePresentNodesAndLeaves)
+{
+  RandomForest whole(splitOptions(2));
+  RankPart part(whole.description(), 1, 3, false);
+  const ForestLayout layout = validateForest(part.description);
+  EXPECT_TRUE(layout.anyAbsent);
+  EXPECT_EQ(layout.totalPresentNodes, part.nodeValues.size());
+  EXPECT_EQ(layout.totalPresentLeaves, part.leafValues.size());
+  EXPECT_LT(layout.totalPresentNodes, layout.totalNodes);
+  // One tuple fewer than the present leaves is refused, naming what is counted.
+  part.description.fields[1].numberOfTuples -= 1;
+  try
+  {
+    buildHyperTreeGrid(part.description);
+    FAIL() << "too few leaf tuples accepted";
+  }
+  catch (const InvalidForest& error)
+  {
+    EXPECT_NE(std::string(error.what()).find("leaves that are not absent"), std::string::npos)
+        << error.what();
+  }
+}
+
+TEST(AbsentPartsValidation, AbsentRootAndRefinedAbsentNodesAreRefused)
+{
+  const std::vector<double> x{0, 1}, y{0, 1}, z{0};
+  const std::vector<std::uint8_t> refinement{1, 0, 1, 0, 0, 0, 0, 0, 0};
+  const std::vector<std::uint8_t> absentRoot{1, 0, 0, 0, 0, 0, 0, 0, 0};
+  const std::vector<std::uint8_t> absentRefined{0, 0, 1, 0, 0, 0, 0, 0, 0};
+  ForestDescription forest;
+  forest.dimension = 2;
+  forest.maxLevels = 3;
+  forest.rootGrid = {x.data(), y.data(), z.data(), 2, 2, 1};
+  forest.trees.push_back(
+      {0, refinement.data(), refinement.size(), nullptr, nullptr, absentRoot.data()});
+  EXPECT_THROW(
+      {
+        try
+        {
+          validateForest(forest);
+        }
+        catch (const InvalidForest& e)
+        {
+          EXPECT_NE(std::string(e.what()).find("the root is absent"), std::string::npos);
+          throw;
+        }
+      },
+      InvalidForest);
+  forest.trees[0].absent = absentRefined.data();
+  EXPECT_THROW(
+      {
+        try
+        {
+          validateForest(forest);
+        }
+        catch (const InvalidForest& e)
+        {
+          EXPECT_NE(std::string(e.what()).find("absent node(s) are refined (first: node 2)"),
+                    std::string::npos)
+              << e.what();
+          throw;
+        }
+      },
+      InvalidForest);
+}
+
+TEST(AbsentPartsValidation, SlotsNumberOnlyThePresentNodes)
+{
+  RandomForest whole(splitOptions(2));
+  RankPart part(whole.description(), 0, 2, true);
+  ASSERT_NO_THROW(validateForest(part.description));
+  // A present node given the slot one past the present count is out of range.
+  auto& slots = part.slots[0];
+  const auto last = std::max_element(slots.begin(), slots.end());
+  *last = static_cast<std::int64_t>(part.nodeValues.size());
+  EXPECT_THROW(validateForest(part.description), InvalidForest);
+}
+
+TEST(AbsentPartsSelection, AbsentCellsAreNeverSelectedEvenWithAllowMasked)
+{
+  RandomForest whole(splitOptions(3));
+  const int ranks = 3;
+  const auto& c = whole.coordinates();
+  // A lattice of points inside the domain, off every cell boundary.
+  auto select = [&](const ForestDescription& forest)
+  {
+    vtkNew<vtkCanopyExtractSelection> extract;
+    extract->SetInputData(buildHyperTreeGrid(forest));
+    extract->SetSelectionMode(vtkCanopyExtractSelection::LOCATIONS);
+    const int steps = 17;
+    for (int i = 0; i < steps; ++i)
+      for (int j = 0; j < steps; ++j)
+        for (int k = 0; k < steps; ++k)
+        {
+          const double f[3] = {(i + 0.37) / steps, (j + 0.41) / steps, (k + 0.43) / steps};
+          extract->AddLocation(c[0].front() + f[0] * (c[0].back() - c[0].front()),
+                               c[1].front() + f[1] * (c[1].back() - c[1].front()),
+                               c[2].front() + f[2] * (c[2].back() - c[2].front()));
+        }
+    extract->SetAllowMasked(true);
+    extract->SetPreserveTopology(false);
+    extract->Update();
+    return static_cast<std::size_t>(
+        vtkUnstructuredGrid::SafeDownCast(extract->GetOutputDataObject(0))->GetNumberOfCells());
+  };
+  // The unsplit forest selects each hit leaf once; the ranks together must too.
+  const std::size_t expected = select(whole.description());
+  ASSERT_GT(expected, 100u);
+  std::size_t selected = 0;
+  for (int rank = 0; rank < ranks; ++rank)
+  {
+    RankPart part(whole.description(), rank, ranks, false);
+    selected += select(part.description);
+  }
+  EXPECT_EQ(selected, expected);
+}
+
+// ---- Level of detail on split trees: every pixel has exactly one owner ----
+
+struct Quad
+{
+  double lo[2];
+  double hi[2];
+};
+
+std::vector<Quad> surfaceQuads(vtkHyperTreeGrid* htg, double threshold, const double bounds[6],
+                               int width, int height)
+{
+  vtkNew<vtkCanopyAdaptiveSurface> surface;
+  surface->SetInputData(htg);
+  const double cx = 0.5 * (bounds[0] + bounds[1]);
+  const double cy = 0.5 * (bounds[2] + bounds[3]);
+  surface->SetCameraPosition(cx, cy, 10);
+  surface->SetCameraFocalPoint(cx, cy, 0);
+  surface->SetCameraViewUp(0, 1, 0);
+  surface->ParallelProjectionOn();
+  // The whole domain in view, with a margin.
+  surface->SetParallelScale(
+      0.55 * std::max(bounds[3] - bounds[2], (bounds[1] - bounds[0]) * height / width));
+  surface->SetViewportSize(width, height);
+  surface->SetPixelThreshold(threshold);
+  surface->Update();
+  vtkPolyData* out = vtkPolyData::SafeDownCast(surface->GetOutput());
+  std::vector<Quad> quads;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    double b[6];
+    out->GetCellBounds(c, b);
+    quads.push_back({{b[0], b[2]}, {b[1], b[3]}});
+  }
+  return quads;
+}
+
+class SplitTreeLevelOfDetail : public ::testing::TestWithParam<std::tuple<int, double>>
+{
+};
+
+TEST_P(SplitTreeLevelOfDetail, NoTwoRanksQuadsOverlapAndTheirUnionCoversTheDomain)
+{
+  const auto [ranks, threshold] = GetParam();
+  RandomForestOptions o = splitOptions(2);
+  o.maxLevels = 8;
+  o.refineProbability = 0.6;
+  RandomForest whole(o);
+  const auto& c = whole.coordinates();
+  const double bounds[6] = {c[0].front(), c[0].back(), c[1].front(), c[1].back(), 0, 0};
+  const double domainArea = (bounds[1] - bounds[0]) * (bounds[3] - bounds[2]);
+  std::vector<std::vector<Quad>> perRank;
+  std::size_t quads = 0;
+  for (int rank = 0; rank < ranks; ++rank)
+  {
+    RankPart part(whole.description(), rank, ranks, false);
+    perRank.push_back(
+        surfaceQuads(buildHyperTreeGrid(part.description), threshold, bounds, 96, 72));
+    quads += perRank.back().size();
+  }
+  // Level of detail must have been at work (fewer quads than leaves).
+  EXPECT_LT(quads, whole.numberOfLeaves());
+  double area = 0;
+  for (const auto& rankQuads : perRank)
+  {
+    for (const Quad& q : rankQuads)
+    {
+      area += (q.hi[0] - q.lo[0]) * (q.hi[1] - q.lo[1]);
+    }
+  }
+  // Union covers the domain and nothing is drawn twice: areas add up exactly...
+  EXPECT_NEAR(area, domainArea, 1e-9 * domainArea);
+  // ...and no two quads of different ranks overlap with positive area.
+  std::size_t overlaps = 0;
+  for (int a = 0; a < ranks; ++a)
+  {
+    for (int b = a + 1; b < ranks; ++b)
+    {
+      for (const Quad& p : perRank[static_cast<std::size_t>(a)])
+      {
+        for (const Quad& q : perRank[static_cast<std::size_t>(b)])
+        {
+          const double w = std::min(p.hi[0], q.hi[0]) - std::max(p.lo[0], q.lo[0]);
+          const double h = std::min(p.hi[1], q.hi[1]) - std::max(p.lo[1], q.lo[1]);
+          overlaps += w > 1e-12 && h > 1e-12;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(overlaps, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(RanksAndThresholds, SplitTreeLevelOfDetail,
+                         ::testing::Combine(::testing::Values(2, 3), ::testing::Values(1.0, 8.0)));
+
+} // namespace
+} // namespace canopy::testing
