@@ -1,8 +1,9 @@
-// Uniform strided view of a borrowed field, whatever its layout.
+// Uniform view of a borrowed field, whatever its layout.
 //
 // AoS, SoA and strided layouts all reduce to "component c of tuple i lives at
-// base[c] + i * stride bytes". Code that reads simulation fields (restriction of
-// leaf values, strided wrapping) uses this one form instead of three.
+// componentBase[c] + i * strideBytes"; the indirect layout (records scattered in
+// memory) to "at tupleAddress[i] + c * valueSize". Code that reads simulation
+// fields (restriction of leaf values, borrowing arrays) uses this one form.
 #pragma once
 
 #include "canopy/ForestDescription.h"
@@ -14,46 +15,57 @@
 namespace canopy
 {
 
-template <typename T>
 struct FieldView
 {
-  std::vector<const T*> bases;
+  std::vector<const unsigned char*> componentBase; ///< strided forms
   std::size_t strideBytes = 0;
+  const void* const* tupleAddress = nullptr; ///< indirect form
+  std::size_t valueSize = 0;
 
   static FieldView of(const FieldDescription& field)
   {
     FieldView view;
     const auto nc = static_cast<std::size_t>(field.components);
+    view.valueSize = sizeOf(field.type);
+    // A rank without trees may pass null with zero tuples: no pointer arithmetic on null.
+    const auto offset = [](const void* base, std::size_t bytes)
+    { return base ? static_cast<const unsigned char*>(base) + bytes : nullptr; };
     switch (field.layout)
     {
     case Layout::AoS:
     case Layout::Strided:
-    {
-      const T* first = static_cast<const T*>(field.data);
       for (std::size_t c = 0; c < nc; ++c)
       {
-        view.bases.push_back(first + c);
+        view.componentBase.push_back(offset(field.data, c * view.valueSize));
       }
-      view.strideBytes = field.layout == Layout::AoS ? nc * sizeof(T) : field.tupleStrideBytes;
+      view.strideBytes = field.layout == Layout::AoS ? nc * view.valueSize : field.tupleStrideBytes;
       break;
-    }
     case Layout::SoA:
       for (const void* component : field.componentData)
       {
-        view.bases.push_back(static_cast<const T*>(component));
+        view.componentBase.push_back(static_cast<const unsigned char*>(component));
       }
-      view.strideBytes = sizeof(T);
+      view.strideBytes = view.valueSize;
+      break;
+    case Layout::Indirect:
+      view.tupleAddress = field.tupleAddresses;
       break;
     }
     return view;
   }
 
+  const unsigned char* address(std::size_t tuple, std::size_t component) const
+  {
+    return tupleAddress
+               ? static_cast<const unsigned char*>(tupleAddress[tuple]) + component * valueSize
+               : componentBase[component] + tuple * strideBytes;
+  }
+
+  template <typename T>
   T at(std::size_t tuple, std::size_t component) const
   {
     T value;
-    std::memcpy(&value,
-                reinterpret_cast<const unsigned char*>(bases[component]) + tuple * strideBytes,
-                sizeof(T));
+    std::memcpy(&value, address(tuple, component), sizeof(T));
     return value;
   }
 };

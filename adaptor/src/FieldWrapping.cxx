@@ -45,21 +45,10 @@ template <typename T>
 using VtkValue = std::conditional_t<std::is_same_v<T, std::int64_t>, vtkTypeInt64, T>;
 
 template <typename T>
-std::vector<const VtkValue<T>*> storedBases(const std::vector<const T*>& bases)
-{
-  static_assert(sizeof(VtkValue<T>) == sizeof(T), "VTK value type must match the field's");
-  std::vector<const VtkValue<T>*> stored;
-  for (const T* base : bases)
-  {
-    stored.push_back(reinterpret_cast<const VtkValue<T>*>(base));
-  }
-  return stored;
-}
-
-template <typename T>
 vtkSmartPointer<vtkDataArray> wrapTyped(const FieldDescription& field, vtkIdType tuples)
 {
   const int nc = field.components;
+  // Layout::Indirect is never contiguous.
   const bool contiguous =
       field.layout == Layout::AoS ||
       (field.layout == Layout::Strided && field.tupleStrideBytes == sizeof(T) * nc) ||
@@ -91,8 +80,7 @@ vtkSmartPointer<vtkDataArray> wrapTyped(const FieldDescription& field, vtkIdType
     return array;
   }
   auto array = vtkSmartPointer<SimulationFieldArray<Stored>>::New();
-  const FieldView<T> view = FieldView<T>::of(field);
-  array->borrow(storedBases<T>(view.bases), view.strideBytes, tuples);
+  array->borrow(FieldView::of(field), nc, tuples);
   return array;
 }
 
@@ -102,11 +90,9 @@ vtkSmartPointer<vtkDataArray> wrapMappedTyped(const FieldDescription& field, con
 {
   using Stored = VtkValue<T>;
   auto array = vtkSmartPointer<SimulationFieldArray<Stored>>::New();
-  const FieldView<T> view = FieldView<T>::of(field);
   // Computed tuple 0 (what CellSlots::NoSlot reads): the absent fill.
   std::vector<Stored> fill(static_cast<std::size_t>(field.components), absentValue<Stored>());
-  array->borrowMapped(storedBases<T>(view.bases), view.strideBytes, slots.slotOfCell,
-                      std::move(fill));
+  array->borrowMapped(FieldView::of(field), field.components, slots.slotOfCell, std::move(fill));
   return array;
 }
 
@@ -116,8 +102,7 @@ vtkSmartPointer<vtkDataArray> wrapLeafTyped(const FieldDescription& field,
                                             const ForestLayout& layout, const LeafTupleMap& map)
 {
   auto array = vtkSmartPointer<SimulationFieldArray<T>>::New();
-  const FieldView<T> view = FieldView<T>::of(field);
-  array->borrowMapped(view.bases, view.strideBytes, map.cellToTuple,
+  array->borrowMapped(FieldView::of(field), field.components, map.cellToTuple,
                       restrictToCoarse<T>(forest, layout, field, map));
   return array;
 }

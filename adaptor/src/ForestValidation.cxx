@@ -377,6 +377,23 @@ void validateFields(const ForestDescription& forest, const ForestLayout& layout,
         }
       }
       break;
+    case Layout::Indirect:
+      if (field.tupleAddresses == nullptr && field.numberOfTuples > 0)
+      {
+        problems.add(name, ": tupleAddresses pointer is null");
+        break;
+      }
+      for (std::size_t i = 0; i < field.numberOfTuples; ++i)
+      {
+        const void* address = field.tupleAddresses[i];
+        if (address == nullptr || misaligned(address, valueSize))
+        {
+          problems.add(name, ": the address of tuple ", i,
+                       address == nullptr ? " is null" : " is not aligned to its values");
+          break;
+        }
+      }
+      break;
     default:
       problems.add(name, ": unknown layout");
       continue;
@@ -393,7 +410,7 @@ void validateFields(const ForestDescription& forest, const ForestLayout& layout,
         }
       }
     }
-    else if (misaligned(field.data, valueSize))
+    else if (field.layout != Layout::Indirect && misaligned(field.data, valueSize))
     {
       problems.add(name, ": data pointer is not aligned to its ", valueSize, "-byte values");
     }

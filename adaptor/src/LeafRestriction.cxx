@@ -62,7 +62,7 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
                                 const FieldDescription& field, const LeafTupleMap& map)
 {
   const auto nc = static_cast<std::size_t>(field.components);
-  const FieldView<T> leaves = FieldView<T>::of(field);
+  const FieldView leaves = FieldView::of(field);
   const auto& table = *map.cellToTuple;
   // Computed tuple 0 is what absent cells read.
   std::vector<T> computed((1 + map.numberOfCoarse) * nc);
@@ -108,7 +108,7 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
           for (std::size_t c = 0; c < nc; ++c)
           {
             sum[c] += tuple >= 0
-                          ? static_cast<double>(leaves.at(static_cast<std::size_t>(tuple), c))
+                          ? static_cast<double>(leaves.at<T>(static_cast<std::size_t>(tuple), c))
                           : static_cast<double>(computed[computedIndexOf(tuple) * nc + c]);
           }
           ++used;

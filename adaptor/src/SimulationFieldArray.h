@@ -4,7 +4,8 @@
 // vtkSOADataArrayTemplate) but nothing else. This array covers the rest without
 // copying the simulation's values:
 //  - strided fields (a member of an array of records): component c of tuple i is
-//    at componentBase[c] + i * tupleStrideBytes;
+//    at componentBase[c] + i * tupleStrideBytes; indirect fields (records
+//    scattered in memory): at tupleAddress[i] + c * valueSize;
 //  - mapped fields (leaves-only fields, forests with absent nodes): tuple i (a
 //    cell) maps through a shared table either to a tuple in simulation memory
 //    or to a value that Canopy computed and this array owns (a coarse average,
@@ -13,6 +14,8 @@
 // arrays they created with NewInstance, which start owned) or a request for a raw
 // pointer first detaches the array into an owned AoS copy.
 #pragma once
+
+#include "FieldView.h"
 
 #include <vtkGenericDataArray.h>
 #include <vtkObjectFactory.h>
@@ -65,18 +68,17 @@ public:
 
   static SimulationFieldArray* New() { VTK_STANDARD_NEW_BODY(SimulationFieldArray<T>); }
 
-  /// Borrows `numberOfTuples` tuples whose component c starts at componentBase[c]
-  /// and which are tupleStrideBytes apart. Sets the number of components.
-  void borrow(const std::vector<const T*>& componentBase, std::size_t tupleStrideBytes,
-              vtkIdType numberOfTuples)
+  /// Borrows `numberOfTuples` tuples of `view` (whose values are of this array's
+  /// type). Sets the number of components.
+  void borrow(FieldView view, int components, vtkIdType numberOfTuples)
   {
     this->Owned.clear();
     this->Owned.shrink_to_fit();
     this->dropBorrow();
     // Through the base class: it also sizes VTK's scratch tuple used by GetTuple.
-    this->GenericBase::SetNumberOfComponents(static_cast<int>(componentBase.size()));
-    this->Bases.assign(componentBase.begin(), componentBase.end());
-    this->Stride = tupleStrideBytes;
+    this->GenericBase::SetNumberOfComponents(components);
+    this->View = std::move(view);
+    this->Borrowing = true;
     this->Size = numberOfTuples * this->NumberOfComponents;
     this->MaxId = this->Size - 1;
     this->DataChanged();
@@ -84,17 +86,17 @@ public:
 
   /// Like borrow(), but tuple i is read through map[i]: borrowed tuples from the
   /// view, computed tuples from `computedValues` (AoS, owned by this array).
-  void borrowMapped(const std::vector<const T*>& componentBase, std::size_t tupleStrideBytes,
-                    std::shared_ptr<const TupleMap> map, std::vector<T> computedValues)
+  void borrowMapped(FieldView view, int components, std::shared_ptr<const TupleMap> map,
+                    std::vector<T> computedValues)
   {
     const auto tuples = static_cast<vtkIdType>(map->size());
-    this->borrow(componentBase, tupleStrideBytes, tuples);
+    this->borrow(std::move(view), components, tuples);
     this->Map = std::move(map);
     this->Computed = std::move(computedValues);
   }
 
   /// True while values are read from simulation memory.
-  bool isBorrowing() const { return !this->Bases.empty(); }
+  bool isBorrowing() const { return this->Borrowing; }
 
   ValueType GetValue(vtkIdType valueIdx) const
   {
@@ -125,7 +127,7 @@ public:
 
   ValueType GetTypedComponent(vtkIdType tupleIdx, int comp) const
   {
-    if (this->Bases.empty())
+    if (!this->Borrowing)
     {
       return this->Owned[static_cast<std::size_t>(tupleIdx * this->NumberOfComponents + comp)];
     }
@@ -140,11 +142,8 @@ public:
                               static_cast<std::size_t>(comp)];
       }
     }
-    const auto* address = reinterpret_cast<const unsigned char*>(this->Bases[comp]) +
-                          static_cast<std::size_t>(source) * this->Stride;
-    ValueType value;
-    std::memcpy(&value, address, sizeof(ValueType));
-    return value;
+    return this->View.template at<ValueType>(static_cast<std::size_t>(source),
+                                             static_cast<std::size_t>(comp));
   }
 
   void SetTypedComponent(vtkIdType tupleIdx, int comp, ValueType value)
@@ -206,7 +205,8 @@ private:
 
   void dropBorrow()
   {
-    this->Bases.clear();
+    this->Borrowing = false;
+    this->View = FieldView();
     this->Map.reset();
     this->Computed.clear();
   }
@@ -214,13 +214,13 @@ private:
   /// Copies the borrowed view into owned memory so a write never reaches the simulation.
   void detach()
   {
-    if (this->Bases.empty())
+    if (!this->Borrowing)
     {
       return;
     }
     const vtkIdType tuples = this->GetNumberOfTuples();
     std::vector<ValueType> copy(static_cast<std::size_t>(this->Size));
-    const int components = std::min(this->NumberOfComponents, static_cast<int>(this->Bases.size()));
+    const int components = this->NumberOfComponents;
     for (vtkIdType t = 0; t < tuples; ++t)
     {
       for (int c = 0; c < components; ++c)
@@ -233,8 +233,8 @@ private:
     this->Owned = std::move(copy);
   }
 
-  std::vector<const T*> Bases;
-  std::size_t Stride = 0;
+  FieldView View;
+  bool Borrowing = false;
   std::shared_ptr<const TupleMap> Map;
   std::vector<ValueType> Computed;
   std::vector<ValueType> Owned;

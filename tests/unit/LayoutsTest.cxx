@@ -33,7 +33,7 @@ struct LayoutCase
 
 std::ostream& operator<<(std::ostream& out, const LayoutCase& c)
 {
-  static const char* layouts[] = {"AoS", "SoA", "Strided"};
+  static const char* layouts[] = {"AoS", "SoA", "Strided", "Indirect"};
   return out << c.dimension << "D_bf" << c.branchFactor << "_flat" << c.flatAxis << "_"
              << (c.order == StorageOrder::BreadthFirst ? "breadthFirst" : "depthFirst") << "_"
              << layouts[static_cast<int>(c.layout)];
@@ -57,6 +57,7 @@ struct VectorStorage
     float extra;
   };
   std::vector<Record> records;
+  std::vector<const void*> addresses;
 
   FieldDescription describe(Layout layout, std::size_t n)
   {
@@ -83,6 +84,18 @@ struct VectorStorage
         for (int c = 0; c < 3; ++c)
           records[s].vector[c] = valueAt(static_cast<std::int64_t>(s), c);
       return FieldDescription::strided("vector", &records[0].vector[0], sizeof(Record), n, 3);
+    case Layout::Indirect:
+      // Records scattered in memory (reversed here), found through an address table.
+      records.resize(n);
+      addresses.resize(n);
+      for (std::size_t s = 0; s < n; ++s)
+      {
+        Record& record = records[n - 1 - s];
+        for (int c = 0; c < 3; ++c)
+          record.vector[c] = valueAt(static_cast<std::int64_t>(s), c);
+        addresses[s] = &record.vector[0];
+      }
+      return FieldDescription::indirect<double>("vector", addresses.data(), n, 3);
     }
     return {};
   }
@@ -243,7 +256,7 @@ std::vector<LayoutCase> allCases()
   for (int dimension : {2, 3})
     for (int bf : {2, 3})
       for (StorageOrder order : {StorageOrder::BreadthFirst, StorageOrder::DepthFirst})
-        for (Layout layout : {Layout::AoS, Layout::SoA, Layout::Strided})
+        for (Layout layout : {Layout::AoS, Layout::SoA, Layout::Strided, Layout::Indirect})
           cases.push_back({dimension, bf, 2, order, layout});
   // 2D grids lying in the XZ and YZ planes.
   for (int flat : {0, 1})

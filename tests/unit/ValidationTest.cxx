@@ -110,6 +110,26 @@ TEST_F(Validation, NullFieldPointer)
   expectRejected({"field 0 'Depth'", "data pointer is null"});
 }
 
+TEST_F(Validation, IndirectFieldWithANullAddressTable)
+{
+  d().fields.push_back(FieldDescription::indirect<double>("scattered", nullptr, 98));
+  expectRejected({"field 1 'scattered'", "tupleAddresses pointer is null"});
+}
+
+TEST_F(Validation, IndirectFieldWithANullOrMisalignedTupleAddress)
+{
+  static std::vector<double> values(98, 1.0);
+  static std::vector<const void*> addresses;
+  addresses.clear();
+  for (const double& v : values)
+    addresses.push_back(&v);
+  addresses[3] = nullptr;
+  d().fields.push_back(FieldDescription::indirect<double>("scattered", addresses.data(), 98));
+  expectRejected({"field 1 'scattered'", "the address of tuple 3 is null"});
+  addresses[3] = reinterpret_cast<const char*>(&values[3]) + 1;
+  expectRejected({"field 1 'scattered'", "the address of tuple 3 is not aligned"});
+}
+
 TEST_F(Validation, NullRefinementPointer)
 {
   d().trees[2].refinement = nullptr;

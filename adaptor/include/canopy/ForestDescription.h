@@ -27,9 +27,11 @@ enum class ValueType
 /// How a field's components are laid out in simulation memory.
 enum class Layout
 {
-  AoS,    ///< tuples contiguous, components interleaved: x0 y0 z0 x1 y1 z1 ...
-  SoA,    ///< one contiguous array per component
-  Strided ///< components contiguous within a tuple, tuples tupleStrideBytes apart
+  AoS,     ///< tuples contiguous, components interleaved: x0 y0 z0 x1 y1 z1 ...
+  SoA,     ///< one contiguous array per component
+  Strided, ///< components contiguous within a tuple, tuples tupleStrideBytes apart
+  Indirect ///< components contiguous within a tuple, tuple i at tupleAddresses[i]: records
+           ///< scattered in memory (e.g. p4est's per-quadrant user_data)
 };
 
 /// Which nodes a field has values for.
@@ -80,6 +82,8 @@ struct FieldDescription
   std::vector<const void*> componentData;
   /// Strided: bytes from one tuple to the next (>= components * value size).
   std::size_t tupleStrideBytes = 0;
+  /// Indirect: one address per tuple, each of component 0 (borrowed, as are the values).
+  const void* const* tupleAddresses = nullptr;
   /// How many tuples the simulation's array holds (validated against the forest).
   std::size_t numberOfTuples = 0;
 
@@ -129,6 +133,24 @@ struct FieldDescription
     f.centering = centering;
     f.data = firstValue;
     f.tupleStrideBytes = tupleStrideBytes;
+    f.numberOfTuples = numberOfTuples;
+    return f;
+  }
+
+  /// Tuples scattered in memory: tuple i's components start at tupleAddresses[i].
+  /// The address table is borrowed too (it must outlive the grid).
+  template <typename T>
+  static FieldDescription indirect(std::string name, const void* const* tupleAddresses,
+                                   std::size_t numberOfTuples, int components = 1,
+                                   Centering centering = Centering::EveryNode)
+  {
+    FieldDescription f;
+    f.name = std::move(name);
+    f.type = valueTypeOf<T>();
+    f.components = components;
+    f.layout = Layout::Indirect;
+    f.centering = centering;
+    f.tupleAddresses = tupleAddresses;
     f.numberOfTuples = numberOfTuples;
     return f;
   }

@@ -272,6 +272,9 @@ public:
             case canopy::Layout::SoA:
               source = static_cast<const char*>(field.componentData[cc]) + i * valueBytes;
               break;
+            case canopy::Layout::Indirect:
+              source = static_cast<const char*>(field.tupleAddresses[i]) + cc * valueBytes;
+              break;
             }
             bytes.insert(bytes.end(), source, source + valueBytes);
           }
