@@ -16,4 +16,5 @@ install(FILES
   "${CMAKE_CURRENT_BINARY_DIR}/CanopyConfig.cmake"
   "${CMAKE_CURRENT_BINARY_DIR}/CanopyConfigVersion.cmake"
   "${CMAKE_CURRENT_LIST_DIR}/CanopyDependencies.cmake"
+  "${CMAKE_CURRENT_LIST_DIR}/FindP4est.cmake"
   DESTINATION "${CANOPY_CMAKE_DIR}")

@@ -1,0 +1,554 @@
+#include "canopy/P4estForest.h"
+
+#include <p4est.h>
+#include <p4est_connectivity.h>
+#include <p8est.h>
+#include <p8est_connectivity.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <vector>
+
+namespace canopy
+{
+namespace
+{
+
+/// The parts of p4est's and p8est's APIs the description needs.
+template <int D>
+struct Api;
+
+template <>
+struct Api<2>
+{
+  using Forest = p4est_t;
+  using Tree = p4est_tree_t;
+  using Quadrant = p4est_quadrant_t;
+  using Connectivity = p4est_connectivity_t;
+  static constexpr int MaxLevel = P4EST_MAXLEVEL;
+  static constexpr int Children = P4EST_CHILDREN;
+  static const Tree* tree(const Forest* forest, p4est_topidx_t t)
+  {
+    return p4est_tree_array_index(forest->trees, t);
+  }
+  static const Quadrant* quadrant(const Tree* tree, std::size_t i)
+  {
+    return p4est_quadrant_array_index(const_cast<sc_array_t*>(&tree->quadrants), i);
+  }
+  static std::array<p4est_qcoord_t, 3> position(const Quadrant* q) { return {{q->x, q->y, 0}}; }
+};
+
+template <>
+struct Api<3>
+{
+  using Forest = p8est_t;
+  using Tree = p8est_tree_t;
+  using Quadrant = p8est_quadrant_t;
+  using Connectivity = p8est_connectivity_t;
+  static constexpr int MaxLevel = P8EST_MAXLEVEL;
+  static constexpr int Children = P8EST_CHILDREN;
+  static const Tree* tree(const Forest* forest, p4est_topidx_t t)
+  {
+    return p8est_tree_array_index(forest->trees, t);
+  }
+  static const Quadrant* quadrant(const Tree* tree, std::size_t i)
+  {
+    return p8est_quadrant_array_index(const_cast<sc_array_t*>(&tree->quadrants), i);
+  }
+  static std::array<p4est_qcoord_t, 3> position(const Quadrant* q) { return {{q->x, q->y, q->z}}; }
+};
+
+/// Collects every problem before anything is thrown, as validateForest does.
+class Problems
+{
+public:
+  template <typename... Parts>
+  void add(const Parts&... parts)
+  {
+    std::ostringstream out;
+    out << "p4est forest: ";
+    (out << ... << parts);
+    Lines.push_back(out.str());
+  }
+  bool empty() const { return Lines.empty(); }
+  [[noreturn]] void raise() { throw InvalidForest(std::move(Lines)); }
+  void raiseIfAny()
+  {
+    if (!empty())
+    {
+      raise();
+    }
+  }
+
+private:
+  std::vector<std::string> Lines;
+};
+
+/// The root grid of a brick-like connectivity, and each tree's root cell.
+struct BrickLattice
+{
+  std::array<std::vector<double>, 3> axes;
+  std::vector<std::int64_t> rootOfTree;
+};
+
+/// Each tree must be an unrotated axis-aligned box (corner c at lo + bit_a(c) (hi - lo)
+/// in vertex coordinates), one cell of a rectilinear lattice, every cell one tree.
+template <int D>
+BrickLattice latticeOf(const typename Api<D>::Connectivity* connectivity, Problems& problems)
+{
+  BrickLattice lattice;
+  const std::size_t trees = static_cast<std::size_t>(connectivity->num_trees);
+  if (connectivity->num_vertices == 0 || connectivity->vertices == nullptr ||
+      connectivity->tree_to_vertex == nullptr)
+  {
+    problems.add("the connectivity has no vertices, so its trees have no place in space; "
+                 "Canopy needs a brick (p4est_connectivity_new_brick) or trees that are "
+                 "axis-aligned boxes on a lattice of vertices");
+    problems.raise();
+  }
+  constexpr int children = Api<D>::Children;
+  using Corner = std::array<double, 3>;
+  const auto corner = [&](std::size_t t, int c)
+  {
+    const auto v = static_cast<std::size_t>(connectivity->tree_to_vertex[t * children + c]);
+    const double* p = connectivity->vertices + 3 * v;
+    return Corner{{p[0], p[1], p[2]}};
+  };
+  std::vector<Corner> lows(trees);
+  std::vector<Corner> highs(trees);
+  std::size_t notBoxes = 0;
+  for (std::size_t t = 0; t < trees; ++t)
+  {
+    const Corner lo = corner(t, 0);
+    const Corner hi = corner(t, children - 1);
+    bool box = true;
+    for (int a = 0; a < D; ++a)
+    {
+      box = box && hi[a] > lo[a];
+    }
+    for (int c = 0; c < children && box; ++c)
+    {
+      const Corner p = corner(t, c);
+      for (int a = 0; a < 3; ++a)
+      {
+        const double expected = a < D && ((c >> a) & 1) ? hi[a] : lo[a];
+        const double tolerance = 1e-12 * (1 + std::abs(expected));
+        box = box && std::abs(p[a] - expected) <= tolerance;
+      }
+    }
+    if (!box && notBoxes++ < 5)
+    {
+      problems.add("tree ", t,
+                   ": its corners are not an unrotated axis-aligned box in vertex coordinates "
+                   "(rotated, mirrored or curved trees are not supported)");
+    }
+    lows[t] = lo;
+    highs[t] = hi;
+    if (D == 2 && lo[2] != lows[0][2])
+    {
+      problems.add("tree ", t, ": the 2D connectivity is not planar (vertex z ", lo[2],
+                   " differs from ", lows[0][2], ")");
+    }
+  }
+  if (notBoxes > 5)
+  {
+    problems.add("... and ", notBoxes - 5, " more trees that are not axis-aligned boxes");
+  }
+  problems.raiseIfAny();
+  for (int a = 0; a < 3; ++a)
+  {
+    auto& axis = lattice.axes[static_cast<std::size_t>(a)];
+    for (std::size_t t = 0; t < trees; ++t)
+    {
+      axis.push_back(lows[t][a]);
+      if (a < D)
+      {
+        axis.push_back(highs[t][a]);
+      }
+    }
+    std::sort(axis.begin(), axis.end());
+    axis.erase(std::unique(axis.begin(), axis.end()), axis.end());
+  }
+  std::array<std::size_t, 3> cells{{1, 1, 1}};
+  for (int a = 0; a < D; ++a)
+  {
+    cells[a] = lattice.axes[a].size() - 1;
+  }
+  const std::size_t latticeCells = cells[0] * cells[1] * cells[2];
+  std::vector<std::int64_t> treeAtCell(latticeCells, -1);
+  lattice.rootOfTree.resize(trees);
+  for (std::size_t t = 0; t < trees; ++t)
+  {
+    std::array<std::size_t, 3> ijk{{0, 0, 0}};
+    bool oneCell = true;
+    for (int a = 0; a < D; ++a)
+    {
+      const auto& axis = lattice.axes[a];
+      ijk[a] = static_cast<std::size_t>(std::lower_bound(axis.begin(), axis.end(), lows[t][a]) -
+                                        axis.begin());
+      oneCell = oneCell && ijk[a] + 1 < axis.size() && axis[ijk[a] + 1] == highs[t][a];
+    }
+    if (!oneCell)
+    {
+      problems.add("tree ", t, ": spans several cells of the lattice of tree corners");
+      continue;
+    }
+    const std::size_t root = ijk[0] + cells[0] * (ijk[1] + cells[1] * ijk[2]);
+    if (treeAtCell[root] >= 0)
+    {
+      problems.add("trees ", treeAtCell[root], " and ", t, " occupy the same lattice cell");
+      continue;
+    }
+    treeAtCell[root] = static_cast<std::int64_t>(t);
+    lattice.rootOfTree[t] = static_cast<std::int64_t>(root);
+  }
+  if (problems.empty() && trees != latticeCells)
+  {
+    problems.add("the ", trees, " trees do not tile the ", latticeCells,
+                 "-cell lattice of their corners (Canopy needs a box of trees, as a brick is)");
+  }
+  problems.raiseIfAny();
+  return lattice;
+}
+
+/// One local tree described breadth-first down to this rank's quadrants.
+struct DescribedTree
+{
+  std::int64_t root = 0;
+  std::vector<std::uint8_t> refinement;
+  std::vector<std::uint8_t> absent;
+  std::vector<std::int64_t> slots;
+  std::size_t presentNodes = 0;
+};
+
+template <int D>
+DescribedTree describeTree(const typename Api<D>::Tree* tree, std::int64_t root,
+                           std::int64_t firstSlot, std::size_t treeIndex, Problems& problems)
+{
+  using A = Api<D>;
+  constexpr int children = A::Children;
+  const std::size_t count = tree->quadrants.elem_count;
+  DescribedTree out;
+  out.root = root;
+  // A node of the description: its level, lower corner (p4est integer
+  // coordinates) and the run [first, last) of local quadrants inside it; runs
+  // are contiguous because quadrants are in Morton order.
+  struct Node
+  {
+    int level;
+    std::array<p4est_qcoord_t, 3> corner;
+    std::size_t first;
+    std::size_t last;
+  };
+  std::vector<Node> level{{0, {{0, 0, 0}}, 0, count}};
+  std::vector<Node> next;
+  while (!level.empty())
+  {
+    next.clear();
+    for (const Node& node : level)
+    {
+      const std::size_t inside = node.last - node.first;
+      const typename A::Quadrant* q = inside ? A::quadrant(tree, node.first) : nullptr;
+      if (inside == 0 || (inside == 1 && q->level == node.level))
+      {
+        if (q && A::position(q) != node.corner)
+        {
+          problems.add("tree ", treeIndex, ": quadrant ", node.first,
+                       " is not where Morton order puts it (not a valid linear quadtree)");
+          problems.raise();
+        }
+        out.refinement.push_back(0);
+        out.absent.push_back(inside == 0 ? 1 : 0);
+        continue;
+      }
+      if (node.level >= A::MaxLevel)
+      {
+        problems.add("tree ", treeIndex, ": quadrants overlap at level ", node.level);
+        problems.raise();
+      }
+      out.refinement.push_back(1);
+      out.absent.push_back(0);
+      const int shift = A::MaxLevel - (node.level + 1);
+      std::size_t i = node.first;
+      for (int c = 0; c < children; ++c)
+      {
+        Node child{node.level + 1, node.corner, i, i};
+        for (int a = 0; a < D; ++a)
+        {
+          child.corner[a] += static_cast<p4est_qcoord_t>((c >> a) & 1) << shift;
+        }
+        while (child.last < node.last)
+        {
+          const auto p = A::position(A::quadrant(tree, child.last));
+          int id = 0;
+          for (int a = 0; a < D; ++a)
+          {
+            id |= ((p[a] >> shift) & 1) << a;
+          }
+          if (id != c)
+          {
+            break;
+          }
+          ++child.last;
+        }
+        i = child.last;
+        next.push_back(child);
+      }
+      if (i != node.last)
+      {
+        problems.add("tree ", treeIndex, ": quadrants are not in Morton order");
+        problems.raise();
+      }
+    }
+    level.swap(next);
+  }
+  // Slots in pre-order (Morton order) over the present nodes: the leaves then
+  // come in local quadrant order, which is how p4est codes store their fields.
+  const std::size_t nodes = out.refinement.size();
+  std::vector<std::size_t> firstChild(nodes, 0);
+  for (std::size_t n = 0, nextChild = 1; n < nodes; ++n)
+  {
+    if (out.refinement[n])
+    {
+      firstChild[n] = nextChild;
+      nextChild += children;
+    }
+  }
+  out.slots.assign(nodes, -1);
+  std::int64_t slot = firstSlot;
+  std::vector<std::size_t> stack{0};
+  while (!stack.empty())
+  {
+    const std::size_t n = stack.back();
+    stack.pop_back();
+    if (out.absent[n])
+    {
+      continue;
+    }
+    out.slots[n] = slot++;
+    for (int c = children; out.refinement[n] && c-- > 0;)
+    {
+      stack.push_back(firstChild[n] + static_cast<std::size_t>(c));
+    }
+  }
+  out.presentNodes = static_cast<std::size_t>(slot - firstSlot);
+  return out;
+}
+
+} // namespace
+
+template <int D>
+struct BasicP4estForest<D>::State
+{
+  const typename Api<D>::Forest* forest = nullptr;
+  long revision = 0;
+  std::size_t quadrants = 0;
+  BrickLattice lattice;
+  std::vector<DescribedTree> trees;
+  std::vector<std::vector<const void*>> userDataAddresses; ///< per user-data field
+  ForestDescription description;
+
+  void addField(FieldDescription field)
+  {
+    std::vector<std::string> problems;
+    if (field.name.empty())
+    {
+      problems.push_back("p4est forest: a field name is empty");
+    }
+    for (const auto& existing : description.fields)
+    {
+      if (existing.name == field.name)
+      {
+        problems.push_back("p4est forest: field '" + field.name + "' is already described");
+      }
+    }
+    if (field.components < 1)
+    {
+      problems.push_back("p4est forest: field '" + field.name + "' has " +
+                         std::to_string(field.components) + " components (at least 1)");
+    }
+    if (!problems.empty())
+    {
+      throw InvalidForest(std::move(problems));
+    }
+    description.fields.push_back(std::move(field));
+  }
+};
+
+template <int D>
+BasicP4estForest<D>::BasicP4estForest(const Forest* forest) : Impl(std::make_unique<State>())
+{
+  using A = Api<D>;
+  Problems problems;
+  const typename A::Forest* p = forest;
+  if (p == nullptr)
+  {
+    problems.add("the forest pointer is null");
+    problems.raise();
+  }
+  if (p->connectivity == nullptr || p->trees == nullptr)
+  {
+    problems.add("the forest has no connectivity or no trees (destroyed?)");
+    problems.raise();
+  }
+  State& s = *Impl;
+  s.forest = p;
+  s.revision = p->revision;
+  s.quadrants = static_cast<std::size_t>(p->local_num_quadrants);
+  s.lattice = latticeOf<D>(p->connectivity, problems);
+
+  std::int64_t slots = 0;
+  int maxLevel = 0;
+  std::size_t described = 0;
+  for (p4est_topidx_t t = p->first_local_tree; t >= 0 && t <= p->last_local_tree; ++t)
+  {
+    const typename A::Tree* tree = A::tree(p, t);
+    if (tree->quadrants.elem_count == 0)
+    {
+      continue;
+    }
+    const auto index = static_cast<std::size_t>(t);
+    s.trees.push_back(describeTree<D>(tree, s.lattice.rootOfTree[index], slots, index, problems));
+    slots += static_cast<std::int64_t>(s.trees.back().presentNodes);
+    maxLevel = std::max(maxLevel, static_cast<int>(tree->maxlevel));
+    described += tree->quadrants.elem_count;
+  }
+  if (described != s.quadrants)
+  {
+    problems.add("the local trees hold ", described, " quadrants but local_num_quadrants is ",
+                 s.quadrants);
+    problems.raise();
+  }
+
+  ForestDescription& d = s.description;
+  d.dimension = D;
+  d.branchFactor = 2;
+  d.maxLevels = maxLevel + 1;
+  const auto& axes = s.lattice.axes;
+  d.rootGrid = {axes[0].data(), axes[1].data(), axes[2].data(),
+                axes[0].size(), axes[1].size(), axes[2].size()};
+  for (const DescribedTree& tree : s.trees)
+  {
+    TreeDescription td;
+    td.rootIndex = tree.root;
+    td.refinement = tree.refinement.data();
+    td.numberOfNodes = tree.refinement.size();
+    td.storageSlots = tree.slots.data();
+    // Trees this rank has whole need no absent bytes.
+    const bool split =
+        std::any_of(tree.absent.begin(), tree.absent.end(), [](std::uint8_t a) { return a != 0; });
+    td.absent = split ? tree.absent.data() : nullptr;
+    d.trees.push_back(td);
+  }
+}
+
+template <int D>
+BasicP4estForest<D>::~BasicP4estForest() = default;
+template <int D>
+BasicP4estForest<D>::BasicP4estForest(BasicP4estForest&&) noexcept = default;
+template <int D>
+BasicP4estForest<D>& BasicP4estForest<D>::operator=(BasicP4estForest&&) noexcept = default;
+
+template <int D>
+void BasicP4estForest<D>::addQuadrantField(std::string name, ValueType type, const void* values,
+                                           int components)
+{
+  FieldDescription field;
+  field.name = std::move(name);
+  field.type = type;
+  field.components = components;
+  field.layout = Layout::AoS;
+  field.centering = Centering::LeavesOnly;
+  field.data = values;
+  field.numberOfTuples = Impl->quadrants;
+  Impl->addField(std::move(field));
+}
+
+template <int D>
+void BasicP4estForest<D>::addUserDataField(std::string name, ValueType type, std::size_t byteOffset,
+                                           int components)
+{
+  using A = Api<D>;
+  State& s = *Impl;
+  const auto* p = s.forest;
+  const std::size_t bytes = sizeOf(type) * static_cast<std::size_t>(std::max(components, 0));
+  if (p->data_size == 0)
+  {
+    throw InvalidForest(
+        {"p4est forest: field '" + name + "': the forest has no user data (data_size is 0)"});
+  }
+  if (byteOffset + bytes > p->data_size)
+  {
+    throw InvalidForest({"p4est forest: field '" + name + "': " + std::to_string(bytes) +
+                         " bytes at offset " + std::to_string(byteOffset) +
+                         " do not fit in the quadrants' " + std::to_string(p->data_size) +
+                         " bytes of user data"});
+  }
+  // One address per local quadrant, in local order: user_data lives in p4est's
+  // memory pool, not at a fixed stride.
+  std::vector<const void*> addresses;
+  addresses.reserve(s.quadrants);
+  for (p4est_topidx_t t = p->first_local_tree; t >= 0 && t <= p->last_local_tree; ++t)
+  {
+    const typename A::Tree* tree = A::tree(p, t);
+    for (std::size_t i = 0; i < tree->quadrants.elem_count; ++i)
+    {
+      const auto* data = static_cast<const unsigned char*>(A::quadrant(tree, i)->p.user_data);
+      addresses.push_back(data ? data + byteOffset : nullptr);
+    }
+  }
+  FieldDescription field;
+  field.name = std::move(name);
+  field.type = type;
+  field.components = components;
+  field.layout = Layout::Indirect;
+  field.centering = Centering::LeavesOnly;
+  field.numberOfTuples = addresses.size();
+  s.userDataAddresses.push_back(std::move(addresses));
+  field.tupleAddresses = s.userDataAddresses.back().data();
+  try
+  {
+    s.addField(std::move(field));
+  }
+  catch (...)
+  {
+    s.userDataAddresses.pop_back();
+    throw;
+  }
+}
+
+template <int D>
+const ForestDescription& BasicP4estForest<D>::description() const
+{
+  const State& s = *Impl;
+  const auto current = static_cast<std::size_t>(s.forest->local_num_quadrants);
+  if (s.forest->revision != s.revision || current != s.quadrants)
+  {
+    std::ostringstream out;
+    out << "p4est forest: it changed since it was described (revision " << s.revision << ", now "
+        << s.forest->revision << "; " << s.quadrants << " local quadrants, now " << current
+        << "): describe it again after refine, coarsen, balance or partition";
+    throw InvalidForest({out.str()});
+  }
+  return s.description;
+}
+
+template <int D>
+std::size_t BasicP4estForest<D>::numberOfQuadrants() const
+{
+  return Impl->quadrants;
+}
+
+template <int D>
+std::size_t BasicP4estForest<D>::numberOfLocalTrees() const
+{
+  return Impl->trees.size();
+}
+
+template class BasicP4estForest<2>;
+template class BasicP4estForest<3>;
+
+} // namespace canopy
