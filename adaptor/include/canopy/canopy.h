@@ -157,6 +157,8 @@ extern "C"
                                   size_t number_of_tuples, int centering);
 
   /* ---- the in-situ calls (collective over the communicator) ------------- */
+  /* They refuse a NULL handle, NULL options or MPI_COMM_NULL before anything
+   * collective: pass valid arguments on every rank, or the others wait. */
   /* [in] communicator  duplicated; not MPI_COMM_NULL.
    * [in] options       copied; the caller may destroy it after the call.
    * [out] insitu       a new owned handle (free it with canopy_close); NULL on failure. */
