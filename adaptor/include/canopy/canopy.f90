@@ -1,14 +1,29 @@
 ! Canopy's C API (canopy.h) for Fortran, through iso_c_binding. Compile this
 ! file with your code (it is installed next to canopy.h) and `use canopy`.
-! Strings passed in must end with c_null_char; handles are type(c_ptr).
-! Return values: CANOPY_OK (0) or an error code; canopy_last_error_message()
-! then says what went wrong. See docs/insitu.md.
+! Every function of canopy.h is bound here (canopy_open through canopy_open_f,
+! which takes the integer communicator handle).
+!
+! Strings passed in end with c_null_char; Canopy copies them during the call.
+! Handles are type(c_ptr). Return values: CANOPY_OK (0) or an error code;
+! canopy_last_error_message() then says what went wrong.
+!
+! Arrays that Canopy keeps after the call (root grid coordinates, refinement,
+! masks, storage slots, absent bytes, field data) are `type(c_ptr), value`
+! dummies: pass c_loc(a) of a contiguous array declared `target` (or a pointer
+! to one), or c_null_ptr where canopy.h allows NULL. A dimension(*) dummy would
+! let the compiler pass a temporary copy (for a section or an expression) that
+! is freed when the call returns, while Canopy reads it at canopy_execute.
+! Such an array is borrowed until canopy_forest_clear (root grid coordinates:
+! canopy_forest_destroy): keep it allocated and in place (no reallocation) until
+! then; its values may change between steps, each canopy_execute reads them.
+! See docs/insitu.md.
 module canopy
   use iso_c_binding
   implicit none
 
   integer(c_int), parameter :: CANOPY_OK = 0, CANOPY_INVALID_ARGUMENT = 1, &
-                               CANOPY_OPEN_FAILED = 2, CANOPY_STEP_FAILED = 3
+                               CANOPY_OPEN_FAILED = 2, CANOPY_STEP_FAILED = 3, &
+                               CANOPY_OUT_OF_MEMORY = 4
   integer(c_int), parameter :: CANOPY_FLOAT32 = 0, CANOPY_FLOAT64 = 1, &
                                CANOPY_INT32 = 2, CANOPY_INT64 = 3
   integer(c_int), parameter :: CANOPY_EVERY_NODE = 0, CANOPY_LEAVES_ONLY = 1
@@ -18,8 +33,11 @@ module canopy
       import :: c_ptr
     end function
 
-    type(c_ptr) function canopy_options_create() bind(c)
-      import :: c_ptr
+    ! ---- options ----
+    ! options: set to a new handle (c_null_ptr on failure).
+    integer(c_int) function canopy_options_create(options) bind(c)
+      import :: c_int, c_ptr
+      type(c_ptr), intent(out) :: options
     end function
     subroutine canopy_options_destroy(options) bind(c)
       import :: c_ptr
@@ -28,22 +46,22 @@ module canopy
     integer(c_int) function canopy_options_add_script(options, path) bind(c)
       import :: c_int, c_ptr, c_char
       type(c_ptr), value :: options
-      character(kind=c_char), dimension(*) :: path
+      character(kind=c_char), dimension(*), intent(in) :: path
     end function
     integer(c_int) function canopy_options_add_script_argument(options, argument) bind(c)
       import :: c_int, c_ptr, c_char
       type(c_ptr), value :: options
-      character(kind=c_char), dimension(*) :: argument
+      character(kind=c_char), dimension(*), intent(in) :: argument
     end function
     integer(c_int) function canopy_options_set_output_directory(options, directory) bind(c)
       import :: c_int, c_ptr, c_char
       type(c_ptr), value :: options
-      character(kind=c_char), dimension(*) :: directory
+      character(kind=c_char), dimension(*), intent(in) :: directory
     end function
     integer(c_int) function canopy_options_set_channel(options, channel) bind(c)
       import :: c_int, c_ptr, c_char
       type(c_ptr), value :: options
-      character(kind=c_char), dimension(*) :: channel
+      character(kind=c_char), dimension(*), intent(in) :: channel
     end function
     integer(c_int) function canopy_options_set_verbosity(options, verbosity) bind(c)
       import :: c_int, c_ptr
@@ -56,12 +74,17 @@ module canopy
       integer(c_int), value :: enabled
     end function
 
-    type(c_ptr) function canopy_forest_create(dimension, branch_factor, max_levels, x, &
-                                              points_x, y, points_y, z, points_z) bind(c)
-      import :: c_ptr, c_int, c_double, c_size_t
+    ! ---- forest ----
+    ! x, y, z: c_loc of real(c_double) target arrays, borrowed until canopy_forest_destroy.
+    ! forest: set to a new handle (c_null_ptr on failure).
+    integer(c_int) function canopy_forest_create(dimension, branch_factor, max_levels, x, &
+                                                 points_x, y, points_y, z, points_z, forest) &
+                                                 bind(c)
+      import :: c_int, c_ptr, c_size_t
       integer(c_int), value :: dimension, branch_factor, max_levels
-      real(c_double), dimension(*) :: x, y, z
+      type(c_ptr), value :: x, y, z
       integer(c_size_t), value :: points_x, points_y, points_z
+      type(c_ptr), intent(out) :: forest
     end function
     subroutine canopy_forest_destroy(forest) bind(c)
       import :: c_ptr
@@ -71,33 +94,65 @@ module canopy
       import :: c_int, c_ptr
       type(c_ptr), value :: forest
     end function
-    ! masked and storage_slots: pass c_null_ptr when absent.
+    ! refinement, masked: c_loc of integer(c_int8_t) target arrays; storage_slots: of an
+    ! integer(c_int64_t) target array; masked and storage_slots may be c_null_ptr.
+    ! All borrowed until canopy_forest_clear.
     integer(c_int) function canopy_forest_add_tree(forest, root_index, refinement, &
                                                    number_of_nodes, masked, storage_slots) bind(c)
-      import :: c_int, c_ptr, c_int64_t, c_int8_t, c_size_t
+      import :: c_int, c_ptr, c_int64_t, c_size_t
       type(c_ptr), value :: forest
       integer(c_int64_t), value :: root_index
-      integer(c_int8_t), dimension(*) :: refinement
+      type(c_ptr), value :: refinement
       integer(c_size_t), value :: number_of_nodes
       type(c_ptr), value :: masked, storage_slots
     end function
+    ! A tree split between ranks; absent: c_loc of an integer(c_int8_t) target array
+    ! (nonzero = another rank owns that node's part), borrowed until canopy_forest_clear,
+    ! or c_null_ptr (the same as canopy_forest_add_tree).
+    integer(c_int) function canopy_forest_add_partial_tree(forest, root_index, refinement, &
+                                                           number_of_nodes, masked, &
+                                                           storage_slots, absent) bind(c)
+      import :: c_int, c_ptr, c_int64_t, c_size_t
+      type(c_ptr), value :: forest
+      integer(c_int64_t), value :: root_index
+      type(c_ptr), value :: refinement
+      integer(c_size_t), value :: number_of_nodes
+      type(c_ptr), value :: masked, storage_slots, absent
+    end function
+    ! data: c_loc of a target array of the value type, borrowed until canopy_forest_clear
+    ! (c_null_ptr only with number_of_tuples = 0).
     integer(c_int) function canopy_forest_add_field(forest, name, value_type, components, &
                                                     data, tuple_stride_bytes, number_of_tuples, &
                                                     centering) bind(c)
       import :: c_int, c_ptr, c_char, c_size_t
       type(c_ptr), value :: forest
-      character(kind=c_char), dimension(*) :: name
+      character(kind=c_char), dimension(*), intent(in) :: name
       integer(c_int), value :: value_type, components, centering
       type(c_ptr), value :: data
       integer(c_size_t), value :: tuple_stride_bytes, number_of_tuples
     end function
+    ! component_data: `components` addresses (c_loc of target arrays). The list of
+    ! addresses is copied during the call; the arrays they point to are borrowed until
+    ! canopy_forest_clear.
+    integer(c_int) function canopy_forest_add_field_soa(forest, name, value_type, components, &
+                                                        component_data, number_of_tuples, &
+                                                        centering) bind(c)
+      import :: c_int, c_ptr, c_char, c_size_t
+      type(c_ptr), value :: forest
+      character(kind=c_char), dimension(*), intent(in) :: name
+      integer(c_int), value :: value_type, components, centering
+      type(c_ptr), dimension(*), intent(in) :: component_data
+      integer(c_size_t), value :: number_of_tuples
+    end function
 
+    ! ---- in situ (collective) ----
     ! communicator: the integer handle (MPI_COMM_WORLD from `use mpi`, or comm%MPI_VAL).
+    ! insitu: set to a new handle (c_null_ptr on failure).
     integer(c_int) function canopy_open_f(communicator, options, insitu) bind(c)
       import :: c_int, c_ptr
       integer(c_int), value :: communicator
       type(c_ptr), value :: options
-      type(c_ptr) :: insitu
+      type(c_ptr), intent(out) :: insitu
     end function
     integer(c_int) function canopy_will_execute(insitu, step, time, will_execute) bind(c)
       import :: c_int, c_ptr, c_int64_t, c_double
@@ -112,9 +167,10 @@ module canopy
       integer(c_int64_t), value :: step
       real(c_double), value :: time
     end function
+    ! insitu: becomes c_null_ptr.
     integer(c_int) function canopy_close(insitu) bind(c)
       import :: c_int, c_ptr
-      type(c_ptr) :: insitu
+      type(c_ptr), intent(inout) :: insitu
     end function
   end interface
 
@@ -124,6 +180,7 @@ contains
   function canopy_last_error_message() result(message)
     character(len=:), allocatable :: message
     character(kind=c_char), pointer :: text(:)
+    type(c_ptr) :: address
     integer :: length
     interface
       integer(c_size_t) function strlen(s) bind(c)
@@ -131,8 +188,9 @@ contains
         type(c_ptr), value :: s
       end function
     end interface
-    length = int(strlen(canopy_last_error()))
-    call c_f_pointer(canopy_last_error(), text, [length])
+    address = canopy_last_error()
+    length = int(strlen(address))
+    call c_f_pointer(address, text, [length])
     allocate(character(len=length) :: message)
     message = transfer(text(1:length), message)
   end function

@@ -1,0 +1,505 @@
+/* Canopy's C API without MPI (compiled as C99 -pedantic): every function refuses
+ * bad arguments with CANOPY_INVALID_ARGUMENT and a message naming the function and
+ * the argument, constructors return a status and NULL on failure, and a real
+ * allocation failure (address space limited with setrlimit in a forked child, the
+ * heap exhausted) comes back as CANOPY_OUT_OF_MEMORY instead of an exception
+ * crossing into C (which would abort the child).
+ * Usage: canopy_c_api_argument_test */
+#define _POSIX_C_SOURCE 200809L
+
+#include <canopy/canopy.h>
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static int failures = 0;
+
+static void check(int condition, const char* what)
+{
+  if (condition)
+  {
+    printf("ok: %s\n", what);
+  }
+  else
+  {
+    printf("FAILED: %s (last error: '%s')\n", what, canopy_last_error());
+    ++failures;
+  }
+}
+
+/* A call refused with CANOPY_INVALID_ARGUMENT and a message containing `words`. */
+static void refused(int status, const char* words, const char* what)
+{
+  char label[512];
+  snprintf(label, sizeof label, "%s -> INVALID_ARGUMENT, '%s'", what, words);
+  check(status == CANOPY_INVALID_ARGUMENT && strstr(canopy_last_error(), words) != NULL, label);
+}
+
+static const double x[3] = {0.0, 1.0, 2.0};
+static const double y[2] = {0.0, 1.0};
+static const double z[1] = {0.0};
+static const uint8_t refined[5] = {1, 0, 0, 0, 0};
+static const uint8_t none_absent[5] = {0, 0, 0, 0, 0};
+static double density[5] = {0.5, 1.0, 2.0, 3.0, 4.0};
+
+static void arguments(void)
+{
+  const size_t negative = (size_t)-1; /* what a negative Fortran c_size_t becomes */
+  canopy_options* options = NULL;
+  canopy_forest* forest = NULL;
+
+  /* ---- options ---- */
+  refused(canopy_options_create(NULL), "canopy_options_create: the result pointer is NULL",
+          "options_create(NULL)");
+  check(canopy_options_create(&options) == CANOPY_OK && options != NULL, "options_create");
+  check(strcmp(canopy_last_error(), "") == 0, "a successful call clears the message");
+  refused(canopy_options_add_script(NULL, "a.py"),
+          "canopy_options_add_script: the options handle is NULL", "add_script(NULL options)");
+  refused(canopy_options_add_script(options, NULL),
+          "canopy_options_add_script: the script path is NULL", "add_script(NULL path)");
+  refused(canopy_options_add_script(options, ""),
+          "canopy_options_add_script: the script path is empty", "add_script(\"\")");
+  refused(canopy_options_add_script_argument(options, "--x=1"),
+          "canopy_options_add_script_argument: add a script first", "argument before a script");
+  check(canopy_options_add_script(options, "a.py") == CANOPY_OK, "add_script");
+  refused(canopy_options_add_script_argument(NULL, "--x=1"),
+          "canopy_options_add_script_argument: the options handle is NULL",
+          "add_script_argument(NULL options)");
+  refused(canopy_options_add_script_argument(options, NULL),
+          "canopy_options_add_script_argument: the argument is NULL",
+          "add_script_argument(NULL argument)");
+  check(canopy_options_add_script_argument(options, "") == CANOPY_OK, "an empty argument is fine");
+  refused(canopy_options_set_output_directory(NULL, "out"),
+          "canopy_options_set_output_directory: the options handle is NULL",
+          "set_output_directory(NULL options)");
+  refused(canopy_options_set_output_directory(options, NULL),
+          "canopy_options_set_output_directory: the output directory is NULL",
+          "set_output_directory(NULL)");
+  refused(canopy_options_set_output_directory(options, ""),
+          "canopy_options_set_output_directory: the output directory is empty",
+          "set_output_directory(\"\")");
+  refused(canopy_options_set_channel(NULL, "grid"),
+          "canopy_options_set_channel: the options handle is NULL", "set_channel(NULL options)");
+  refused(canopy_options_set_channel(options, NULL),
+          "canopy_options_set_channel: the channel is NULL", "set_channel(NULL)");
+  refused(canopy_options_set_channel(options, ""),
+          "canopy_options_set_channel: the channel is empty", "set_channel(\"\")");
+  refused(canopy_options_set_verbosity(NULL, 0),
+          "canopy_options_set_verbosity: the options handle is NULL", "set_verbosity(NULL)");
+  refused(canopy_options_set_step_summary(NULL, 1),
+          "canopy_options_set_step_summary: the options handle is NULL", "set_step_summary(NULL)");
+
+  /* ---- the in-situ calls: refused before anything collective ---- */
+  {
+    canopy_insitu* insitu = (canopy_insitu*)&failures; /* must be reset to NULL */
+    refused(canopy_open(MPI_COMM_NULL, options, &insitu),
+            "canopy_open: the communicator is MPI_COMM_NULL", "open(MPI_COMM_NULL)");
+    check(insitu == NULL, "a refused open sets the handle to NULL");
+    refused(canopy_open(MPI_COMM_WORLD, NULL, &insitu), "canopy_open: the options handle is NULL",
+            "open(NULL options)");
+    refused(canopy_open(MPI_COMM_WORLD, options, NULL), "canopy_open: the result pointer is NULL",
+            "open(NULL result)");
+    refused(canopy_will_execute(NULL, 0, 0.0, NULL),
+            "canopy_will_execute: the insitu handle is NULL", "will_execute(NULL)");
+    refused(canopy_execute(NULL, 0, 0.0, NULL), "canopy_execute: the insitu handle is NULL",
+            "execute(NULL)");
+    refused(canopy_close(NULL), "canopy_close: the pointer to the handle is NULL", "close(NULL)");
+    insitu = NULL;
+    refused(canopy_close(&insitu), "canopy_close: the handle is NULL", "close(&NULL)");
+  }
+
+  /* ---- forest ---- */
+  forest = (canopy_forest*)&failures; /* must be reset to NULL */
+  refused(canopy_forest_create(4, 2, 8, x, 3, y, 2, z, 1, &forest),
+          "canopy_forest_create: dimension must be 2 or 3, got 4", "forest_create(dimension 4)");
+  check(forest == NULL, "a refused forest_create sets the handle to NULL");
+  refused(canopy_forest_create(2, 5, 8, x, 3, y, 2, z, 1, &forest),
+          "canopy_forest_create: branch_factor must be 2 or 3, got 5", "forest_create(branch 5)");
+  refused(canopy_forest_create(2, 2, -1, x, 3, y, 2, z, 1, &forest),
+          "canopy_forest_create: max_levels must be in [1, 64], got -1",
+          "forest_create(max_levels -1)");
+  refused(canopy_forest_create(2, 2, 65, x, 3, y, 2, z, 1, &forest),
+          "max_levels must be in [1, 64], got 65", "forest_create(max_levels 65)");
+  refused(canopy_forest_create(2, 2, 8, NULL, 3, y, 2, z, 1, &forest),
+          "canopy_forest_create: x is NULL but points_x is 3", "forest_create(NULL x)");
+  refused(canopy_forest_create(2, 2, 8, x, 3, y, 0, z, 1, &forest),
+          "canopy_forest_create: points_y is 0", "forest_create(0 points on y)");
+  refused(canopy_forest_create(2, 2, 8, x, 3, y, 2, z, negative, &forest),
+          "canopy_forest_create: points_z 18446744073709551615 is negative or too large",
+          "forest_create(negative points_z)");
+  refused(canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1, NULL),
+          "canopy_forest_create: the result pointer is NULL", "forest_create(NULL result)");
+  check(canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1, &forest) == CANOPY_OK && forest != NULL,
+        "forest_create");
+
+  refused(canopy_forest_clear(NULL), "canopy_forest_clear: the forest handle is NULL",
+          "forest_clear(NULL)");
+  refused(canopy_forest_add_tree(NULL, 0, refined, 5, NULL, NULL),
+          "canopy_forest_add_tree: the forest handle is NULL", "add_tree(NULL forest)");
+  refused(canopy_forest_add_tree(forest, -1, refined, 5, NULL, NULL),
+          "canopy_forest_add_tree: root_index -1 is negative", "add_tree(root -1)");
+  refused(canopy_forest_add_tree(forest, 0, NULL, 5, NULL, NULL),
+          "canopy_forest_add_tree: root 0: refinement is NULL", "add_tree(NULL refinement)");
+  refused(canopy_forest_add_tree(forest, 0, refined, 0, NULL, NULL),
+          "canopy_forest_add_tree: root 0: number_of_nodes is 0", "add_tree(0 nodes)");
+  refused(canopy_forest_add_tree(forest, 0, refined, negative, NULL, NULL),
+          "canopy_forest_add_tree: root 0: number_of_nodes 18446744073709551615 is negative",
+          "add_tree(negative nodes)");
+
+  /* The partial tree takes the same checks, under its own name; NULL absent is fine. */
+  refused(canopy_forest_add_partial_tree(NULL, 0, refined, 5, NULL, NULL, none_absent),
+          "canopy_forest_add_partial_tree: the forest handle is NULL",
+          "add_partial_tree(NULL forest)");
+  refused(canopy_forest_add_partial_tree(forest, -3, refined, 5, NULL, NULL, none_absent),
+          "canopy_forest_add_partial_tree: root_index -3 is negative", "add_partial_tree(root -3)");
+  refused(canopy_forest_add_partial_tree(forest, 0, NULL, 5, NULL, NULL, none_absent),
+          "canopy_forest_add_partial_tree: root 0: refinement is NULL",
+          "add_partial_tree(NULL refinement)");
+  refused(canopy_forest_add_partial_tree(forest, 0, refined, 0, NULL, NULL, none_absent),
+          "canopy_forest_add_partial_tree: root 0: number_of_nodes is 0",
+          "add_partial_tree(0 nodes)");
+  refused(canopy_forest_add_partial_tree(forest, 0, refined, negative, NULL, NULL, NULL),
+          "canopy_forest_add_partial_tree: root 0: number_of_nodes 18446744073709551615 is "
+          "negative",
+          "add_partial_tree(negative nodes)");
+  check(canopy_forest_add_partial_tree(forest, 0, refined, 5, NULL, NULL, NULL) == CANOPY_OK,
+        "add_partial_tree with NULL absent");
+  check(canopy_forest_add_partial_tree(forest, 1, refined, 5, NULL, NULL, none_absent) == CANOPY_OK,
+        "add_partial_tree with an absent array");
+
+  refused(
+      canopy_forest_add_field(NULL, "density", CANOPY_FLOAT64, 1, density, 0, 5, CANOPY_EVERY_NODE),
+      "canopy_forest_add_field: the forest handle is NULL", "add_field(NULL forest)");
+  refused(
+      canopy_forest_add_field(forest, NULL, CANOPY_FLOAT64, 1, density, 0, 5, CANOPY_EVERY_NODE),
+      "canopy_forest_add_field: the field name is NULL", "add_field(NULL name)");
+  refused(canopy_forest_add_field(forest, "", CANOPY_FLOAT64, 1, density, 0, 5, CANOPY_EVERY_NODE),
+          "canopy_forest_add_field: the field name is empty", "add_field(\"\")");
+  refused(canopy_forest_add_field(forest, "density", 42, 1, density, 0, 5, CANOPY_EVERY_NODE),
+          "canopy_forest_add_field: field 'density': unknown value type 42",
+          "add_field(value type 42)");
+  refused(canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, density, 0, 5, -1),
+          "canopy_forest_add_field: field 'density': unknown centering -1",
+          "add_field(centering -1)");
+  refused(canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 0, density, 0, 5,
+                                  CANOPY_EVERY_NODE),
+          "field 'density': components must be at least 1, got 0", "add_field(0 components)");
+  refused(canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, -2, density, 0, 5,
+                                  CANOPY_EVERY_NODE),
+          "field 'density': components must be at least 1, got -2", "add_field(-2 components)");
+  refused(canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, density, 0, negative,
+                                  CANOPY_EVERY_NODE),
+          "field 'density': number_of_tuples 18446744073709551615 is negative",
+          "add_field(negative tuples)");
+  refused(
+      canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, NULL, 0, 5, CANOPY_EVERY_NODE),
+      "field 'density': data is NULL but number_of_tuples is 5", "add_field(NULL data)");
+  check(canopy_forest_add_field(forest, "empty", CANOPY_FLOAT64, 1, NULL, 0, 0,
+                                CANOPY_EVERY_NODE) == CANOPY_OK,
+        "NULL data with 0 tuples is fine (a rank without trees)");
+  refused(canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 2, density, 12, 2,
+                                  CANOPY_EVERY_NODE),
+          "field 'density': tuple_stride_bytes 12 is smaller than one tuple (16 bytes)",
+          "add_field(stride below a tuple)");
+  refused(canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, density, 12, 2,
+                                  CANOPY_EVERY_NODE),
+          "field 'density': tuple_stride_bytes 12 is not a multiple of the value size 8",
+          "add_field(misaligned stride)");
+  {
+    const void* components[2] = {density, NULL};
+    refused(
+        canopy_forest_add_field_soa(NULL, "v", CANOPY_FLOAT64, 2, components, 5, CANOPY_EVERY_NODE),
+        "canopy_forest_add_field_soa: the forest handle is NULL", "add_field_soa(NULL forest)");
+    refused(canopy_forest_add_field_soa(forest, NULL, CANOPY_FLOAT64, 2, components, 5,
+                                        CANOPY_EVERY_NODE),
+            "canopy_forest_add_field_soa: the field name is NULL", "add_field_soa(NULL name)");
+    refused(canopy_forest_add_field_soa(forest, "v", CANOPY_INT64 + 1, 2, components, 5,
+                                        CANOPY_EVERY_NODE),
+            "canopy_forest_add_field_soa: field 'v': unknown value type 4",
+            "add_field_soa(value type 4)");
+    refused(canopy_forest_add_field_soa(forest, "v", CANOPY_FLOAT64, 2, components, 5, 7),
+            "canopy_forest_add_field_soa: field 'v': unknown centering 7",
+            "add_field_soa(centering 7)");
+    refused(canopy_forest_add_field_soa(forest, "v", CANOPY_FLOAT64, -1, components, 5,
+                                        CANOPY_EVERY_NODE),
+            "field 'v': components must be at least 1, got -1", "add_field_soa(-1 components)");
+    refused(canopy_forest_add_field_soa(forest, "v", CANOPY_FLOAT64, 2, NULL, 5, CANOPY_EVERY_NODE),
+            "canopy_forest_add_field_soa: field 'v': component_data is NULL",
+            "add_field_soa(NULL component_data)");
+    refused(canopy_forest_add_field_soa(forest, "v", CANOPY_FLOAT64, 2, components, 5,
+                                        CANOPY_EVERY_NODE),
+            "field 'v': component 1's data is NULL but number_of_tuples is 5",
+            "add_field_soa(NULL component 1)");
+    components[1] = density;
+    check(canopy_forest_add_field_soa(forest, "v", CANOPY_FLOAT64, 2, components, 5,
+                                      CANOPY_LEAVES_ONLY) == CANOPY_OK,
+          "add_field_soa");
+  }
+  check(canopy_forest_clear(forest) == CANOPY_OK, "forest_clear");
+  canopy_forest_destroy(forest);
+  canopy_forest_destroy(NULL); /* like free(NULL) */
+  canopy_options_destroy(options);
+  canopy_options_destroy(NULL);
+}
+
+/* ---- out of memory ---- */
+
+enum oom_case
+{
+  OOM_OPTIONS_CREATE,
+  OOM_ADD_SCRIPT,          /* string copy and vector growth */
+  OOM_ADD_SCRIPT_ARGUMENT, /* string copy into a vector */
+  OOM_SET_OUTPUT_DIRECTORY,
+  OOM_SET_CHANNEL,
+  OOM_FOREST_CREATE,
+  OOM_ADD_TREE, /* vector growth: the forest holds 4 trees, capacity 4 */
+  OOM_ADD_PARTIAL_TREE,
+  OOM_ADD_FIELD_LONG_NAME, /* string copy */
+  OOM_ADD_FIELD,           /* vector growth: the forest holds 4 fields */
+  OOM_ADD_FIELD_SOA,
+  OOM_LONG_MESSAGE, /* a refusal whose message cannot be stored whole: kept truncated */
+  OOM_CASES
+};
+
+static const char* const oom_functions[OOM_CASES] = {"canopy_options_create",
+                                                     "canopy_options_add_script",
+                                                     "canopy_options_add_script_argument",
+                                                     "canopy_options_set_output_directory",
+                                                     "canopy_options_set_channel",
+                                                     "canopy_forest_create",
+                                                     "canopy_forest_add_tree",
+                                                     "canopy_forest_add_partial_tree",
+                                                     "canopy_forest_add_field",
+                                                     "canopy_forest_add_field",
+                                                     "canopy_forest_add_field_soa",
+                                                     "canopy_forest_add_field"};
+
+static char long_text[4096];
+
+static int oom_call(int which, canopy_options* options, canopy_forest* forest,
+                    canopy_options** new_options, canopy_forest** new_forest)
+{
+  const void* components[2] = {density, density};
+  switch (which)
+  {
+  case OOM_OPTIONS_CREATE:
+    return canopy_options_create(new_options);
+  case OOM_ADD_SCRIPT:
+    return canopy_options_add_script(options, long_text);
+  case OOM_ADD_SCRIPT_ARGUMENT:
+    return canopy_options_add_script_argument(options, long_text);
+  case OOM_SET_OUTPUT_DIRECTORY:
+    return canopy_options_set_output_directory(options, long_text);
+  case OOM_SET_CHANNEL:
+    return canopy_options_set_channel(options, long_text);
+  case OOM_FOREST_CREATE:
+    return canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1, new_forest);
+  case OOM_ADD_TREE:
+    return canopy_forest_add_tree(forest, 0, refined, 5, NULL, NULL);
+  case OOM_ADD_PARTIAL_TREE:
+    return canopy_forest_add_partial_tree(forest, 0, refined, 5, NULL, NULL, none_absent);
+  case OOM_ADD_FIELD_LONG_NAME:
+    return canopy_forest_add_field(forest, long_text, CANOPY_FLOAT64, 1, density, 0, 5,
+                                   CANOPY_EVERY_NODE);
+  case OOM_ADD_FIELD:
+    return canopy_forest_add_field(forest, "d", CANOPY_FLOAT64, 1, density, 0, 5,
+                                   CANOPY_EVERY_NODE);
+  case OOM_ADD_FIELD_SOA:
+    return canopy_forest_add_field_soa(forest, "v", CANOPY_FLOAT64, 2, components, 5,
+                                       CANOPY_EVERY_NODE);
+  default:
+    return canopy_forest_add_field(forest, long_text, 42, 1, density, 0, 5, CANOPY_EVERY_NODE);
+  }
+}
+
+/* Limits the address space to what is mapped now plus a little, then takes every
+ * byte malloc can still give. Returns the list of blocks (each starts with the
+ * address of the next). */
+static void* exhaust_memory(void)
+{
+  long pages = 0;
+  FILE* statm = fopen("/proc/self/statm", "r");
+  if (statm == NULL || fscanf(statm, "%ld", &pages) != 1)
+  {
+    return NULL;
+  }
+  fclose(statm);
+  struct rlimit limit;
+  getrlimit(RLIMIT_AS, &limit);
+  limit.rlim_cur = (rlim_t)pages * (rlim_t)sysconf(_SC_PAGESIZE) + ((rlim_t)16 << 20);
+  if (setrlimit(RLIMIT_AS, &limit) != 0)
+  {
+    return NULL;
+  }
+  void* blocks = NULL;
+  size_t size;
+  for (size = (size_t)1 << 26; size >= sizeof(void*); size /= 2)
+  {
+    void* block;
+    while ((block = malloc(size)) != NULL)
+    {
+      *(void**)block = blocks;
+      blocks = block;
+    }
+  }
+  /* glibc keeps small freed chunks in per-size lists (tcache, fast and small
+   * bins) that serve only their own size: empty every one of them. */
+  for (size = 24; size <= 1032; size += 16)
+  {
+    void* block;
+    while ((block = malloc(size)) != NULL)
+    {
+      *(void**)block = blocks;
+      blocks = block;
+    }
+  }
+  return blocks;
+}
+
+static void release_memory(void* blocks)
+{
+  struct rlimit limit;
+  while (blocks != NULL)
+  {
+    void* next = *(void**)blocks;
+    free(blocks);
+    blocks = next;
+  }
+  getrlimit(RLIMIT_AS, &limit);
+  limit.rlim_cur = limit.rlim_max;
+  setrlimit(RLIMIT_AS, &limit);
+}
+
+/* In the child: prepares the objects, makes the call with the heap exhausted,
+ * then (memory back) checks status, message and that the objects still work.
+ * Exit code: 0 when all is as expected. */
+static int oom_child(int which)
+{
+  canopy_options* options = NULL;
+  canopy_forest* forest = NULL;
+  canopy_options* new_options = (canopy_options*)&failures; /* must become NULL */
+  canopy_forest* new_forest = (canopy_forest*)&failures;
+  char message[512];
+  int status;
+  int bad = 0;
+  int i;
+  void* blocks;
+  if (canopy_options_create(&options) != CANOPY_OK ||
+      canopy_options_add_script(options, "a.py") != CANOPY_OK ||
+      canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1, &forest) != CANOPY_OK)
+  {
+    printf("FAILED: setup: %s\n", canopy_last_error());
+    return 1;
+  }
+  for (i = 1; i <= 4; ++i) /* capacity 4, full: the next one must grow the vectors */
+  {
+    char name[8];
+    snprintf(name, sizeof name, "f%d", i);
+    canopy_forest_add_tree(forest, i, refined, 5, NULL, NULL);
+    canopy_forest_add_field(forest, name, CANOPY_FLOAT64, 1, density, 0, 5, CANOPY_EVERY_NODE);
+  }
+  fflush(stdout);
+  blocks = exhaust_memory();
+  if (blocks == NULL)
+  {
+    printf("FAILED: could not limit and exhaust the address space\n");
+    return 1;
+  }
+  status = oom_call(which, options, forest, &new_options, &new_forest);
+  strncpy(message, canopy_last_error(), sizeof message - 1); /* no allocation */
+  message[sizeof message - 1] = '\0';
+  release_memory(blocks);
+
+  printf("  %s with the heap exhausted: status %d, '%.100s'\n", oom_functions[which], status,
+         message);
+  if (which == OOM_LONG_MESSAGE)
+  {
+    bad += status != CANOPY_INVALID_ARGUMENT;
+    bad += strncmp(message, "canopy_forest_add_field: field 'aaaa", 36) != 0;
+  }
+  else
+  {
+    bad += status != CANOPY_OUT_OF_MEMORY;
+    bad +=
+        strstr(message, oom_functions[which]) == NULL || strstr(message, "out of memory") == NULL;
+  }
+  if (which == OOM_OPTIONS_CREATE)
+  {
+    bad += new_options != NULL;
+  }
+  if (which == OOM_FOREST_CREATE)
+  {
+    bad += new_forest != NULL;
+  }
+  /* With memory back, the same call works: the failed one left the objects usable. */
+  new_options = NULL;
+  new_forest = NULL;
+  status = oom_call(which, options, forest, &new_options, &new_forest);
+  if (which == OOM_LONG_MESSAGE)
+  {
+    /* Now the whole message fits. */
+    bad += status != CANOPY_INVALID_ARGUMENT ||
+           strstr(canopy_last_error(), "unknown value type 42") == NULL;
+  }
+  else if (status != CANOPY_OK)
+  {
+    printf("  and afterwards: status %d, '%s'\n", status, canopy_last_error());
+    ++bad;
+  }
+  canopy_options_destroy(new_options);
+  canopy_forest_destroy(new_forest);
+  canopy_forest_destroy(forest);
+  canopy_options_destroy(options);
+  return bad == 0 ? 0 : 1;
+}
+
+static void out_of_memory(void)
+{
+  int which;
+  memset(long_text, 'a', sizeof long_text - 1); /* beyond any short-string buffer */
+  for (which = 0; which < OOM_CASES; ++which)
+  {
+    char label[256];
+    int wstatus = 0;
+    pid_t child;
+    fflush(stdout);
+    child = fork();
+    if (child == 0)
+    {
+      const int code = oom_child(which);
+      fflush(stdout);
+      _exit(code);
+    }
+    snprintf(label, sizeof label,
+             which == OOM_LONG_MESSAGE
+                 ? "%s (case %d) refused with the heap exhausted: INVALID_ARGUMENT, message "
+                   "truncated, whole afterwards"
+                 : "%s (case %d) out of memory: CANOPY_OUT_OF_MEMORY, message, NULL result, "
+                   "usable afterwards",
+             oom_functions[which], which);
+    if (child < 0 || waitpid(child, &wstatus, 0) != child)
+    {
+      check(0, "fork");
+      continue;
+    }
+    if (WIFSIGNALED(wstatus))
+    {
+      printf("  the child died of signal %d: an exception crossed the C API?\n", WTERMSIG(wstatus));
+    }
+    check(WIFEXITED(wstatus) && WEXITSTATUS(wstatus) == 0, label);
+  }
+}
+
+int main(void)
+{
+  arguments();
+  out_of_memory();
+  printf("%d failures\n", failures);
+  return failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,22 @@
+# cmake -DOUTPUT=<dir> -P run_in_clean_output.cmake -- <command> <arguments>...
+# Removes OUTPUT, then runs the command: a binding test that reads the extracts
+# it wrote must not find files an earlier run left there.
+set(_command)
+set(_after_separator FALSE)
+math(EXPR _last "${CMAKE_ARGC} - 1")
+foreach(_i RANGE ${_last})
+  if(_after_separator)
+    list(APPEND _command "${CMAKE_ARGV${_i}}")
+  elseif("${CMAKE_ARGV${_i}}" STREQUAL "--")
+    set(_after_separator TRUE)
+  endif()
+endforeach()
+list(LENGTH _command _words)
+if("${OUTPUT}" STREQUAL "" OR _words EQUAL 0)
+  message(FATAL_ERROR "usage: cmake -DOUTPUT=<dir> -P run_in_clean_output.cmake -- <command>...")
+endif()
+file(REMOVE_RECURSE "${OUTPUT}")
+execute_process(COMMAND ${_command} RESULT_VARIABLE _result)
+if(NOT _result EQUAL 0)
+  message(FATAL_ERROR "${_command}: exit status ${_result}")
+endif()
