@@ -376,8 +376,10 @@ struct TreeWalk
   }
 
   /// The tree holding the same-level position across a face of n (nullptr when
-  /// outside the grid or absent), and that position in its integer coordinates.
-  const TreeAccess* neighbourAcross(const NodeFrame& n, int axis, int side, Index3& across) const
+  /// outside the grid or without a tree here), and that position in its integer
+  /// coordinates. `elsewhere`: the root cell's tree is on another rank (solid).
+  const TreeAccess* neighbourAcross(const NodeFrame& n, int axis, int side, Index3& across,
+                                    bool& elsewhere) const
   {
     const std::int64_t cells = grid.cellsPerRootAt(n.level);
     across = n.ijk;
@@ -395,7 +397,9 @@ struct TreeWalk
       across[axis] = 0;
       root[axis] += 1;
     }
-    return grid.treeAt(root[0], root[1], root[2]);
+    const TreeAccess* tree = grid.treeAt(root[0], root[1], root[2]);
+    elsewhere = !tree && grid.treeElsewhere(root[0], root[1], root[2]);
+    return tree;
   }
 
   /// The child of m on the way down to position `target` at level `level`.
@@ -415,11 +419,17 @@ struct TreeWalk
       for (int side = 0; side < 2; ++side)
       {
         // The same-level position across the face, possibly in the next tree.
+        // Another rank's part (an absent cell, or a tree elsewhere) is solid:
+        // faces between ranks are inside the domain and never drawn.
         Index3 across;
-        const TreeAccess* neighbour = neighbourAcross(n, axis, side, across);
+        bool elsewhere = false;
+        const TreeAccess* neighbour = neighbourAcross(n, axis, side, across, elsewhere);
         if (!neighbour)
         {
-          emitFace(axis, side, lo, hi, lo, hi, global, n.level);
+          if (!elsewhere)
+          {
+            emitFace(axis, side, lo, hi, lo, hi, global, n.level);
+          }
           continue;
         }
         // Descend the neighbour tree towards `across` at level n.level.
@@ -430,7 +440,8 @@ struct TreeWalk
         {
           if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
           {
-            exposed = true;
+            exposed = !grid.isAbsent(neighbour->globalIndex(m.node));
+            covered = !exposed;
             break;
           }
           if (m.level == n.level)
@@ -474,9 +485,14 @@ struct TreeWalk
       for (int side = 0; side < 2; ++side)
       {
         Index3 across;
-        const TreeAccess* neighbour = neighbourAcross(n, axis, side, across);
+        bool elsewhere = false;
+        const TreeAccess* neighbour = neighbourAcross(n, axis, side, across, elsewhere);
         if (!neighbour)
         {
+          if (elsewhere)
+          {
+            continue; // another rank's tree: solid
+          }
           return true;
         }
         NodeFrame m{0, 0, {{0, 0, 0}}};
@@ -543,6 +559,10 @@ struct TreeWalk
       const NodeFrame child{first + c, m.level + 1, childIndex(m, c, grid)};
       if (grid.hasMask() && grid.isMasked(t.globalIndex(child.node)))
       {
+        if (grid.isAbsent(t.globalIndex(child.node)))
+        {
+          continue; // another rank's part: solid
+        }
         Vec3 clo;
         Vec3 chi;
         nodeBox(grid, t, child, clo, chi);

@@ -3,6 +3,7 @@
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
+#include <vtkFieldData.h>
 #include <vtkSMPTools.h>
 #include <vtkUnsignedCharArray.h>
 
@@ -67,6 +68,10 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
     }
   }
   NumberOfCells = htg->GetNumberOfCells();
+  if (vtkDataArray* flag = htg->GetFieldData()->GetArray(missingTreesElsewhereName()))
+  {
+    MissingTreesElsewhere = flag->GetNumberOfTuples() > 0 && flag->GetComponent(0, 0) != 0;
+  }
   // Integer positions are int64: stop before f^level overflows.
   for (std::int64_t p = 1; CellsPerRoot.size() < 64; p *= BranchFactor)
   {
@@ -201,6 +206,12 @@ void HyperTreeAccess::computeHiddenBelow(TreeAccess& access, bool masked, bool a
       access.absentBelow[static_cast<std::size_t>(n)] = absentHere;
     }
   }
+}
+
+bool HyperTreeAccess::treeElsewhere(long i, long j, long k) const
+{
+  return MissingTreesElsewhere && i >= 0 && j >= 0 && k >= 0 && i < RootCells[0] &&
+         j < RootCells[1] && k < RootCells[2] && treeAt(i, j, k) == nullptr;
 }
 
 const TreeAccess* HyperTreeAccess::treeAt(long i, long j, long k) const

@@ -106,6 +106,9 @@ public:
   }
   /// Tree at root cell (i, j, k), or nullptr when absent or out of range.
   const TreeAccess* treeAt(long i, long j, long k) const;
+  /// Whether root cell (i, j, k) is in the grid, has no tree here, and its tree
+  /// is on another rank (the grid says so: canopy::missingTreesElsewhereName).
+  bool treeElsewhere(long i, long j, long k) const;
 
   /// Root point coordinates along an axis (a single value on a flat axis).
   const std::vector<double>& coordinates(int axis) const
@@ -214,6 +217,14 @@ private:
   const unsigned char* Ghosts = nullptr;
   vtkIdType GhostsSize = 0;
   bool AnyAbsent = false;
+  bool MissingTreesElsewhere = false;
 };
+
+/// Name of the field-data flag (a one-value integer array, nonzero) with which
+/// Canopy's builder says that root cells without a tree have it on another rank.
+inline const char* missingTreesElsewhereName()
+{
+  return "CanopyMissingTreesElsewhere";
+}
 
 } // namespace canopy

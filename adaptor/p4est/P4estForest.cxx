@@ -427,6 +427,8 @@ BasicP4estForest<D>::BasicP4estForest(const Forest* forest) : Impl(std::make_uni
   d.dimension = D;
   d.branchFactor = 2;
   d.maxLevels = maxLevel + 1;
+  // A brick has a tree in every lattice cell: the ones not listed are other ranks'.
+  d.missingTreesAreElsewhere = true;
   const auto& axes = s.lattice.axes;
   d.rootGrid = {axes[0].data(), axes[1].data(), axes[2].data(),
                 axes[0].size(), axes[1].size(), axes[2].size()};

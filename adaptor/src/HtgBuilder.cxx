@@ -8,8 +8,10 @@
 #include <vtkBitArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkHyperTree.h>
 #include <vtkHyperTreeGrid.h>
+#include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkUnsignedCharArray.h>
 
@@ -217,6 +219,14 @@ vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& fo
   if (layout.anyAbsent)
   {
     htg->GetCellData()->AddArray(buildAbsentGhosts(forest, layout));
+  }
+  if (forest.missingTreesAreElsewhere)
+  {
+    // Read by Canopy's filters (HyperTreeAccess::treeElsewhere).
+    auto flag = vtkSmartPointer<vtkIntArray>::New();
+    flag->SetName("CanopyMissingTreesElsewhere");
+    flag->InsertNextValue(1);
+    htg->GetFieldData()->AddArray(flag);
   }
 
   const CellSlots slots = CellSlots::build(forest, layout);

@@ -122,10 +122,12 @@ void updateDensity(p4est_iter_volume_info_t* info, void* dense)
 long advance(p4est_t* p4est, Front& front, double time)
 {
   front.center[0] = 1.0 + 1.6 * time;
-  p4est_coarsen(p4est, 1, awayFromFront, setDensity);
+  // One level per step: recursive coarsening would depend on how families are partitioned.
+  p4est_coarsen(p4est, 0, awayFromFront, setDensity);
   p4est_refine(p4est, 1, nearFront, setDensity);
   p4est_balance(p4est, P4EST_CONNECT_FULL, setDensity);
-  p4est_partition(p4est, 0, nullptr);
+  // Keep sibling families on one rank, so coarsening does not depend on the partition.
+  p4est_partition(p4est, 1, nullptr);
   long dense = 0;
   p4est_iterate(p4est, nullptr, &dense, updateDensity, nullptr,
 #ifdef P4_TO_P8
@@ -171,11 +173,11 @@ int main(int argc, char** argv)
   // ---- Canopy glue (2 of 3): open, with the shipped pipelines by name ----
   const std::string frequency = "--frequency=" + std::to_string(every);
   canopy::InSituOptions options;
-  options.scripts = {{"surface_image.py", {frequency, "--color-by=density"}},
-                     {"selection_extract.py",
-                      {frequency, "--selection=range", "--value-field=density",
-                       "--value-range=1.9,2.1"}},
-                     {"data_extracts.py", {frequency}}};
+  options.scripts = {
+      {"surface_image.py", {frequency, "--color-by=density"}},
+      {"selection_extract.py",
+       {frequency, "--selection=range", "--value-field=density", "--value-range=1.9,2.1"}},
+      {"data_extracts.py", {frequency}}};
   options.outputDirectory = output;
   canopy::InSitu insitu(MPI_COMM_WORLD, options);
 

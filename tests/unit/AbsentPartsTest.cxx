@@ -28,6 +28,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
 
 namespace canopy::testing
 {
@@ -122,6 +123,8 @@ struct RankPart
                                    nullptr, depthFirstSlots ? slots[t].data() : nullptr,
                                    tree.absent.data()});
     }
+    // Every root cell of the whole forest has its tree on some rank.
+    description.missingTreesAreElsewhere = true;
     description.fields.push_back(
         FieldDescription::aos("node", nodeValues.data(), nodeValues.size()));
     description.fields.push_back(FieldDescription::aos("leaf", leafValues.data(), leafValues.size(),
@@ -478,6 +481,49 @@ TEST_P(SplitTreeLevelOfDetail, NoTwoRanksQuadsOverlapAndTheirUnionCoversTheDomai
 
 INSTANTIATE_TEST_SUITE_P(RanksAndThresholds, SplitTreeLevelOfDetail,
                          ::testing::Combine(::testing::Values(2, 3), ::testing::Values(1.0, 8.0)));
+
+/// The quads of a full (view-independent) surface, as sorted corner lists.
+std::multiset<std::vector<double>> fullSurfaceQuads(vtkHyperTreeGrid* htg)
+{
+  vtkNew<vtkCanopyAdaptiveSurface> surface;
+  surface->SetInputData(htg);
+  surface->SetViewDependent(false);
+  surface->Update();
+  vtkPolyData* out = vtkPolyData::SafeDownCast(surface->GetOutput());
+  std::multiset<std::vector<double>> quads;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    double b[6];
+    out->GetCellBounds(c, b);
+    quads.insert(std::vector<double>(b, b + 6));
+  }
+  return quads;
+}
+
+class SplitTree3DFaces : public ::testing::TestWithParam<int>
+{
+};
+
+TEST_P(SplitTree3DFaces, RanksTogetherDrawExactlyTheBoundaryOfTheWholeForest)
+{
+  const int ranks = GetParam();
+  RandomForest whole(splitOptions(3));
+  const auto reference = fullSurfaceQuads(buildHyperTreeGrid(whole.description()));
+  std::multiset<std::vector<double>> together;
+  for (int rank = 0; rank < ranks; ++rank)
+  {
+    RankPart part(whole.description(), rank, ranks, false);
+    for (const auto& quad : fullSurfaceQuads(buildHyperTreeGrid(part.description)))
+    {
+      together.insert(quad);
+    }
+  }
+  // No face between ranks (inside the domain) and none missing.
+  EXPECT_EQ(together.size(), reference.size());
+  EXPECT_TRUE(together == reference);
+}
+
+INSTANTIATE_TEST_SUITE_P(Ranks, SplitTree3DFaces, ::testing::Values(2, 3, 4));
 
 } // namespace
 } // namespace canopy::testing

@@ -213,6 +213,11 @@ struct ForestDescription
   RootGrid rootGrid;
   std::vector<TreeDescription> trees;
   std::vector<FieldDescription> fields;
+  /// What a root cell without a tree in `trees` is. false: nothing (a hole in the
+  /// domain). true: its tree is on another rank (every root cell has a tree
+  /// somewhere, as in p4est's bricks), so in 3D the faces toward it are inside the
+  /// domain and not drawn; images then composite the same for any rank count.
+  bool missingTreesAreElsewhere = false;
 };
 
 } // namespace canopy

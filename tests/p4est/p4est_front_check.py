@@ -1,0 +1,60 @@
+"""Runs the p4est example simulation (examples/p4est) and checks what Canopy's
+shipped pipelines wrote against what the simulation itself counted:
+
+  p4est_front_check.py DIMENSION OUTPUT [REFERENCE] -- command...
+
+- the run succeeds and prints no warning or error;
+- every executed step has its image, selection and hypertree-grid extracts;
+- the selection holds exactly the quadrants the simulation counts with a density
+  in [1.9, 2.1] (p4est_iterate on every rank, reduced);
+- 2D: the full-resolution surface has exactly one quad per quadrant of the forest;
+- with REFERENCE (the same run on one rank): every image is identical to it.
+"""
+import os
+import re
+import shutil
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "support"))
+from output_checks import (cell_array, expect, finish, read_png, read_polydata,  # noqa: E402
+                           read_unstructured, run_command)
+
+separator = sys.argv.index("--")
+arguments = sys.argv[1:separator]
+dimension = int(arguments[0])
+output = arguments[1]
+reference = arguments[2] if len(arguments) > 2 else None
+shutil.rmtree(output, ignore_errors=True)
+status, log = run_command(sys.argv[separator + 1:])
+expect(status == 0, "the simulation exits with 0 (got %d)" % status)
+expect(not re.search(r"WARN|ERR|Warning|Error", log), "no warning or error in the output")
+
+steps = [(int(s), int(q), int(d)) for s, q, d in re.findall(
+    r"p4est_front: step (\d+): (\d+) quadrants, (\d+) with density", log)]
+expect(len(steps) >= 2, "the simulation reported %d executed steps" % len(steps))
+for step, quadrants, dense in steps:
+    name = "%06d" % step
+    image = os.path.join(output, "surface_%s.png" % name)
+    expect(os.path.exists(image), "step %d: %s written" % (step, os.path.basename(image)))
+    selection = read_unstructured(os.path.join(output, "selection_%s.pvtu" % name))
+    expect(selection.GetNumberOfCells() == dense,
+           "step %d: the selection has %d cells, the simulation counts %d quadrants in range"
+           % (step, selection.GetNumberOfCells(), dense))
+    if selection.GetNumberOfCells():
+        density = cell_array(selection, "density")
+        expect(density.min() >= 1.9 and density.max() <= 2.1,
+               "step %d: selected densities within [1.9, 2.1]" % step)
+    expect(os.path.exists(os.path.join(output, "grid_%s.phtg" % name)),
+           "step %d: hypertree-grid extract written" % step)
+    if dimension == 2:
+        surface = read_polydata(os.path.join(output, "grid_surface_%s.pvtp" % name))
+        expect(surface.GetNumberOfCells() == quadrants,
+               "step %d: full surface has %d quads for %d quadrants"
+               % (step, surface.GetNumberOfCells(), quadrants))
+    if reference:
+        mine = read_png(image)
+        theirs = read_png(os.path.join(reference, "surface_%s.png" % name))
+        differing = int((mine != theirs).any(axis=2).sum()) if mine.shape == theirs.shape else -1
+        expect(differing == 0, "step %d: image identical to the 1-rank run (%d pixels differ)"
+               % (step, differing))
+finish()
