@@ -233,105 +233,124 @@ DescribedTree describeTree(const typename Api<D>::Tree* tree, std::int64_t root,
   const std::size_t count = tree->quadrants.elem_count;
   DescribedTree out;
   out.root = root;
-  // A node of the description: its level, lower corner (p4est integer
-  // coordinates) and the run [first, last) of local quadrants inside it; runs
-  // are contiguous because quadrants are in Morton order.
-  struct Node
+
+  // One sweep over the local quadrants in Morton order emits the described
+  // nodes in pre-order: each quadrant opens the nodes down to it, children
+  // skipped on the way (no local quadrant inside) are absent leaves. A stack
+  // holds the open nodes and the next child each expects. Cost: O(nodes).
+  struct Open
   {
     int level;
-    std::array<p4est_qcoord_t, 3> corner;
-    std::size_t first;
-    std::size_t last;
+    int nextChild;
   };
-  std::vector<Node> level{{0, {{0, 0, 0}}, 0, count}};
-  std::vector<Node> next;
-  while (!level.empty())
+  std::vector<std::uint8_t> level; // per pre-order node
+  std::vector<std::uint8_t> kind;  // 0 present leaf, 1 refined, 2 absent
+  level.reserve(count + count / 2 + 8);
+  kind.reserve(count + count / 2 + 8);
+  std::vector<Open> stack;
+  const auto emit = [&](int nodeLevel, std::uint8_t nodeKind)
   {
-    next.clear();
-    for (const Node& node : level)
+    level.push_back(static_cast<std::uint8_t>(nodeLevel));
+    kind.push_back(nodeKind);
+  };
+  // Closes complete nodes; then the top is the deepest node still expecting children.
+  const auto closeComplete = [&]()
+  {
+    while (!stack.empty() && stack.back().nextChild == children)
     {
-      const std::size_t inside = node.last - node.first;
-      const typename A::Quadrant* q = inside ? A::quadrant(tree, node.first) : nullptr;
-      if (inside == 0 || (inside == 1 && q->level == node.level))
+      stack.pop_back();
+      if (!stack.empty())
       {
-        if (q && A::position(q) != node.corner)
-        {
-          problems.add("tree ", treeIndex, ": quadrant ", node.first,
-                       " is not where Morton order puts it (not a valid linear quadtree)");
-          problems.raise();
-        }
-        out.refinement.push_back(0);
-        out.absent.push_back(inside == 0 ? 1 : 0);
-        continue;
-      }
-      if (node.level >= A::MaxLevel)
-      {
-        problems.add("tree ", treeIndex, ": quadrants overlap at level ", node.level);
-        problems.raise();
-      }
-      out.refinement.push_back(1);
-      out.absent.push_back(0);
-      const int shift = A::MaxLevel - (node.level + 1);
-      std::size_t i = node.first;
-      for (int c = 0; c < children; ++c)
-      {
-        Node child{node.level + 1, node.corner, i, i};
-        for (int a = 0; a < D; ++a)
-        {
-          child.corner[a] += static_cast<p4est_qcoord_t>((c >> a) & 1) << shift;
-        }
-        while (child.last < node.last)
-        {
-          const auto p = A::position(A::quadrant(tree, child.last));
-          int id = 0;
-          for (int a = 0; a < D; ++a)
-          {
-            id |= ((p[a] >> shift) & 1) << a;
-          }
-          if (id != c)
-          {
-            break;
-          }
-          ++child.last;
-        }
-        i = child.last;
-        next.push_back(child);
-      }
-      if (i != node.last)
-      {
-        problems.add("tree ", treeIndex, ": quadrants are not in Morton order");
-        problems.raise();
+        ++stack.back().nextChild;
       }
     }
-    level.swap(next);
-  }
-  // Slots in pre-order (Morton order) over the present nodes: the leaves then
-  // come in local quadrant order, which is how p4est codes store their fields.
-  const std::size_t nodes = out.refinement.size();
-  std::vector<std::size_t> firstChild(nodes, 0);
-  for (std::size_t n = 0, nextChild = 1; n < nodes; ++n)
+  };
+  for (std::size_t k = 0; k < count; ++k)
   {
-    if (out.refinement[n])
+    const typename A::Quadrant* q = A::quadrant(tree, k);
+    const auto p = A::position(q);
+    if (k == 0 && q->level == 0)
     {
-      firstChild[n] = nextChild;
-      nextChild += children;
+      emit(0, 0); // the rank owns the whole tree as one quadrant
+      break;
+    }
+    if (k == 0)
+    {
+      emit(0, 1);
+      stack.push_back({0, 0});
+    }
+    if (stack.empty())
+    {
+      problems.add("tree ", treeIndex, ": quadrant ", k,
+                   " lies outside the tree or quadrants overlap (not a valid linear quadtree)");
+      problems.raise();
+    }
+    while (true)
+    {
+      Open& top = stack.back();
+      const int shift = A::MaxLevel - (top.level + 1);
+      int child = 0;
+      for (int a = 0; a < D; ++a)
+      {
+        child |= ((p[a] >> shift) & 1) << a;
+      }
+      if (child < top.nextChild || q->level <= top.level)
+      {
+        problems.add("tree ", treeIndex, ": quadrant ", k,
+                     " is not in Morton order or overlaps another (not a valid linear quadtree)");
+        problems.raise();
+      }
+      for (; top.nextChild < child; ++top.nextChild)
+      {
+        emit(top.level + 1, 2); // no local quadrant in there: another rank's
+      }
+      if (q->level == top.level + 1)
+      {
+        emit(top.level + 1, 0);
+        ++top.nextChild;
+        closeComplete();
+        break;
+      }
+      emit(top.level + 1, 1);
+      stack.push_back({top.level + 1, 0});
     }
   }
-  out.slots.assign(nodes, -1);
-  std::int64_t slot = firstSlot;
-  std::vector<std::size_t> stack{0};
+  // What follows this rank's last quadrant is another rank's.
   while (!stack.empty())
   {
-    const std::size_t n = stack.back();
-    stack.pop_back();
-    if (out.absent[n])
+    for (Open& top = stack.back(); top.nextChild < children; ++top.nextChild)
     {
-      continue;
+      emit(top.level + 1, 2);
     }
-    out.slots[n] = slot++;
-    for (int c = children; out.refinement[n] && c-- > 0;)
+    closeComplete();
+  }
+
+  // Breadth-first order is pre-order sorted by level (stable: within a level both
+  // go left to right), so a counting sort by level gives each node its place.
+  // Slots number the present nodes in pre-order: leaves then come in local
+  // quadrant order, which is how p4est codes store their fields.
+  const std::size_t nodes = level.size();
+  std::vector<std::size_t> levelStart(A::MaxLevel + 2, 0);
+  for (std::uint8_t l : level)
+  {
+    ++levelStart[static_cast<std::size_t>(l) + 1];
+  }
+  for (std::size_t l = 1; l < levelStart.size(); ++l)
+  {
+    levelStart[l] += levelStart[l - 1];
+  }
+  out.refinement.assign(nodes, 0);
+  out.absent.assign(nodes, 0);
+  out.slots.assign(nodes, -1);
+  std::int64_t slot = firstSlot;
+  for (std::size_t d = 0; d < nodes; ++d)
+  {
+    const std::size_t b = levelStart[level[d]]++;
+    out.refinement[b] = kind[d] == 1;
+    out.absent[b] = kind[d] == 2;
+    if (kind[d] != 2)
     {
-      stack.push_back(firstChild[n] + static_cast<std::size_t>(c));
+      out.slots[b] = slot++;
     }
   }
   out.presentNodes = static_cast<std::size_t>(slot - firstSlot);
