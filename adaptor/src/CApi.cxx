@@ -453,10 +453,10 @@ extern "C"
             return fail(CANOPY_INVALID_ARGUMENT, "%s: branch_factor must be 2 or 3, got %d",
                         function, branch_factor);
           }
-          if (max_levels < 1 || max_levels > 64)
+          if (max_levels < 1 || max_levels > canopy::maxSupportedLevels(branch_factor))
           {
-            return fail(CANOPY_INVALID_ARGUMENT, "%s: max_levels must be in [1, 64], got %d",
-                        function, max_levels);
+            return fail(CANOPY_INVALID_ARGUMENT, "%s: max_levels must be in [1, %d], got %d",
+                        function, canopy::maxSupportedLevels(branch_factor), max_levels);
           }
           if (const int status = checkAxis(function, 'x', x, points_x))
           {

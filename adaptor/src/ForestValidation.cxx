@@ -1,5 +1,6 @@
 #include "canopy/ForestValidation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -90,9 +91,6 @@ void validateAxis(const char* axis, const double* coords, std::size_t points, Pr
 void validateRootGrid(const ForestDescription& forest, ForestLayout& layout, ProblemList& problems)
 {
   const RootGrid& grid = forest.rootGrid;
-  validateAxis("x", grid.x, grid.pointsX, problems);
-  validateAxis("y", grid.y, grid.pointsY, problems);
-  validateAxis("z", grid.z, grid.pointsZ, problems);
   const std::array<std::size_t, 3> points{{grid.pointsX, grid.pointsY, grid.pointsZ}};
   int flatAxes = 0;
   for (int a = 0; a < 3; ++a)
@@ -110,7 +108,32 @@ void validateRootGrid(const ForestDescription& forest, ForestLayout& layout, Pro
     problems.add("root grid: a 2D forest needs exactly one flat axis (1 point), got ", points[0],
                  " x ", points[1], " x ", points[2]);
   }
-  layout.numberOfRootCells = layout.rootCells[0] * layout.rootCells[1] * layout.rootCells[2];
+  // VTK indexes root cells with vtkIdType and points per axis with unsigned int.
+  for (int a = 0; a < 3; ++a)
+  {
+    if (points[a] > std::numeric_limits<unsigned int>::max())
+    {
+      problems.add("root grid: axis ", "xyz"[a], " has ", points[a],
+                   " points, more than a vtkHyperTreeGrid can hold (",
+                   std::numeric_limits<unsigned int>::max(), ")");
+    }
+  }
+  std::size_t cells = 0;
+  if (__builtin_mul_overflow(layout.rootCells[0], layout.rootCells[1], &cells) ||
+      __builtin_mul_overflow(cells, layout.rootCells[2], &cells) ||
+      cells > static_cast<std::size_t>(std::numeric_limits<std::int64_t>::max()))
+  {
+    problems.add("root grid: ", layout.rootCells[0], " x ", layout.rootCells[1], " x ",
+                 layout.rootCells[2], " root cells overflow a 64-bit cell index");
+    cells = 0;
+  }
+  layout.numberOfRootCells = cells;
+  if (problems.empty())
+  {
+    validateAxis("x", grid.x, grid.pointsX, problems);
+    validateAxis("y", grid.y, grid.pointsY, problems);
+    validateAxis("z", grid.z, grid.pointsZ, problems);
+  }
 }
 
 /// Absent nodes (parts of a split tree another rank owns) are leaves below the
@@ -209,7 +232,9 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
 
 void validateTrees(const ForestDescription& forest, ForestLayout& layout, ProblemList& problems)
 {
-  std::vector<bool> rootUsed(layout.numberOfRootCells, false);
+  // Sorted roots find duplicates without a table as large as the root grid.
+  std::vector<std::pair<std::int64_t, std::size_t>> roots;
+  roots.reserve(forest.trees.size());
   std::size_t withSlots = 0;
   layout.trees.resize(forest.trees.size());
   bool shapesValid = true;
@@ -223,15 +248,9 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
                    ")");
       shapesValid = false;
     }
-    else if (rootUsed[static_cast<std::size_t>(tree.rootIndex)])
-    {
-      problems.add(treeName(t, tree), ": duplicate root, another tree already uses root cell ",
-                   tree.rootIndex);
-      shapesValid = false;
-    }
     else
     {
-      rootUsed[static_cast<std::size_t>(tree.rootIndex)] = true;
+      roots.emplace_back(tree.rootIndex, t);
     }
     withSlots += tree.storageSlots != nullptr;
     layout.anyMask = layout.anyMask || tree.masked != nullptr;
@@ -260,6 +279,17 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
     layout.totalPresentNodes += shape.numberOfPresentNodes;
     layout.totalPresentLeaves += shape.numberOfPresentLeaves;
     layout.totalDescriptorBits += shape.descriptorBits;
+  }
+  std::sort(roots.begin(), roots.end());
+  for (std::size_t i = 1; i < roots.size(); ++i)
+  {
+    if (roots[i].first == roots[i - 1].first)
+    {
+      const std::size_t t = roots[i].second;
+      problems.add(treeName(t, forest.trees[t]),
+                   ": duplicate root, another tree already uses root cell ", roots[i].first);
+      shapesValid = false;
+    }
   }
   layout.explicitSlots = withSlots > 0;
   if (withSlots != 0 && withSlots != forest.trees.size())
@@ -449,9 +479,10 @@ ForestLayout validateForest(const ForestDescription& forest)
   {
     problems.add("branchFactor must be 2 or 3, got ", forest.branchFactor);
   }
-  if (forest.maxLevels < 1 || forest.maxLevels > 64)
+  else if (forest.maxLevels < 1 || forest.maxLevels > maxSupportedLevels(forest.branchFactor))
   {
-    problems.add("maxLevels must be in [1, 64], got ", forest.maxLevels);
+    problems.add("maxLevels must be in [1, ", maxSupportedLevels(forest.branchFactor),
+                 "] for branch factor ", forest.branchFactor, ", got ", forest.maxLevels);
   }
   if (!problems.empty())
   {
@@ -472,34 +503,6 @@ ForestLayout validateForest(const ForestDescription& forest)
     throw InvalidForest(problems.take());
   }
   return layout;
-}
-
-void validateFields(const ForestDescription& forest, const ForestLayout& layout)
-{
-  ProblemList problems;
-  if (layout.trees.size() != forest.trees.size())
-  {
-    problems.add("layout has ", layout.trees.size(), " trees but the forest has ",
-                 forest.trees.size(), "; validate the forest again after changing its trees");
-    throw InvalidForest(problems.take());
-  }
-  for (std::size_t t = 0; t < forest.trees.size(); ++t)
-  {
-    if (layout.trees[t].numberOfNodes != forest.trees[t].numberOfNodes ||
-        forest.trees[t].refinement == nullptr)
-    {
-      problems.add(treeName(t, forest.trees[t]),
-                   ": does not match the layout; validate the forest again after changing it");
-    }
-  }
-  if (problems.empty())
-  {
-    validateFields(forest, layout, problems);
-  }
-  if (!problems.empty())
-  {
-    throw InvalidForest(problems.take());
-  }
 }
 
 } // namespace canopy

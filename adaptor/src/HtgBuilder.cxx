@@ -184,20 +184,12 @@ vtkSmartPointer<vtkUnsignedCharArray> buildAbsentGhosts(const ForestDescription&
   return ghosts;
 }
 
-} // namespace
-
-vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& forest,
-                                                     const FieldRequest& request)
+/// The build itself, from the layout validateForest just computed for `forest`
+/// (never a stored one: a layout that no longer matches would be read out of bounds).
+vtkSmartPointer<vtkHyperTreeGrid> buildValidated(const ForestDescription& forest,
+                                                 const ForestLayout& layout,
+                                                 const FieldRequest& request)
 {
-  return buildHyperTreeGrid(forest, validateForest(forest), request);
-}
-
-vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& forest,
-                                                     const ForestLayout& layout,
-                                                     const FieldRequest& request)
-{
-  // The layout may be from an earlier step: the fields must still be checked.
-  validateFields(forest, layout);
   const std::vector<const FieldDescription*> fields = selectFields(forest, request);
 
   auto htg = vtkSmartPointer<vtkHyperTreeGrid>::New();
@@ -249,6 +241,14 @@ vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& fo
     htg->GetCellData()->AddArray(array);
   }
   return htg;
+}
+
+} // namespace
+
+vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& forest,
+                                                     const FieldRequest& request)
+{
+  return buildValidated(forest, validateForest(forest), request);
 }
 
 } // namespace canopy

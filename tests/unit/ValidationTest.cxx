@@ -10,6 +10,9 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numeric>
+#include <type_traits>
+#include <utility>
 
 namespace canopy::testing
 {
@@ -283,7 +286,7 @@ TEST_F(Validation, StrideNotAMultipleOfTheValueSize)
 TEST_F(Validation, MaxLevelsOutOfRange)
 {
   d().maxLevels = 0;
-  expectRejected({"maxLevels must be in [1, 64], got 0"});
+  expectRejected({"maxLevels must be in [1, 62] for branch factor 2, got 0"});
 }
 
 TEST_F(Validation, NoComponents)
@@ -307,23 +310,59 @@ TEST_F(Validation, DepthMessageNamesTheLevelWithRefinedNodes)
   expectRejected({"refined beyond maxLevels = 5 (level 4 has refined nodes)"});
 }
 
-TEST_F(Validation, AStoredLayoutStillChecksTheFields)
+/// Whether buildHyperTreeGrid can be called with a stored layout: it cannot.
+template <typename, typename = void>
+struct TakesALayout : std::false_type
 {
-  const ForestLayout layout = validateForest(d());
-  EXPECT_NO_THROW(buildHyperTreeGrid(d(), layout, FieldRequest::all()));
-  d().fields[0].data = nullptr; // re-pointed after validation
-  EXPECT_THROW(buildHyperTreeGrid(d(), layout, FieldRequest::all()), InvalidForest);
-  d().fields[0].data = Forest.depth().data();
-  d().trees.pop_back(); // the trees changed too
+};
+template <typename Layout>
+struct TakesALayout<Layout, std::void_t<decltype(buildHyperTreeGrid(
+                                std::declval<const ForestDescription&>(),
+                                std::declval<const Layout&>(), FieldRequest::all()))>>
+    : std::true_type
+{
+};
+
+TEST(ValidationApi, NoBuildFromAStoredLayout)
+{
+  // A layout kept from an earlier step could no longer match the trees and be read
+  // out of bounds; the only build validates the description it is given.
+  static_assert(!TakesALayout<ForestLayout>::value, "the stored-layout overload is gone");
+  SUCCEED();
+}
+
+TEST_F(Validation, MaxLevelsBeyondWhatTheFiltersWalk)
+{
+  EXPECT_EQ(maxSupportedLevels(2), 62);
+  EXPECT_EQ(maxSupportedLevels(3), 39);
+  d().maxLevels = 63;
+  expectRejected({"maxLevels must be in [1, 62] for branch factor 2, got 63"});
+  d().branchFactor = 3;
+  d().maxLevels = 40;
+  expectRejected({"maxLevels must be in [1, 39] for branch factor 3, got 40"});
+}
+
+TEST_F(Validation, RootCellCountOverflowingSixtyFourBits)
+{
+  // 2^22 x 2^22 x 2^20 root cells: 2^64, which wraps to 0 in 64-bit arithmetic.
+  ForestDescription forest;
+  forest.dimension = 3;
+  forest.maxLevels = 2;
+  std::vector<double> xy((1u << 22) + 1);
+  std::vector<double> z((1u << 20) + 1);
+  std::iota(xy.begin(), xy.end(), 0.0);
+  std::iota(z.begin(), z.end(), 0.0);
+  forest.rootGrid = {xy.data(), xy.data(), z.data(), xy.size(), xy.size(), z.size()};
   try
   {
-    buildHyperTreeGrid(d(), layout, FieldRequest::all());
-    FAIL() << "a stale layout must be rejected";
+    validateForest(forest);
+    FAIL() << "an overflowing root grid was accepted";
   }
   catch (const InvalidForest& e)
   {
-    EXPECT_NE(std::string(e.what()).find("layout has 6 trees but the forest has 5"),
-              std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("root cells overflow a 64-bit cell index"),
+              std::string::npos)
+        << e.what();
   }
 }
 

@@ -70,10 +70,18 @@ struct ForestLayout
 /// refinement bytes (and over the slot maps, if given).
 ForestLayout validateForest(const ForestDescription& forest);
 
-/// Re-checks the fields (cheap, no pass over the nodes) against a layout that
-/// validateForest returned for the same trees, e.g. each time step when only
-/// field pointers change. Throws InvalidForest if the fields are malformed or
-/// the trees no longer match the layout.
-void validateFields(const ForestDescription& forest, const ForestLayout& layout);
+/// The deepest trees Canopy builds and its filters walk, as a number of levels (the
+/// root level included): integer node positions must fit in 64 bits with room to
+/// spare (branchFactor^(levels-1) <= 2^61): 62 levels for binary trees, 39 for
+/// ternary ones. validateForest refuses a maxLevels above it.
+constexpr int maxSupportedLevels(int branchFactor)
+{
+  int levels = 1;
+  for (long long cells = 1; cells <= (1LL << 61) / branchFactor; cells *= branchFactor)
+  {
+    ++levels;
+  }
+  return levels;
+}
 
 } // namespace canopy

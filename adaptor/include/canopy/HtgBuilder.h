@@ -53,10 +53,4 @@ vtkSmartPointer<vtkHyperTreeGrid>
 buildHyperTreeGrid(const ForestDescription& forest,
                    const FieldRequest& request = FieldRequest::all());
 
-/// Same, with a layout already returned by validateForest(forest) for these trees
-/// (the trees are not walked again; the fields are re-checked, cheaply).
-vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& forest,
-                                                     const ForestLayout& layout,
-                                                     const FieldRequest& request);
-
 } // namespace canopy

@@ -96,8 +96,8 @@ extern "C"
    * point on one axis.
    * [in] dimension      2 or 3.
    * [in] branch_factor  2 or 3.
-   * [in] max_levels     levels any tree may have, the root's included: 1 to 64.
-   * [in] x, y, z        borrowed until canopy_forest_destroy (clear keeps the root
+   * [in] max_levels     levels any tree may have, the root's included: 1 to 62 (binary), 39
+   * (ternary). [in] x, y, z        borrowed until canopy_forest_destroy (clear keeps the root
    *                     grid): points_x (points_y, points_z) increasing doubles.
    * [in] points_x, points_y, points_z  at least 1 each.
    * [out] forest        a new owned handle without trees or fields; NULL on failure.

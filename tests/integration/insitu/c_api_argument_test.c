@@ -122,10 +122,12 @@ static void arguments(void)
   refused(canopy_forest_create(2, 5, 8, x, 3, y, 2, z, 1, &forest),
           "canopy_forest_create: branch_factor must be 2 or 3, got 5", "forest_create(branch 5)");
   refused(canopy_forest_create(2, 2, -1, x, 3, y, 2, z, 1, &forest),
-          "canopy_forest_create: max_levels must be in [1, 64], got -1",
+          "canopy_forest_create: max_levels must be in [1, 62], got -1",
           "forest_create(max_levels -1)");
-  refused(canopy_forest_create(2, 2, 65, x, 3, y, 2, z, 1, &forest),
-          "max_levels must be in [1, 64], got 65", "forest_create(max_levels 65)");
+  refused(canopy_forest_create(2, 2, 63, x, 3, y, 2, z, 1, &forest),
+          "max_levels must be in [1, 62], got 63", "forest_create(max_levels 63)");
+  refused(canopy_forest_create(2, 3, 40, x, 3, y, 2, z, 1, &forest),
+          "max_levels must be in [1, 39], got 40", "forest_create(ternary, max_levels 40)");
   refused(canopy_forest_create(2, 2, 8, NULL, 3, y, 2, z, 1, &forest),
           "canopy_forest_create: x is NULL but points_x is 3", "forest_create(NULL x)");
   refused(canopy_forest_create(2, 2, 8, x, 3, y, 0, z, 1, &forest),
