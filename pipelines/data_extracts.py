@@ -1,18 +1,26 @@
 # script-version: 2
 """Canopy pipeline: data extracts of the whole grid: the hypertree grid itself
-(.htg; one file per rank plus a .phtg summary when run on several ranks) and the
-view-independent adaptive surface (.vtp: the grid's exposed boundary at full
-resolution, 2D: every visible leaf).
+(.phtg, with one .htg piece per rank) and the view-independent adaptive surface
+(.pvtp, with .vtp pieces: the grid's exposed boundary at full resolution, 2D:
+every visible leaf).
 
 Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   frequency    run every N steps (1)
   htg          write the grid (true)
   surface      write the surface (true)
   fields       fields Canopy wraps for this script ('' : every field)
-  file_prefix  file names: <prefix>_<step>.htg / <prefix>_surface_<step>.vtp ("grid")
+  file_prefix  the files' names: <prefix>_<step>.phtg, <prefix>_surface_<step>.pvtp ("grid")
+
+Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI rank):
+  <prefix>_<step>.phtg                          htg: the grid, listing its pieces,
+  <prefix>_<step>/<prefix>_<step>_<rank>.htg      one per rank (open these: ParaView 5.11
+                                                  crashes on the .phtg)
+  <prefix>_surface_<step>.pvtp                  surface: the surface, listing its pieces,
+  <prefix>_surface_<step>/<prefix>_surface_<step>_<rank>.vtp
+                                                  one per rank with faces
 
 VTK 9.2's hypertree-grid writer corrupts arrays of more than one component, so
-the .htg extract holds the scalar fields only (vectors are in the .vtp).
+the .htg pieces hold the scalar fields only (vectors are in the surface).
 """
 import canopy_catalyst as canopy
 from paraview.simple import PassArrays

@@ -1,7 +1,7 @@
 # script-version: 2
-"""Canopy pipeline: cells selected by location, id or value range, written as .vtu
-(an unstructured grid of quads/hexahedra with the cell fields and original ids),
-or as a masked hypertree grid (.htg) with preserve_topology.
+"""Canopy pipeline: cells selected by location, id or value range, written as an
+unstructured grid of quads/hexahedra with the cell fields and original ids
+(.pvtu), or as a masked hypertree grid (.phtg) with preserve_topology.
 
 Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   frequency          run every N steps (1)
@@ -11,9 +11,16 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   value_field        field for 'range'; value_component: component (-1: magnitude)
   value_range        'low,high' for 'range' (inclusive)
   allow_masked       masked cells may be selected (false)
-  preserve_topology  write a masked .htg instead of a .vtu (false)
+  preserve_topology  write a masked hypertree grid instead of cells (false)
   fields             fields Canopy wraps for this script ('' : every field)
-  file_prefix        file names: <prefix>_<step>.vtu ("selection")
+  file_prefix        the files' names: <prefix>_<step>.pvtu, ... ("selection")
+
+Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI rank):
+  <prefix>_<step>.pvtu                          the selected cells, listing its pieces,
+  <prefix>_<step>/<prefix>_<step>_<rank>.vtu      one per rank that selected cells
+  <prefix>_<step>.phtg                          preserve_topology, instead: the masked grid,
+  <prefix>_<step>/<prefix>_<step>_<rank>.htg      one piece per rank (open these: ParaView
+                                                  5.11 crashes on the .phtg)
 """
 import canopy_catalyst as canopy
 

@@ -15,10 +15,19 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   show_edges        draw the cells' edges: the mesh the camera sees (false)
   camera_position, camera_focal_point, camera_view_up   'x,y,z' ('' : frame the grid)
   parallel_scale    > 0: parallel projection with this scale (with camera_position)
-  surface_extract   also write the surface the camera saw as .vtp (false)
-  cinema            write the images as a Cinema database instead: surface.cdb/ in the
-                    output directory, indexed by data.csv at the end (false)
-  file_prefix       image file names: <prefix>_<step>.png ("surface")
+  surface_extract   also write the surface the camera saw (.pvtp and pieces) (false)
+  cinema            write into a Cinema database instead: surface.cdb/ in the output
+                    directory, indexed by data.csv at the end (false)
+  file_prefix       the files' names: <prefix>_<step>.png, ... ("surface")
+
+Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI rank):
+  <prefix>_<step>.png                           the image
+  <prefix>_<step>.pvtp                          surface_extract: the surface the camera saw,
+  <prefix>_<step>/<prefix>_<step>_<rank>.vtp      listing its pieces, one per rank with quads
+  surface.cdb/data.csv                          cinema: the same files in surface.cdb/ instead,
+  surface.cdb/<prefix>_<step>.png                 indexed by data.csv (a row per file)
+  surface.cdb/<prefix>_<step>.pvtp
+  surface.cdb/<prefix>_<step>/<prefix>_<step>_<rank>.vtp
 """
 import canopy_catalyst as canopy
 from paraview.simple import CreateExtractor, Show

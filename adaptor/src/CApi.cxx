@@ -4,6 +4,7 @@
 // simulation); each failure leaves its message in canopy_last_error().
 #include "canopy/canopy.h"
 
+#include "canopy/ForestValidation.h"
 #include "canopy/InSitu.h"
 
 #include <cstdarg>

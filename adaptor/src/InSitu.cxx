@@ -6,6 +6,7 @@
 #include "FinalizeGuard.h"
 #include "RuntimePaths.h"
 #include "ScriptInspection.h"
+#include "ScriptSearch.h"
 
 #include "canopy/HtgBuilder.h"
 
@@ -175,15 +176,19 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   // Absolute paths: ParaView imports scripts lazily, and the simulation may
   // change its working directory after open.
   std::error_code ignoredError;
-  for (auto& script : this->Options.scripts)
-  {
-    script.path = std::filesystem::absolute(script.path, ignoredError).lexically_normal().string();
-  }
   this->Options.outputDirectory =
       std::filesystem::absolute(this->Options.outputDirectory, ignoredError).string();
   std::set<std::string> seen;
-  for (const auto& script : this->Options.scripts)
+  for (auto& script : this->Options.scripts)
   {
+    // A relative path is also looked for among the pipelines (ScriptSearch.h).
+    const ScriptLocation location = findScript(script.path);
+    if (!location.found())
+    {
+      problems.push_back("pipeline script '" + script.path + "': " + location.notFoundReason());
+      continue;
+    }
+    script.path = location.path;
     std::string why;
     if (!scriptReadable(script.path, why))
     {

@@ -33,11 +33,18 @@ std::string pluginPath()
 
 std::string pipelinesDirectory()
 {
-  if (const char* fromEnvironment = std::getenv("CANOPY_PIPELINES_DIR"))
+  // Empty counts as unset, as in findScript().
+  const char* fromEnvironment = std::getenv("CANOPY_PIPELINES_DIR");
+  if (fromEnvironment != nullptr && *fromEnvironment != '\0')
   {
     return fromEnvironment;
   }
-  const auto installed = libraryDirectory() / CANOPY_PIPELINES_FROM_LIBDIR;
+  return shippedPipelinesDirectory();
+}
+
+std::string shippedPipelinesDirectory()
+{
+  const auto installed = (libraryDirectory() / CANOPY_PIPELINES_FROM_LIBDIR).lexically_normal();
   std::error_code error;
   if (std::filesystem::exists(installed / "canopy_catalyst.py", error))
   {

@@ -12,8 +12,12 @@ namespace canopy
 /// CANOPY_PLUGIN if set; else <libdir>/canopy-plugins/CanopyPlugin/CanopyPlugin.so.
 std::string pluginPath();
 
-/// CANOPY_PIPELINES_DIR if set; else <datadir>/canopy/pipelines of the prefix the
-/// library is installed in; else the source tree's pipelines/ (build tree).
+/// CANOPY_PIPELINES_DIR if set (and not empty); else shippedPipelinesDirectory().
 std::string pipelinesDirectory();
+
+/// The pipelines shipped with Canopy, whatever CANOPY_PIPELINES_DIR says:
+/// <datadir>/canopy/pipelines of the prefix the library is installed in; else
+/// the source tree's pipelines/ (build tree).
+std::string shippedPipelinesDirectory();
 
 } // namespace canopy

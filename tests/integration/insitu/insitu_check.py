@@ -330,6 +330,39 @@ def check_bad_script(code, log):
            "the error names the script and the problem")
 
 
+SHIPPED_PIPELINES = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                  "..", "..", "..", "pipelines"))
+
+
+def check_script_search_by_name(code, log):
+    """Scripts given by bare name from a working directory without them:
+    surface_image.py is the marker in CANOPY_PIPELINES_DIR (it comes before the
+    shipped pipelines), selection_extract.py the shipped one."""
+    expect(code == 0, "the simulation exits normally")
+    alternate = os.environ["CANOPY_PIPELINES_DIR"]
+    ran = re.search(r"canopy: step 0 time [0-9.e-]+: ran \[(.*)\], 0 failure", log)
+    expect(ran is not None and ran.group(1).split(", ") ==
+           [os.path.join(alternate, "surface_image.py"),
+            os.path.join(SHIPPED_PIPELINES, "selection_extract.py")],
+           "step 0 ran the alternate surface_image.py and the shipped selection_extract.py: %s"
+           % (ran.group(1) if ran else None))
+    expect(os.path.exists(path("ran_000000.txt")), "the marker script ran")
+    expect(not glob.glob(path("surface_*.png")), "the shipped surface_image.py did not run")
+    ids = sorted(cell_array(unstructured("selection_000000.pvtu"), "OriginalCellId").tolist())
+    expect(ids == [0, 7, 20], "the shipped selection_extract.py selected ids 0, 7, 20: %s" % ids)
+
+
+def check_script_search_missing(code, log):
+    """A bare name found nowhere: open fails, and the error lists every place
+    looked at, in search order."""
+    expect(code == 2, "open fails (exit code %d)" % code)
+    places = [os.path.join(os.getcwd(), "no_such_pipeline.py"),
+              os.path.join(os.environ["CANOPY_PIPELINES_DIR"], "no_such_pipeline.py"),
+              os.path.join(SHIPPED_PIPELINES, "no_such_pipeline.py")]
+    expect(("pipeline script 'no_such_pipeline.py': no such file or directory; looked for "
+            + ", ".join(places)) in log, "the error lists %s" % ", ".join(places))
+
+
 if __name__ == "__main__":
     separator = sys.argv.index("--")
     CHECK, OUTPUT = sys.argv[1], sys.argv[2]
