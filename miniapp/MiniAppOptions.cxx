@@ -1,5 +1,7 @@
 #include "MiniAppOptions.h"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -206,6 +208,24 @@ MiniAppOptions parseOptions(int argc, char** argv)
   if (o.maxLevel < 0 || o.steps < 0 || o.regridEvery < 1 || o.imageEvery < 1 ||
       o.selectionEvery < 1 || o.extractEvery < 1)
     throw std::invalid_argument("--max-level/--steps must be >= 0, the *-every options >= 1");
+  // Every rank holds the whole forest's topology, about 1 KiB per root cell once
+  // the grid is built (measured: 512 x 512 roots, 1 GB): refuse a root grid that
+  // cannot fit in this machine's memory before allocating anything.
+  double rootCells = 1;
+  for (int a = 0; a < o.dimension; ++a)
+    rootCells *= o.roots[a];
+  const double memory =
+      static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  constexpr double bytesPerRoot = 1024;
+  if (rootCells * bytesPerRoot > memory)
+  {
+    std::ostringstream why;
+    why << "--roots: " << static_cast<long long>(rootCells) << " root cells need about "
+        << rootCells * bytesPerRoot / 1073741824.0 << " GiB on every rank (each holds the whole "
+        << "forest, about 1 KiB per root cell), more than this machine's " << memory / 1073741824.0
+        << " GiB";
+    throw std::invalid_argument(why.str());
+  }
   // Every rank holds the whole forest's topology: keep the finest level's cells
   // per axis at most 2^20 (a fully refined forest would not fit anyway).
   double finest = 1;

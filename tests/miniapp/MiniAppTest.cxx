@@ -201,3 +201,19 @@ int main(int argc, char** argv)
   MPI_Finalize();
   return result;
 }
+
+TEST(MiniAppOptions, ARootGridThatCannotFitIsRefusedUpFront)
+{
+  // 65536 x 65536 roots used to be accepted and die of bad_alloc after 35 s.
+  const char* argv[] = {"canopy_miniamr", "--roots", "65536", "--max-level", "0"};
+  try
+  {
+    miniamr::parseOptions(5, const_cast<char**>(argv));
+    FAIL() << "--roots 65536 was accepted";
+  }
+  catch (const std::invalid_argument& error)
+  {
+    EXPECT_NE(std::string(error.what()).find("4294967296 root cells need about"), std::string::npos)
+        << error.what();
+  }
+}

@@ -5,6 +5,8 @@
 #include "canopy/HtgBuilder.h"
 
 #include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
 #include <vtkHyperTreeGrid.h>
 
 #include <cmath>
@@ -377,6 +379,42 @@ TEST_F(Validation, UnknownRequestedField)
   {
     EXPECT_NE(std::string(e.what()).find("requested field 'Density' is not in the forest"),
               std::string::npos);
+  }
+}
+
+} // namespace
+} // namespace canopy::testing
+
+namespace canopy::testing
+{
+namespace
+{
+
+TEST(RankWithoutTrees, NullFieldsOfEveryLayoutBuildAnEmptyGrid)
+{
+  // A rank owning no tree passes no memory: null pointers with zero tuples, in
+  // every layout and centering (no pointer arithmetic on null; UBSan checks it).
+  const std::vector<double> x{0, 1, 2}, y{0, 1}, z{0};
+  ForestDescription forest;
+  forest.dimension = 2;
+  forest.maxLevels = 3;
+  forest.rootGrid = {x.data(), y.data(), z.data(), x.size(), y.size(), z.size()};
+  forest.fields.push_back(FieldDescription::aos<double>("aos", nullptr, 0, 3));
+  forest.fields.push_back(
+      FieldDescription::aos<float>("leaves", nullptr, 0, 3, Centering::LeavesOnly));
+  forest.fields.push_back(FieldDescription::strided<double>("strided", nullptr, 40, 0, 3));
+  forest.fields.push_back(FieldDescription::strided<double>("strided_leaves", nullptr, 40, 0, 2,
+                                                            Centering::LeavesOnly));
+  forest.fields.push_back(FieldDescription::soa<double>("soa", {nullptr, nullptr}, 0));
+  forest.fields.push_back(FieldDescription::indirect<std::int64_t>("indirect", nullptr, 0, 2));
+  const auto htg = buildHyperTreeGrid(forest);
+  EXPECT_EQ(htg->GetNumberOfCells(), 0);
+  for (const auto& field : forest.fields)
+  {
+    vtkDataArray* array = htg->GetCellData()->GetArray(field.name.c_str());
+    ASSERT_NE(array, nullptr) << field.name;
+    EXPECT_EQ(array->GetNumberOfTuples(), 0) << field.name;
+    EXPECT_EQ(array->GetNumberOfComponents(), field.components) << field.name;
   }
 }
 
