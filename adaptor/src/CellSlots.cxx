@@ -6,7 +6,7 @@ namespace canopy
 CellSlots CellSlots::build(const ForestDescription& forest, const ForestLayout& layout)
 {
   CellSlots slots;
-  if (!layout.anyAbsent)
+  if (cellsAreSlots(layout))
   {
     return slots;
   }

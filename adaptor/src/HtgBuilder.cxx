@@ -109,24 +109,8 @@ void buildTrees(vtkHyperTreeGrid* htg, const ForestDescription& forest, const Fo
     const auto bits = static_cast<vtkIdType>(shape.descriptorBits);
     hyperTree->BuildFromBreadthFirstOrderDescriptor(descriptors, bits, start);
     start += bits;
-    if (layout.anyAbsent)
-    {
-      // Cells numbered breadth-first; fields read through CellSlots.
-      hyperTree->SetGlobalIndexStart(static_cast<vtkIdType>(shape.firstCell));
-      continue;
-    }
-    if (!layout.explicitSlots)
-    {
-      hyperTree->SetGlobalIndexStart(static_cast<vtkIdType>(shape.firstSlot));
-      continue;
-    }
-    // Size the table once (the last call sizes it), then fill it.
-    const auto last = static_cast<vtkIdType>(shape.numberOfNodes - 1);
-    hyperTree->SetGlobalIndexFromLocal(last, tree.storageSlots[last]);
-    for (vtkIdType n = 0; n < last; ++n)
-    {
-      hyperTree->SetGlobalIndexFromLocal(n, tree.storageSlots[n]);
-    }
+    // Cells breadth-first, tree by tree; fields map cells to slots (CellSlots).
+    hyperTree->SetGlobalIndexStart(static_cast<vtkIdType>(shape.firstCell));
   }
 }
 
@@ -152,7 +136,7 @@ vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const Fo
     {
       if ((tree.masked && tree.masked[n]) || isAbsent(tree, n))
       {
-        mask->SetValue(static_cast<vtkIdType>(cellIndex(layout, tree, shape, n)), 1);
+        mask->SetValue(static_cast<vtkIdType>(cellIndex(shape, n)), 1);
       }
     }
   }

@@ -104,7 +104,7 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
           {
             continue;
           }
-          const std::int64_t tuple = table[cellIndex(layout, tree, shape, child)];
+          const std::int64_t tuple = table[cellIndex(shape, child)];
           for (std::size_t c = 0; c < nc; ++c)
           {
             sum[c] += tuple >= 0
@@ -114,7 +114,7 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
           ++used;
         }
       }
-      const std::size_t target = computedIndexOf(table[cellIndex(layout, tree, shape, n)]);
+      const std::size_t target = computedIndexOf(table[cellIndex(shape, n)]);
       for (std::size_t c = 0; c < nc; ++c)
       {
         // No present child at all: nothing of this node is here.

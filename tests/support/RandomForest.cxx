@@ -136,6 +136,7 @@ RandomForest::RandomForest(const RandomForestOptions& o)
         Slots[t][n] = nodes[n].slot;
       }
     }
+    FirstCell.push_back(static_cast<std::int64_t>(offset));
     offset += nodes.size();
     for (auto r : refinement)
     {

@@ -59,6 +59,11 @@ public:
     int childIndex;
   };
   const std::vector<std::vector<Node>>& nodes() const { return Nodes; }
+  /// The node's cell in a grid Canopy builds: breadth-first, tree by tree (docs/api.md).
+  std::int64_t cellOf(std::size_t tree, std::size_t node) const
+  {
+    return FirstCell[tree] + static_cast<std::int64_t>(node);
+  }
   const std::vector<std::vector<std::uint8_t>>& refinement() const { return Refinement; }
   const std::vector<std::vector<std::uint8_t>>& masked() const { return Masked; }
   const std::array<std::vector<double>, 3>& coordinates() const { return Coordinates; }
@@ -69,6 +74,7 @@ private:
   std::vector<std::vector<std::uint8_t>> Masked;
   std::vector<std::vector<std::int64_t>> Slots;
   std::vector<std::vector<Node>> Nodes;
+  std::vector<std::int64_t> FirstCell;
   std::size_t TotalNodes = 0;
   std::size_t TotalLeaves = 0;
   std::size_t Children = 0;

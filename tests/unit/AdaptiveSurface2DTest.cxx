@@ -433,7 +433,7 @@ TEST(AdaptiveSurface2D, LevelOfDetailStopsAtTheFirstNodeBelowThreshold)
       {
         for (std::size_t n = 0; n < c.forest->nodes()[t].size(); ++n)
         {
-          if (c.forest->nodes()[t][n].slot == global)
+          if (c.forest->cellOf(t, n) == global)
           {
             leaf = c.forest->refinement()[t][n] == 0;
           }

@@ -196,13 +196,14 @@ TEST_P(Layouts, EveryNodeMatchesTheSimulation)
     {
       const auto local = static_cast<vtkIdType>(n);
       ASSERT_EQ(tree->IsLeaf(local), refinement[n] == 0) << "tree " << t << " node " << n;
-      ASSERT_EQ(tree->GetGlobalIndexFromLocal(local), nodes[n].slot);
+      // Cells are breadth-first whatever the storage order: no per-node VTK table.
+      ASSERT_EQ(tree->GetGlobalIndexFromLocal(local), forest.cellOf(t, n));
       if (refinement[n])
       {
         ASSERT_EQ(tree->GetElderChildIndex(static_cast<unsigned int>(n)), nextChild);
         nextChild += forest.childrenPerNode();
       }
-      ASSERT_EQ(htg->GetMask()->GetValue(nodes[n].slot), forest.masked()[t][n]);
+      ASSERT_EQ(htg->GetMask()->GetValue(forest.cellOf(t, n)), forest.masked()[t][n]);
     }
     forEachNode(htg, root, refinement, forest.childrenPerNode(),
                 [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor, std::size_t n)
@@ -214,7 +215,8 @@ TEST_P(Layouts, EveryNodeMatchesTheSimulation)
                   EXPECT_EQ(cursor->GetLevel(), static_cast<unsigned int>(nodes[n].level));
                   EXPECT_EQ(cursor->IsMasked(), forest.masked()[t][n] != 0);
                   const vtkIdType global = cursor->GetGlobalNodeIndex();
-                  ASSERT_EQ(global, nodes[n].slot) << "tree " << t << " node " << n;
+                  ASSERT_EQ(global, forest.cellOf(t, n)) << "tree " << t << " node " << n;
+                  // The value at the cell is the simulation's, from the node's slot.
                   for (int c = 0; c < 3; ++c)
                   {
                     ASSERT_EQ(vector->GetComponent(global, c), valueAt(nodes[n].slot, c));

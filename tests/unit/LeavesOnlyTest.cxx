@@ -83,14 +83,15 @@ TEST(LeavesOnly, CoarseValuesSkipMaskedChildrenInDepthFirstStorage)
   auto htg = buildHyperTreeGrid(d);
   vtkDataArray* e = htg->GetCellData()->GetArray("energy");
   const double node2 = (10.0 + 30 + 40) / 3;
-  EXPECT_DOUBLE_EQ(e->GetTuple1(2), node2);                 // slot of node 2 is 2
+  // Cells are breadth-first (cell n = node n); values come from the slots.
+  EXPECT_DOUBLE_EQ(e->GetTuple1(2), node2);
   EXPECT_DOUBLE_EQ(e->GetTuple1(0), (1.0 + node2 + 3) / 3); // node 3 (value 2) masked
-  EXPECT_EQ(e->GetTuple1(3), 10.0);                         // slot 3 = node 5
-  EXPECT_EQ(e->GetTuple1(7), 2.0);                          // slot 7 = node 3, still readable
+  EXPECT_EQ(e->GetTuple1(5), 10.0);                         // node 5, in slot 3
+  EXPECT_EQ(e->GetTuple1(3), 2.0);                          // node 3, in slot 7: still readable
   // The leaf values are still read in place.
   auto& mutableEnergy = const_cast<std::vector<double>&>(energy);
   mutableEnergy[6] = -5.0; // node 4
-  EXPECT_EQ(e->GetTuple1(8), -5.0);
+  EXPECT_EQ(e->GetTuple1(4), -5.0);
 }
 
 TEST(LeavesOnly, AllChildrenMaskedFallsBackToEveryChild)
@@ -242,7 +243,7 @@ TEST(LeavesOnly, SoAVectorOverManyTreesMatchesBruteForceVolumeAverages)
       };
       for (std::size_t n = 0; n < nodes.size(); ++n)
         for (int c = 0; c < 2; ++c)
-          ASSERT_NEAR(ab->GetComponent(nodes[n].slot, c), value(value, n, c), 1e-12)
+          ASSERT_NEAR(ab->GetComponent(forest.cellOf(t, n), c), value(value, n, c), 1e-12)
               << "tree " << t << " node " << n;
     }
   }

@@ -102,6 +102,39 @@ TEST(ZeroCopy, SimulationUpdatesAreSeenThroughTheGrid)
   EXPECT_EQ(soa->GetComponentArrayPointer(1), v.data());
 }
 
+TEST(ZeroCopy, SlotMappedFieldsAreReadInPlaceAtEveryCell)
+{
+  // Depth-first storage: the grid's cells are breadth-first, fields read through
+  // the cell -> slot table, the simulation's arrays in place.
+  RandomForestOptions o = smallForest();
+  o.order = StorageOrder::DepthFirst;
+  RandomForest forest(o);
+  const std::size_t n = forest.numberOfNodes();
+  std::vector<double> pressure(n);
+  for (std::size_t s = 0; s < n; ++s)
+    pressure[s] = 0.5 * static_cast<double>(s);
+  auto& d = forest.description();
+  d.fields.push_back(FieldDescription::aos("pressure", pressure.data(), n));
+  auto htg = buildHyperTreeGrid(d);
+  vtkDataArray* array = htg->GetCellData()->GetArray("pressure");
+  ASSERT_EQ(array->GetNumberOfTuples(), static_cast<vtkIdType>(n));
+  std::size_t checked = 0;
+  for (std::size_t t = 0; t < forest.nodes().size(); ++t)
+  {
+    for (std::size_t node = 0; node < forest.nodes()[t].size(); ++node)
+    {
+      const auto slot = static_cast<std::size_t>(forest.nodes()[t][node].slot);
+      const vtkIdType cell = forest.cellOf(t, node);
+      ASSERT_EQ(array->GetComponent(cell, 0), pressure[slot]);
+      // A change in the simulation's memory is seen at once: nothing was copied.
+      pressure[slot] = -1.0 - static_cast<double>(slot);
+      ASSERT_EQ(array->GetComponent(cell, 0), pressure[slot]);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, n);
+}
+
 TEST(ZeroCopy, BuildNeverWritesSimulationMemory)
 {
   RandomForestOptions o = smallForest();

@@ -42,8 +42,10 @@ private:
 ///
 /// - Topology comes from the breadth-first refinement bytes through
 ///   vtkHyperTree::BuildFromBreadthFirstOrderDescriptor: no per-node cursor walk.
-/// - Global cell indices are the storage slots: implicit (one offset per tree) for
-///   the default breadth-first storage, an explicit per-node table otherwise.
+/// - Cells (VTK global indices) are numbered breadth-first, tree by tree: implicit,
+///   one offset per tree, no per-node table. With the default storage a cell is its
+///   storage slot; with slot maps or absent nodes, fields read through a cell -> slot
+///   table (8 bytes per cell, shared by all fields).
 /// - EveryNode fields are wrapped in place: AoS by vtkAOSDataArrayTemplate, SoA by
 ///   vtkSOADataArrayTemplate, strided by a borrowing array. LeavesOnly fields borrow
 ///   the leaf values and own only the coarse averages (see docs/api.md).
