@@ -54,6 +54,7 @@ struct StepShape
   int rank = 0;
   std::vector<std::int64_t> trees, cells, depths, descriptorBits;
   std::array<std::int64_t, 3> dimensions = {1, 1, 1};
+  std::int64_t dataBytes = 0; // the step's data, all ranks
 
   static std::int64_t bytes(std::int64_t bits) { return (bits + 7) / 8; }
   /// Rows a dataset of `kind` grows by (axis: the coordinate axis).
@@ -219,6 +220,30 @@ hsize_t chunkRows(std::int64_t firstStepRows, std::size_t rowBytes, std::size_t 
   const hsize_t byTarget = std::max<hsize_t>(1, target / std::max<std::size_t>(1, rowBytes));
   const hsize_t wanted = std::max<hsize_t>(minimum, static_cast<hsize_t>(firstStepRows));
   return std::max<hsize_t>(1, std::min(wanted, std::max(minimum, byTarget)));
+}
+
+/// Why a step of `bytes` bytes will not fit where `file` goes ("" if it will):
+/// the data, 5 % for chunks a step leaves partly filled, 2 MiB for metadata.
+std::string freeSpaceProblem(const std::string& file, std::int64_t bytes)
+{
+  std::filesystem::path folder = std::filesystem::path(file).parent_path();
+  std::error_code error;
+  const std::filesystem::space_info space =
+      std::filesystem::space(folder.empty() ? "." : folder, error);
+  if (error)
+  {
+    return {}; // not knowable here: the write itself will tell
+  }
+  const std::int64_t needed = bytes + bytes / 20 + (std::int64_t(2) << 20);
+  if (static_cast<std::uintmax_t>(needed) <= space.available)
+  {
+    return {};
+  }
+  std::ostringstream text;
+  text << "not enough free space in " << (folder.empty() ? "." : folder.string())
+       << ": the step needs about " << (needed >> 10) << " KiB, " << (space.available >> 10)
+       << " KiB are free";
+  return text.str();
 }
 
 /// The writer's state for one step: the open file and its growing datasets.
@@ -948,19 +973,29 @@ void VtkHdfWriter::writeStep(vtkHyperTreeGrid* htg, double time, std::int64_t st
 
   const unsigned int* dims = htg->GetDimensions();
   const std::int64_t branchFactor = htg->GetBranchFactor();
+  // What this rank adds to the file, to check the free space first.
+  std::int64_t bytes = StepShape::bytes(piece.descriptors.size()) +
+                       StepShape::bytes(piece.numberOfCells) +
+                       8 * (4 + 2 * piece.numberOfTrees() + piece.numberOfDepths() +
+                            static_cast<std::int64_t>(dims[0] + dims[1] + dims[2]));
+  for (vtkDataArray* array : arrays)
+  {
+    bytes += piece.numberOfCells * array->GetNumberOfComponents() * array->GetDataTypeSize();
+  }
   const std::vector<std::int64_t> counts = gatherCounts(
       communicator, {piece.numberOfTrees(), piece.numberOfCells, piece.numberOfDepths(),
-                     piece.descriptors.size(), branchFactor, dims[0], dims[1], dims[2]});
+                     piece.descriptors.size(), branchFactor, dims[0], dims[1], dims[2], bytes});
   StepShape shape;
   shape.pieces = sizeOf(communicator);
   shape.rank = rankOf(communicator);
   for (int r = 0; r < shape.pieces; ++r)
   {
-    const std::int64_t* row = counts.data() + 8 * r;
+    const std::int64_t* row = counts.data() + 9 * r;
     shape.trees.push_back(row[0]);
     shape.cells.push_back(row[1]);
     shape.depths.push_back(row[2]);
     shape.descriptorBits.push_back(row[3]);
+    shape.dataBytes += row[8];
     if (row[4] != branchFactor || row[5] != dims[0] || row[6] != dims[1] || row[7] != dims[2])
     {
       // The same on every rank: every rank compares every row.
@@ -970,6 +1005,14 @@ void VtkHdfWriter::writeStep(vtkHyperTreeGrid* htg, double time, std::int64_t st
   shape.dimensions = {static_cast<std::int64_t>(dims[0]), static_cast<std::int64_t>(dims[1]),
                       static_cast<std::int64_t>(dims[2])};
   impl.Dimensions = shape.dimensions;
+
+  // A write that fails for want of space may leave HDF5 unable to close the file
+  // (HDF5 1.10 then crashes at exit, HDFFV-11052): refuse a step that will not
+  // fit before touching the file.
+  impl.agree(shape.rank == 0 && impl.Options.checkFreeSpace
+                 ? freeSpaceProblem(impl.FileName, shape.dataBytes)
+                 : std::string(),
+             context, nullptr);
 
   // ---- the file: created at the run's first step, then appended to --------------------
   int exists = std::filesystem::exists(impl.FileName) ? 1 : 0;
@@ -1012,7 +1055,13 @@ void VtkHdfWriter::writeStep(vtkHyperTreeGrid* htg, double time, std::int64_t st
     impl.Arrays = specs;
     impl.Steps = 0;
     impl.declareSeries(specs);
-    impl.agree(impl.create(file.file(), htg, shape), context, &file);
+    std::string created = impl.create(file.file(), htg, shape);
+    if (created.empty() && H5Fflush(file.file(), H5F_SCOPE_GLOBAL) < 0)
+    {
+      // On disk before any data: a later failure finds a file it can restore.
+      created = "cannot flush the new file: " + hdfErrorText();
+    }
+    impl.agree(created, context, &file);
   }
   else
   {

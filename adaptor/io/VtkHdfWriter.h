@@ -38,6 +38,11 @@ struct VtkHdfWriterOptions
   std::vector<std::string> arrays;
   /// Continue the file of an earlier run. Off: the first step replaces the file.
   bool append = false;
+  /// Refuse a step that will not fit in the free space left, before touching the
+  /// file. Off: the write is attempted and, if it fails, the step's rows are removed
+  /// again; but a failure while the file is created can leave HDF5 1.10 unable to
+  /// close it, which crashes the process at exit (HDFFV-11052, fixed in HDF5 1.14.1).
+  bool checkFreeSpace = true;
 };
 
 class CANOPYIO_EXPORT VtkHdfWriter
