@@ -122,6 +122,8 @@ def verify_step(root, steps, k, forest, expect):
                 problems.append("piece %d %sCoordinates %s" % (piece, name, got[:4]))
         position = cell_at + cells_total
         for tree in trees:
+            # A tree split between ranks is in several pieces: samples then name the rank.
+            where[(piece, tree["root"])] = position
             where[tree["root"]] = position
             position += len(tree["refinement"])
         seen_roots += ids
@@ -137,7 +139,8 @@ def verify_step(root, steps, k, forest, expect):
            "%s: pieces add up to the forest: %d trees, %d cells" % (label, len(seen_roots), cells_total))
     wrong = []
     for sample in forest["samples"]:
-        cell = where[sample["root"]] + sample["node"]
+        key = (sample["rank"], sample["root"]) if "rank" in sample else sample["root"]
+        cell = where[key] + sample["node"]
         for name, want in sample["values"].items():
             got = root["CellData"][name][cell]
             got = [float(got)] if numpy.ndim(got) == 0 else [float(v) for v in got]
