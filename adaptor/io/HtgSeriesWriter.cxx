@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <iomanip>
 #include <limits>
 #include <sstream>
 
@@ -54,6 +54,14 @@ std::string replaceFile(const std::filesystem::path& path, const std::string& te
   std::filesystem::remove(temporary, ignored);
   return "cannot write " + path.string() + ": " +
          (status ? status.message() : std::string(std::strerror(error ? error : EIO)));
+}
+
+/// The shortest text that reads back as `value` (0.1, not 0.10000000000000001).
+std::string shortest(double value)
+{
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof(text), value);
+  return std::string(text, result.ptr);
 }
 
 std::string escapedAttribute(const std::string& text)
@@ -129,13 +137,13 @@ void HtgSeriesWriter::writeStep(vtkHyperTreeGrid* htg, std::int64_t step, double
                   steps.end());
       steps.push_back({step, time});
       std::ostringstream pvd;
-      pvd << std::setprecision(std::numeric_limits<double>::max_digits10)
-          << "<?xml version=\"1.0\"?>\n"
+      pvd << "<?xml version=\"1.0\"?>\n"
           << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
           << "  <Collection>\n";
       for (const Entry& entry : steps)
       {
-        pvd << "    <DataSet timestep=\"" << entry.time << "\" group=\"\" part=\"0\" file=\""
+        pvd << "    <DataSet timestep=\"" << shortest(entry.time)
+            << "\" group=\"\" part=\"0\" file=\""
             << escapedAttribute(this->stepFileName(entry.step)) << "\"/>\n";
       }
       pvd << "  </Collection>\n</VTKFile>\n";

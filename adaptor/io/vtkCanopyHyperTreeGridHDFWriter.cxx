@@ -75,6 +75,7 @@ void vtkCanopyHyperTreeGridHDFWriter::WriteData()
     canopy::io::VtkHdfWriterOptions options;
     options.arrays = this->CellArrays;
     options.append = this->Append;
+    options.checkFreeSpace = this->CheckFreeSpace;
     this->Internal->Writer = std::make_unique<canopy::io::VtkHdfWriter>(
         canopy::io::communicatorOf(this->Controller), this->FileName, options);
     this->Internal->FileName = this->FileName;
@@ -102,6 +103,7 @@ void vtkCanopyHyperTreeGridHDFWriter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FileName: " << this->FileName << "\n"
      << indent << "CellArrays: " << this->CellArrays.size() << "\n"
      << indent << "Append: " << this->Append << "\n"
+     << indent << "CheckFreeSpace: " << this->CheckFreeSpace << "\n"
      << indent << "TimeValue: " << this->TimeValue << "\n"
      << indent << "TimeStep: " << this->TimeStep << "\n"
      << indent << "Controller: " << this->Controller << "\n"

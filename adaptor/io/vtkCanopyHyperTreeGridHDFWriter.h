@@ -51,6 +51,14 @@ public:
   ///@}
 
   ///@{
+  /// Refuse a step that will not fit in the free space before touching the file
+  /// (on by default; see canopy::io::VtkHdfWriterOptions::checkFreeSpace).
+  vtkSetMacro(CheckFreeSpace, bool);
+  vtkGetMacro(CheckFreeSpace, bool);
+  vtkBooleanMacro(CheckFreeSpace, bool);
+  ///@}
+
+  ///@{
   /// The step's time when the input carries none; the simulation's step number
   /// (only for messages; -1: none).
   vtkSetMacro(TimeValue, double);
@@ -80,6 +88,7 @@ protected:
   std::string FileName;
   std::vector<std::string> CellArrays;
   bool Append = false;
+  bool CheckFreeSpace = true;
   double TimeValue = 0.0;
   vtkIdType TimeStep = -1;
   vtkMultiProcessController* Controller = nullptr;
