@@ -1,5 +1,7 @@
 #include "canopy/ForestValidation.h"
 
+#include "ValidatedTrees.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -230,7 +232,8 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
   return tree.absent == nullptr || validateAbsentNodes(t, tree, shape, problems);
 }
 
-void validateTrees(const ForestDescription& forest, ForestLayout& layout, ProblemList& problems)
+void validateTrees(const ForestDescription& forest, ForestLayout& layout, ProblemList& problems,
+                   const ValidatedTrees* known)
 {
   // Sorted roots find duplicates without a table as large as the root grid.
   std::vector<std::pair<std::int64_t, std::size_t>> roots;
@@ -267,7 +270,11 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
       shapesValid = false;
       continue;
     }
-    if (!validateTreeShape(forest, t, shape, problems))
+    if (known && known->unchanged[t])
+    {
+      shape = known->previous->trees[t]; // same bytes as a tree validated before
+    }
+    else if (!validateTreeShape(forest, t, shape, problems))
     {
       shapesValid = false;
       continue;
@@ -298,7 +305,7 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
                  " trees have a storageSlots map; either every tree has one or none does");
     return;
   }
-  if (!layout.explicitSlots || !shapesValid)
+  if (!layout.explicitSlots || !shapesValid || (known && known->slotsKnownValid()))
   {
     return;
   }
@@ -469,6 +476,11 @@ InvalidForest::InvalidForest(std::vector<std::string> problems)
 
 ForestLayout validateForest(const ForestDescription& forest)
 {
+  return validateForest(forest, nullptr);
+}
+
+ForestLayout validateForest(const ForestDescription& forest, const ValidatedTrees* known)
+{
   ProblemList problems;
   ForestLayout layout;
   if (forest.dimension != 2 && forest.dimension != 3)
@@ -492,7 +504,7 @@ ForestLayout validateForest(const ForestDescription& forest)
   validateRootGrid(forest, layout, problems);
   if (problems.empty())
   {
-    validateTrees(forest, layout, problems);
+    validateTrees(forest, layout, problems, known);
   }
   if (problems.empty())
   {
