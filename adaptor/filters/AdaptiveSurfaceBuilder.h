@@ -51,7 +51,7 @@ struct SurfaceArrays
 /// Two passes over the trees (in parallel with vtkSMPTools): count, then write
 /// each tree's quads at its offset. The output is allocated once, in its final
 /// place; its order is the tree order for any number of threads.
-class PlaneRegion;
+class GridSection;
 
 class AdaptiveSurfaceBuilder
 {
@@ -68,7 +68,7 @@ public:
 private:
   const HyperTreeAccess& Grid;
   SurfaceOptions Options;
-  std::unique_ptr<PlaneRegion> Region; ///< 2D culling region, built once for both passes
+  std::unique_ptr<GridSection> Region; ///< 2D culling region, built once for both passes
   std::vector<std::size_t> Offsets;
 };
 
