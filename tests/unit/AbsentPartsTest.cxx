@@ -388,6 +388,84 @@ TEST(AbsentPartsSelection, AbsentCellsAreNeverSelectedEvenWithAllowMasked)
   EXPECT_EQ(selected, expected);
 }
 
+TEST(AbsentPartsSelection, BoxAndFrustumSelectEachLeafOnExactlyOneRank)
+{
+  for (int dimension : {2, 3})
+  {
+    RandomForest whole(splitOptions(dimension));
+    const auto& c = whole.coordinates();
+    // A box and a frustum (six planes, tilted) through the middle of the domain.
+    double box[6];
+    double planes[24] = {};
+    for (int a = 0; a < 3; ++a)
+    {
+      const double lo = c[a].front();
+      const double size = c[a].back() - lo;
+      box[2 * a] = lo + 0.21 * size - 1e-3;
+      box[2 * a + 1] = lo + 0.77 * size + 1e-3;
+      planes[8 * a + a] = 1; // x >= xmin, tilted by the next axis
+      planes[8 * a + (a + 1) % 3] = 0.1;
+      planes[8 * a + 3] = -(box[2 * a] + 0.1 * c[(a + 1) % 3].front());
+      planes[8 * a + 4 + a] = -1; // x <= xmax
+      planes[8 * a + 7] = box[2 * a + 1];
+    }
+    auto select = [&](const ForestDescription& forest, bool frustum)
+    {
+      vtkNew<vtkCanopyExtractSelection> extract;
+      extract->SetInputData(buildHyperTreeGrid(forest));
+      extract->SetSelectionMode(frustum ? vtkCanopyExtractSelection::FRUSTUM
+                                        : vtkCanopyExtractSelection::BOX);
+      extract->SetBox(box);
+      extract->SetFrustumPlanes(planes);
+      extract->SetAllowMasked(true);
+      extract->Update();
+      // Each selected cell's value: the whole forest's node it is.
+      auto* out = vtkUnstructuredGrid::SafeDownCast(extract->GetOutputDataObject(0));
+      std::multiset<double> values;
+      vtkDataArray* node = out->GetCellData()->GetArray("node");
+      for (vtkIdType i = 0; node && i < node->GetNumberOfTuples(); ++i)
+      {
+        values.insert(node->GetTuple1(i));
+      }
+      return values;
+    };
+    for (bool frustum : {false, true})
+    {
+      // The whole forest's selection, as values of its nodes.
+      std::vector<double> values;
+      for (std::size_t t = 0; t < whole.nodes().size(); ++t)
+      {
+        for (std::size_t n = 0; n < whole.nodes()[t].size(); ++n)
+        {
+          values.push_back(0);
+        }
+      }
+      for (std::size_t t = 0; t < whole.nodes().size(); ++t)
+      {
+        for (std::size_t n = 0; n < whole.nodes()[t].size(); ++n)
+        {
+          values[static_cast<std::size_t>(whole.nodes()[t][n].slot)] = wholeValue(t, n);
+        }
+      }
+      ForestDescription described = whole.description();
+      described.fields.push_back(FieldDescription::aos("node", values.data(), values.size()));
+      const auto expected = select(described, frustum);
+      ASSERT_GT(expected.size(), 20u);
+      std::multiset<double> together;
+      for (int rank = 0; rank < 3; ++rank)
+      {
+        RankPart part(whole.description(), rank, 3, rank == 1);
+        for (double v : select(part.description, frustum))
+        {
+          EXPECT_FALSE(std::isnan(v)) << "an absent cell was selected";
+          together.insert(v);
+        }
+      }
+      EXPECT_EQ(together, expected) << dimension << "D " << (frustum ? "frustum" : "box");
+    }
+  }
+}
+
 // ---- Level of detail on split trees: every pixel has exactly one owner ----
 
 struct Quad
