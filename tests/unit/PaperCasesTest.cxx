@@ -233,5 +233,68 @@ TEST(PaperCases, FiltersAcceptGridsFromVtkSource)
   }
 }
 
+/// 1D forests along each axis (lines of roots), binary and ternary, with and
+/// without a mask, as vtkHyperTreeGridSource builds them from the same strings.
+std::vector<SourceParameters> lineCases()
+{
+  std::vector<SourceParameters> cases;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    for (int f : {2, 3})
+    {
+      SourceParameters p;
+      p.dimensions = {{1, 1, 1}};
+      p.dimensions[axis] = 5;
+      p.gridScale = {{1.5, 0.5, 0.7}};
+      p.branchFactor = f;
+      if (f == 2)
+      {
+        p.maxDepth = 5;
+        p.descriptor = "R.RR|R. .. .R|R. .R|.. R.|..";
+        p.mask = "1111|10 11 11|11 01|11 11|11";
+      }
+      else
+      {
+        p.maxDepth = 4;
+        p.descriptor = "R..R|R.. ..R|... .R.|...";
+        p.mask = "1101|110 111|111 110|111";
+      }
+      cases.push_back(p);
+      p.mask.clear();
+      cases.push_back(p);
+    }
+  }
+  return cases;
+}
+
+TEST(LineForests, EqualVtkSourceAlongEveryAxis)
+{
+  for (const SourceParameters& p : lineCases())
+  {
+    DescriptorForest forest(p);
+    ASSERT_EQ(forest.description().dimension, 1);
+    auto canopy = buildHyperTreeGrid(forest.description());
+    auto reference = buildWithVtkSource(p);
+    const std::string label = "axis " +
+                              std::to_string(p.dimensions[0] > 1   ? 0
+                                             : p.dimensions[1] > 1 ? 1
+                                                                   : 2) +
+                              ", branch factor " + std::to_string(p.branchFactor) +
+                              (p.mask.empty() ? "" : ", masked");
+    EXPECT_EQ(canopy->GetDimension(), 1u) << label;
+    EXPECT_EQ(canopy->GetOrientation(), reference->GetOrientation()) << label;
+    EXPECT_EQ(canopy->GetNumberOfChildren(), static_cast<unsigned int>(p.branchFactor)) << label;
+    const WalkTotals totals = compareGrids(canopy, reference, !p.mask.empty(), forest);
+    EXPECT_EQ(totals.nodes, forest.numberOfNodes()) << label;
+    EXPECT_EQ(totals.leaves, forest.numberOfLeaves()) << label;
+    EXPECT_EQ(visibleLeavesOf(canopy), forest.numberOfUnmaskedLeaves()) << label;
+    EXPECT_EQ(visibleLeavesOf(reference), forest.numberOfUnmaskedLeaves()) << label;
+    if (!p.mask.empty())
+    {
+      EXPECT_LT(forest.numberOfUnmaskedLeaves(), forest.numberOfLeaves()) << label;
+    }
+  }
+}
+
 } // namespace
 } // namespace canopy::testing
