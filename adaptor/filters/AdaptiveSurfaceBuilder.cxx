@@ -52,20 +52,23 @@ Index3 childIndex(const NodeFrame& parent, int child, const HyperTreeAccess& gri
 namespace
 {
 
-/// Where quads go: counted in the first pass, written in place in the second,
+/// Where cells go: counted in the first pass, written in place in the second,
 /// so the output is allocated once and never grown or copied.
-struct QuadSink
+struct CellSink
 {
   SurfaceArrays arrays{nullptr, nullptr, nullptr};
   std::size_t next = 0;
   bool counting = true;
 };
 
-void emitQuad(QuadSink& out, const std::array<Vec3, 4>& corners, vtkIdType cellId, int level)
+/// A cell of N points (4: a quad; 2: a segment of a 1D grid). One grid's cells
+/// all have the same N, so cell i's points start at 3 N i.
+template <std::size_t N>
+void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level)
 {
   if (!out.counting)
   {
-    double* p = out.arrays.points + 12 * out.next;
+    double* p = out.arrays.points + 3 * N * out.next;
     for (const Vec3& c : corners)
     {
       *p++ = c[0];
@@ -84,8 +87,8 @@ struct TreeWalk
   const HyperTreeAccess& grid;
   const TreeAccess& tree;
   const SurfaceOptions& options;
-  const GridSection* region; ///< 2D culling, when a view is given
-  QuadSink& out;
+  const GridSection* region; ///< 1D and 2D culling, when a view is given
+  CellSink& out;
 
   bool lodStops(const Vec3& lo, const Vec3& hi) const
   {
@@ -160,7 +163,14 @@ struct TreeWalk
             nodeBox(grid, tree, n, lo, hi);
           }
         }
-        if (grid.dimension() == 2)
+        if (grid.dimension() == 1)
+        {
+          const int u = grid.activeAxes()[0];
+          std::array<Vec3, 2> segment{{lo, lo}};
+          segment[1][u] = hi[u];
+          emitCell(out, segment, global, n.level);
+        }
+        else if (grid.dimension() == 2)
         {
           emitPlaneQuad(lo, hi, global, n.level);
         }
@@ -189,7 +199,7 @@ struct TreeWalk
     c[2][u] = hi[u];
     c[2][v] = hi[v];
     c[3][v] = hi[v];
-    emitQuad(out, c, global, level);
+    emitCell(out, c, global, level);
   }
 
   /// Face of [lo, hi] normal to `axis` on side `side` (0 low, 1 high), restricted
@@ -237,7 +247,7 @@ struct TreeWalk
     {
       std::swap(q[1], q[3]);
     }
-    emitQuad(out, q, global, level);
+    emitCell(out, q, global, level);
   }
 
   /// The tree holding the same-level position across a face of n (nullptr when
@@ -445,7 +455,7 @@ AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
                                                const SurfaceOptions& options)
     : Grid(grid), Options(options)
 {
-  if (Grid.dimension() == 2 && Options.view && Options.cullOutsideView)
+  if (Grid.dimension() < 3 && Options.view && Options.cullOutsideView)
   {
     Region =
         std::make_unique<GridSection>(Grid, Options.view->halfSpaces(), Options.view->anchor());
@@ -464,7 +474,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
       {
         for (vtkIdType t = begin; t < end; ++t)
         {
-          QuadSink sink;
+          CellSink sink;
           TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
           walk.walk();
           counts[static_cast<std::size_t>(t)] = sink.next;
@@ -490,9 +500,10 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
         for (vtkIdType t = begin; t < end; ++t)
         {
           const std::size_t first = Offsets[static_cast<std::size_t>(t)];
-          QuadSink sink;
+          CellSink sink;
           sink.counting = false;
-          sink.arrays = {arrays.points + 12 * first, arrays.cellIds + first, arrays.levels + first};
+          sink.arrays = {arrays.points + 3 * pointsPerCell() * first, arrays.cellIds + first,
+                         arrays.levels + first};
           TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
           walk.walk();
         }

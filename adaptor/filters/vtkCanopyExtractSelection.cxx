@@ -159,7 +159,8 @@ void maskAllBut(const canopy::HyperTreeAccess& grid, const std::vector<canopy::S
   output->SetMask(mask);
 }
 
-/// Quads or hexahedra with merged points, the input's fields, ids and levels.
+/// Lines (1D), quads (2D) or hexahedra (3D) with merged points, the input's
+/// fields, ids and levels.
 void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelection& selection,
                     const std::vector<canopy::SelectedNode>& nodes, vtkHyperTreeGrid* input,
                     vtkUnstructuredGrid* output)
@@ -178,14 +179,21 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
     pointIds.emplace(p, id);
     return id;
   };
-  const bool is3D = grid.dimension() == 3;
+  const int dimension = grid.dimension();
   vtkNew<vtkCellArray> cells;
   for (const canopy::SelectedNode& n : nodes)
   {
     canopy::Vec3 lo;
     canopy::Vec3 hi;
     selection.bounds(n, lo, hi);
-    if (is3D)
+    if (dimension == 1)
+    {
+      canopy::Vec3 end = lo;
+      end[static_cast<std::size_t>(grid.activeAxes()[0])] = hi[grid.activeAxes()[0]];
+      const vtkIdType ids[2] = {pointId(lo), pointId(end)};
+      cells->InsertNextCell(2, ids);
+    }
+    else if (dimension == 3)
     {
       vtkIdType ids[8];
       for (int k = 0; k < 2; ++k)
@@ -217,7 +225,7 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
     }
   }
   output->SetPoints(points);
-  output->SetCells(is3D ? VTK_HEXAHEDRON : VTK_QUAD, cells);
+  output->SetCells(dimension == 1 ? VTK_LINE : dimension == 2 ? VTK_QUAD : VTK_HEXAHEDRON, cells);
   const auto count = static_cast<vtkIdType>(nodes.size());
   std::vector<vtkIdType> globals(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i)

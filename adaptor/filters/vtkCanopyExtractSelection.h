@@ -37,8 +37,9 @@
  * PreserveTopology on: a vtkHyperTreeGrid sharing the input's trees and arrays
  * with a new mask leaving visible the selected cells, their ancestors (needed to
  * reach them) and the subtrees of selected coarse cells. Off: a
- * vtkUnstructuredGrid of VTK_QUAD (2D) or VTK_HEXAHEDRON (3D) cells with merged
- * points, the input's cell fields, "OriginalCellId" and "Level".
+ * vtkUnstructuredGrid of VTK_LINE (1D), VTK_QUAD (2D) or VTK_HEXAHEDRON (3D)
+ * cells with merged points, the input's cell fields, "OriginalCellId" and
+ * "Level". Grids of any dimension (1, 2, 3) and any axis-aligned orientation.
  */
 #pragma once
 

@@ -136,9 +136,10 @@ RandomForestOptions splitOptions(int dimension)
 {
   RandomForestOptions o;
   o.dimension = dimension;
-  o.rootCells = dimension == 2 ? std::array<std::size_t, 3>{{4, 3, 1}}
-                               : std::array<std::size_t, 3>{{2, 2, 2}};
-  o.maxLevels = dimension == 2 ? 6 : 4;
+  o.rootCells = dimension == 1   ? std::array<std::size_t, 3>{{5, 1, 1}}
+                : dimension == 2 ? std::array<std::size_t, 3>{{4, 3, 1}}
+                                 : std::array<std::size_t, 3>{{2, 2, 2}};
+  o.maxLevels = dimension == 1 ? 9 : dimension == 2 ? 6 : 4;
   o.refineProbability = 0.55;
   o.seed = 11;
   return o;
@@ -213,8 +214,8 @@ TEST_P(AbsentParts, EveryLeafOnceWithItsValueAndAbsentCellsMaskedAsAnotherRanks)
 }
 
 INSTANTIATE_TEST_SUITE_P(DimensionRanksOrder, AbsentParts,
-                         ::testing::Combine(::testing::Values(2, 3), ::testing::Values(1, 2, 3, 4),
-                                            ::testing::Bool()));
+                         ::testing::Combine(::testing::Values(1, 2, 3),
+                                            ::testing::Values(1, 2, 3, 4), ::testing::Bool()));
 
 /// The volume average over present children, recursively, by brute force.
 double presentAverage(const PartitionedTree& tree, const std::vector<std::size_t>& first,
@@ -390,7 +391,7 @@ TEST(AbsentPartsSelection, AbsentCellsAreNeverSelectedEvenWithAllowMasked)
 
 TEST(AbsentPartsSelection, BoxAndFrustumSelectEachLeafOnExactlyOneRank)
 {
-  for (int dimension : {2, 3})
+  for (int dimension : {1, 2, 3})
   {
     RandomForest whole(splitOptions(dimension));
     const auto& c = whole.coordinates();
@@ -558,6 +559,64 @@ TEST_P(SplitTreeLevelOfDetail, NoTwoRanksQuadsOverlapAndTheirUnionCoversTheDomai
 }
 
 INSTANTIATE_TEST_SUITE_P(RanksAndThresholds, SplitTreeLevelOfDetail,
+                         ::testing::Combine(::testing::Values(2, 3), ::testing::Values(1.0, 8.0)));
+
+class SplitLineLevelOfDetail : public ::testing::TestWithParam<std::tuple<int, double>>
+{
+};
+
+TEST_P(SplitLineLevelOfDetail, NoTwoRanksSegmentsOverlapAndTheyCoverTheLine)
+{
+  const auto [ranks, threshold] = GetParam();
+  RandomForestOptions o = splitOptions(1);
+  o.maxLevels = 12;
+  o.refineProbability = 0.65;
+  RandomForest whole(o);
+  const auto& c = whole.coordinates();
+  const double length = c[0].back() - c[0].front();
+  std::vector<std::pair<double, double>> segments; // (lo, hi) along x, with the rank in order
+  std::vector<int> owner;
+  for (int rank = 0; rank < ranks; ++rank)
+  {
+    RankPart part(whole.description(), rank, ranks, false);
+    vtkNew<vtkCanopyAdaptiveSurface> surface;
+    surface->SetInputData(buildHyperTreeGrid(part.description));
+    // The whole line across 60 pixels, seen from +z.
+    const double cx = 0.5 * (c[0].front() + c[0].back());
+    surface->SetCameraPosition(cx, c[1][0], 10);
+    surface->SetCameraFocalPoint(cx, c[1][0], 0);
+    surface->ParallelProjectionOn();
+    surface->SetParallelScale(0.55 * length);
+    surface->SetViewportSize(60, 60);
+    surface->SetPixelThreshold(threshold);
+    surface->Update();
+    vtkPolyData* out = surface->GetPolyDataOutput();
+    for (vtkIdType i = 0; i < out->GetNumberOfCells(); ++i)
+    {
+      double b[6];
+      out->GetCellBounds(i, b);
+      segments.emplace_back(b[0], b[1]);
+      owner.push_back(rank);
+    }
+  }
+  EXPECT_LT(segments.size(), whole.numberOfLeaves()) << "level of detail must be at work";
+  double total = 0;
+  std::size_t overlaps = 0;
+  for (std::size_t i = 0; i < segments.size(); ++i)
+  {
+    total += segments[i].second - segments[i].first;
+    for (std::size_t j = i + 1; j < segments.size(); ++j)
+    {
+      const double shared = std::min(segments[i].second, segments[j].second) -
+                            std::max(segments[i].first, segments[j].first);
+      overlaps += owner[i] != owner[j] && shared > 1e-12 * length;
+    }
+  }
+  EXPECT_NEAR(total, length, 1e-9 * length);
+  EXPECT_EQ(overlaps, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(RanksAndThresholds, SplitLineLevelOfDetail,
                          ::testing::Combine(::testing::Values(2, 3), ::testing::Values(1.0, 8.0)));
 
 /// The quads of a full (view-independent) surface, as sorted corner lists.

@@ -5,6 +5,7 @@
 
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSurface.h"
+#include "vtkCanopyExtractSelection.h"
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>
@@ -14,6 +15,10 @@
 #include <vtkHyperTreeGridSource.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <algorithm>
+#include <array>
 
 #include <string>
 
@@ -292,6 +297,63 @@ TEST(LineForests, EqualVtkSourceAlongEveryAxis)
     if (!p.mask.empty())
     {
       EXPECT_LT(forest.numberOfUnmaskedLeaves(), forest.numberOfLeaves()) << label;
+    }
+  }
+}
+
+/// The segments a box selects, as sorted (lo, hi) bounds.
+std::vector<std::array<double, 6>> boxSelection(vtkHyperTreeGrid* htg, const double box[6])
+{
+  vtkNew<vtkCanopyExtractSelection> filter;
+  filter->SetInputData(htg);
+  filter->SetSelectionMode(vtkCanopyExtractSelection::BOX);
+  filter->SetBox(box);
+  filter->Update();
+  auto* out = vtkUnstructuredGrid::SafeDownCast(filter->GetOutput());
+  std::vector<std::array<double, 6>> cells;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    std::array<double, 6> b;
+    out->GetCell(c)->GetBounds(b.data());
+    cells.push_back(b);
+  }
+  std::sort(cells.begin(), cells.end());
+  return cells;
+}
+
+TEST(LineForests, FiltersAcceptVtkSourceLines)
+{
+  // VTK's 1D grids (explicit global indices, a 0 in single-leaf trees' child
+  // tables) give the filters what Canopy's own give them.
+  for (const SourceParameters& p : lineCases())
+  {
+    DescriptorForest forest(p);
+    auto canopy = buildHyperTreeGrid(forest.description());
+    auto reference = buildWithVtkSource(p);
+    vtkNew<vtkCanopyAdaptiveSurface> surface;
+    surface->SetInputData(reference);
+    surface->ViewDependentOff();
+    surface->Update();
+    EXPECT_EQ(surface->GetPolyDataOutput()->GetNumberOfLines(),
+              static_cast<vtkIdType>(forest.numberOfUnmaskedLeaves()));
+    double b[6];
+    canopy->GetBounds(b);
+    const int axis = p.dimensions[0] > 1 ? 0 : p.dimensions[1] > 1 ? 1 : 2;
+    const double box[6] = {-1, 1, -1, 1, -1, 1};
+    double middle[6];
+    std::copy(box, box + 6, middle);
+    middle[2 * axis] = b[2 * axis] + 0.3 * (b[2 * axis + 1] - b[2 * axis]);
+    middle[2 * axis + 1] = b[2 * axis] + 0.8 * (b[2 * axis + 1] - b[2 * axis]);
+    const auto expected = boxSelection(canopy, middle);
+    EXPECT_FALSE(expected.empty());
+    const auto got = boxSelection(reference, middle);
+    ASSERT_EQ(got.size(), expected.size());
+    for (std::size_t i = 0; i < got.size(); ++i)
+    {
+      for (int k = 0; k < 6; ++k)
+      {
+        EXPECT_DOUBLE_EQ(got[i][k], expected[i][k]);
+      }
     }
   }
 }

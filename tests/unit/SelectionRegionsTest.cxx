@@ -150,10 +150,13 @@ RandomForestOptions randomOptions(std::uint64_t seed, int dimension)
   RandomForestOptions o;
   o.dimension = dimension;
   o.flatAxis = static_cast<int>(seed % 3);
+  o.activeAxis = static_cast<int>(seed % 3);
   o.branchFactor = seed % 2 ? 3 : 2;
   o.rootCells = dimension == 3 ? std::array<std::size_t, 3>{{3, 2, 2}}
                                : std::array<std::size_t, 3>{{4, 3, 5}};
-  o.maxLevels = o.branchFactor == 2 ? (dimension == 3 ? 5 : 7) : (dimension == 3 ? 3 : 4);
+  const int binaryLevels[4] = {0, 9, 7, 5};
+  const int ternaryLevels[4] = {0, 6, 4, 3};
+  o.maxLevels = (o.branchFactor == 2 ? binaryLevels : ternaryLevels)[dimension];
   o.refineProbability = 0.5;
   o.maskProbability = seed % 4 < 2 ? 0.12 : 0.0;
   o.skipEveryOtherRoot = seed % 5 == 0;
@@ -239,6 +242,24 @@ void usePlanes(vtkCanopyExtractSelection* filter, const std::vector<ClipPlane>& 
   }
   filter->SetSelectionMode(vtkCanopyExtractSelection::FRUSTUM);
   filter->SetFrustumPlanes(values);
+}
+
+/// Input 1: a FRUSTUM node as ParaView's rubber band makes it, 8 tuples x y z w.
+vtkSmartPointer<vtkSelection> frustumSelection(const std::array<ClipPoint, 8>& corners)
+{
+  auto selection = vtkSmartPointer<vtkSelection>::New();
+  vtkNew<vtkSelectionNode> node;
+  node->SetContentType(vtkSelectionNode::FRUSTUM);
+  node->SetFieldType(vtkSelectionNode::CELL);
+  vtkNew<vtkDoubleArray> list;
+  list->SetNumberOfComponents(4);
+  for (const ClipPoint& c : corners)
+  {
+    list->InsertNextTuple4(c[0], c[1], c[2], 1.0);
+  }
+  node->SetSelectionList(list);
+  selection->AddNode(node);
+  return selection;
 }
 
 int errorsOf(vtkCanopyExtractSelection* filter)
@@ -445,19 +466,7 @@ TEST(SelectionByFrustum, PlanesCornersAndVtkSelectionAgree)
         },
         false);
     EXPECT_EQ(byCorners, expected) << "seed " << seed << ": corners";
-    // As ParaView's rubber band gives it: a FRUSTUM node, 8 tuples x y z w.
-    vtkNew<vtkSelection> selection;
-    vtkNew<vtkSelectionNode> node;
-    node->SetContentType(vtkSelectionNode::FRUSTUM);
-    node->SetFieldType(vtkSelectionNode::CELL);
-    vtkNew<vtkDoubleArray> list;
-    list->SetNumberOfComponents(4);
-    for (const ClipPoint& c : f.corners)
-    {
-      list->InsertNextTuple4(c[0], c[1], c[2], 1.0);
-    }
-    node->SetSelectionList(list);
-    selection->AddNode(node);
+    auto selection = frustumSelection(f.corners);
     for (bool preserve : {false, true})
     {
       EXPECT_EQ(selected(
@@ -520,6 +529,78 @@ TEST(SelectionByFrustum, SixAxisAlignedPlanesSelectWhatTheBoxSelects)
               byBox)
         << "seed " << seed;
   }
+}
+
+TEST(SelectionOnLines, BoxesAndFrustaEqualBruteForce)
+{
+  // 1D grids along x, y and z: a box's flat-axis extent is ignored, a frustum is
+  // cut by the line; the leaves sharing a part of positive length are selected.
+  int nonTrivialBoxes = 0;
+  int nonTrivialFrusta = 0;
+  for (std::uint64_t seed = 1; seed <= 30; ++seed)
+  {
+    RandomForest forest(randomOptions(seed, 1));
+    auto htg = buildHyperTreeGrid(forest.description());
+    double b[6];
+    htg->GetBounds(b);
+    const std::size_t visible = visibleLeafBoxes(htg).size();
+    std::mt19937_64 random(500 + seed);
+    std::uniform_real_distribution<double> unit(0, 1);
+    Box box;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double size = std::max(b[2 * a + 1] - b[2 * a], 1.0);
+      const double x = b[2 * a] - 0.2 * size + 1.4 * size * unit(random);
+      const double y = b[2 * a] - 0.2 * size + 1.4 * size * unit(random);
+      box[2 * a] = std::min(x, y);
+      box[2 * a + 1] = std::max(x, y);
+    }
+    const auto inBox = expectedInBox(htg, box);
+    const RandomFrustum f = randomFrustum(b, random, seed % 3 == 0, -1);
+    const auto inFrustum = expectedInPlanes(htg, f.planes);
+    for (bool preserve : {false, true})
+    {
+      EXPECT_EQ(selected(
+                    htg,
+                    [&](vtkCanopyExtractSelection* filter)
+                    {
+                      filter->SetSelectionMode(vtkCanopyExtractSelection::BOX);
+                      filter->SetBox(box.data());
+                    },
+                    preserve),
+                inBox)
+          << "seed " << seed << " box" << (preserve ? " (masked grid output)" : "");
+      EXPECT_EQ(selected(
+                    htg, [&](vtkCanopyExtractSelection* filter) { usePlanes(filter, f.planes); },
+                    preserve),
+                inFrustum)
+          << "seed " << seed << " frustum" << (preserve ? " (masked grid output)" : "");
+    }
+    EXPECT_EQ(selected(
+                  htg,
+                  [&](vtkCanopyExtractSelection* filter)
+                  {
+                    filter->SetSelectionMode(vtkCanopyExtractSelection::FRUSTUM);
+                    for (const ClipPoint& c : f.corners)
+                    {
+                      filter->AddFrustumCorner(c[0], c[1], c[2]);
+                    }
+                  },
+                  false),
+              inFrustum)
+        << "seed " << seed << " corners";
+    auto selection = frustumSelection(f.corners);
+    EXPECT_EQ(selected(
+                  htg,
+                  [&](vtkCanopyExtractSelection* filter) { filter->SetInputData(1, selection); },
+                  false),
+              inFrustum)
+        << "seed " << seed << " vtkSelection";
+    nonTrivialBoxes += !inBox.empty() && inBox.size() < visible;
+    nonTrivialFrusta += !inFrustum.empty() && inFrustum.size() < visible;
+  }
+  EXPECT_GE(nonTrivialBoxes, 15);
+  EXPECT_GE(nonTrivialFrusta, 10);
 }
 
 TEST(SelectionByRegion, OnlySubtreesThatOverlapAreDescended)
