@@ -30,6 +30,8 @@
 #include <functional>
 #include <random>
 #include <set>
+#include <sstream>
+#include <string>
 
 namespace canopy::testing
 {
@@ -745,6 +747,36 @@ TEST(SelectionByRegion, BadRegionsAreReportedNotCrashed)
                 {{0, 0, -1, 1e9}}});
   EXPECT_EQ(errorsOf(f), 0);
   EXPECT_EQ(vtkUnstructuredGrid::SafeDownCast(f->GetOutput())->GetNumberOfCells(), 0);
+}
+
+TEST(SelectionByRegion, PropertiesRoundTripAndPrint)
+{
+  vtkNew<vtkCanopyExtractSelection> filter;
+  filter->SetSelectionMode(vtkCanopyExtractSelection::FRUSTUM);
+  EXPECT_EQ(filter->GetSelectionMode(), vtkCanopyExtractSelection::FRUSTUM);
+  filter->SetBox(1, 2, 3, 4, 5, 6);
+  double planes[24];
+  std::string listed;
+  for (int i = 0; i < 24; ++i)
+  {
+    planes[i] = i + 0.5;
+    listed += " " + std::to_string(i) + ".5";
+  }
+  const vtkMTimeType before = filter->GetMTime();
+  filter->SetFrustumPlanes(planes);
+  EXPECT_GT(filter->GetMTime(), before);
+  EXPECT_TRUE(std::equal(planes, planes + 24, filter->GetFrustumPlanes()));
+  filter->AddFrustumCorner(0, 0, 0);
+  filter->AddFrustumCorner(1, 1, 1);
+  std::ostringstream out;
+  filter->Print(out);
+  const std::string printed = out.str();
+  for (const std::string& expected :
+       {std::string("SelectionMode: 4"), std::string("Box: 1 2 3 4 5 6"), "FrustumPlanes:" + listed,
+        std::string("FrustumCorners: 2"), std::string("LastVisited: 0")})
+  {
+    EXPECT_NE(printed.find(expected), std::string::npos) << expected << " in\n" << printed;
+  }
 }
 
 } // namespace
