@@ -444,10 +444,10 @@ extern "C"
             return fail(CANOPY_INVALID_ARGUMENT, "%s: the result pointer is NULL", function);
           }
           *forest = nullptr;
-          if (dimension != 2 && dimension != 3)
+          if (dimension < 1 || dimension > 3)
           {
-            return fail(CANOPY_INVALID_ARGUMENT, "%s: dimension must be 2 or 3, got %d", function,
-                        dimension);
+            return fail(CANOPY_INVALID_ARGUMENT, "%s: dimension must be 1, 2 or 3, got %d",
+                        function, dimension);
           }
           if (branch_factor != 2 && branch_factor != 3)
           {

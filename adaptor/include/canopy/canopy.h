@@ -93,8 +93,8 @@ extern "C"
 
   /* ---- forest (borrowed views of the simulation's arrays) ---------------- */
   /* The root grid: rectilinear point coordinates per axis; a 2D forest has one
-   * point on one axis.
-   * [in] dimension      2 or 3.
+   * point on one axis, a 1D forest (a line of roots) one point on two axes.
+   * [in] dimension      1, 2 or 3.
    * [in] branch_factor  2 or 3.
    * [in] max_levels     levels any tree may have, the root's included: 1 to 62 (binary), 39
    * (ternary). [in] x, y, z        borrowed until canopy_forest_destroy (clear keeps the root

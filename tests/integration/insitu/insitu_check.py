@@ -165,6 +165,80 @@ def check_selection_range_moving(code, log):
                    "step %d: only the requested field was wrapped: %s" % (step, names))
 
 
+def clipped_area(polygon, planes):
+    """Area of the part of a polygon in the z = 0 plane inside every plane
+    (a, b, c, d: a x + b y + c z + d >= 0)."""
+    for a, b, c, d in planes:
+        out = []
+        for i, p in enumerate(polygon):
+            q = polygon[(i + 1) % len(polygon)]
+            fp, fq = a * p[0] + b * p[1] + d, a * q[0] + b * q[1] + d
+            if fp >= 0:
+                out.append(p)
+            if fp * fq < 0:
+                t = fp / (fp - fq)
+                out.append((p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
+        polygon = out
+        if len(polygon) < 3:
+            return 0.0
+    return 0.5 * abs(sum(p[0] * q[1] - q[0] * p[1]
+                         for p, q in zip(polygon, polygon[1:] + polygon[:1])))
+
+
+def expect_region_tiled(selection, planes, label):
+    """Case A (no mask, leaves tiling [0, 3]^2): every selected cell overlaps the
+    region with positive area and together they cover its part of the domain once."""
+    total, empty = 0.0, 0
+    for c in range(selection.GetNumberOfCells()):
+        b = selection.GetCell(c).GetBounds()
+        area = clipped_area([(b[0], b[2]), (b[1], b[2]), (b[1], b[3]), (b[0], b[3])], planes)
+        empty += area <= 1e-12
+        total += area
+    domain = clipped_area([(0.0, 0.0), (3.0, 0.0), (3.0, 3.0), (0.0, 3.0)], planes)
+    expect(0 < selection.GetNumberOfCells() < 75,
+           "%s: %d of 75 leaves selected" % (label, selection.GetNumberOfCells()))
+    expect(empty == 0, "%s: no selected cell merely touches the region (%d)" % (label, empty))
+    expect(abs(total - domain) <= 1e-9, "%s: the cells cover the region's part of the domain "
+           "exactly once (%.12g against %.12g)" % (label, total, domain))
+
+
+def camera_planes(position, focal, aspect, angle=30.0):
+    from vtkmodules.vtkRenderingCore import vtkCamera
+    camera = vtkCamera()
+    camera.SetPosition(position)
+    camera.SetFocalPoint(focal)
+    camera.SetViewAngle(angle)
+    camera.SetClippingRange(0.01, 100.0)  # the plane z = 0 lies well inside
+    planes = [0.0] * 24
+    camera.GetFrustumPlanes(aspect, planes)
+    return [planes[4 * i:4 * i + 4] for i in range(6)]
+
+
+def check_selection_box_case_a(code, log):
+    """A box whose z range misses the plane z = 0: flat axes are ignored."""
+    expect(code == 0, "the simulation exits normally")
+    box = (0.3, 2.2, 0.4, 2.7)
+    expect_region_tiled(unstructured("selection_000000.pvtu"),
+                        [(1, 0, 0, -box[0]), (-1, 0, 0, box[1]), (0, 1, 0, -box[2]),
+                         (0, -1, 0, box[3])], "box")
+
+
+def check_selection_frustum_camera_case_a(code, log):
+    """A tilted perspective camera (the script's settings), on 2 ranks."""
+    expect(code == 0, "the simulation exits normally")
+    expect_region_tiled(unstructured("selection_000000.pvtu"),
+                        camera_planes((2.5, -1.0, 4.0), (1.2, 1.4, 0.0), 600 / 400, 12.0),
+                        "camera")
+
+
+def check_selection_frustum_corners_case_a(code, log):
+    """Eight corners: the frustum of a camera at (1.2, 1.6, 4) looking down at
+    (1.2, 1.6, 0), 30 degrees, aspect 1.5, near 1, far 10."""
+    expect(code == 0, "the simulation exits normally")
+    expect_region_tiled(unstructured("corners_000000.pvtu"),
+                        camera_planes((1.2, 1.6, 4.0), (1.2, 1.6, 0.0), 1.5), "corners")
+
+
 def check_data_extracts(code, log):
     """Every step: the .htg pieces hold every node, the full-resolution surface one
     quad per leaf (2D) or one face per boundary leaf face (3D, unmasked)."""
