@@ -268,7 +268,7 @@ TEST(AdaptiveSurface1D, LevelOfDetailStopsOnlyAtNodesBelowTheThreshold)
     {
       for (std::size_t n = 0; n < forest.nodes()[t].size(); ++n)
       {
-        leafById[forest.nodes()[t][n].slot] = forest.refinement()[t][n] == 0;
+        leafById[forest.cellOf(t, n)] = forest.refinement()[t][n] == 0;
       }
     }
     auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));

@@ -550,11 +550,15 @@ TEST(ExtractSelection, OnLinesLocationsIdsAndValuesEqualBruteForce)
     }
     byId->Update();
     EXPECT_EQ(idsOf(vtkUnstructuredGrid::SafeDownCast(byId->GetOutput())), expectedIds) << label;
-    // Values within [0.5, 2] on visible leaves, never NaN.
+    // Values within [0.5, 2] on visible leaves, never NaN; a cell's value is in its slot.
+    std::map<vtkIdType, std::size_t> slotOfCell;
+    for (std::size_t t = 0; t < forest->nodes().size(); ++t)
+      for (std::size_t n = 0; n < forest->nodes()[t].size(); ++n)
+        slotOfCell[forest->cellOf(t, n)] = static_cast<std::size_t>(forest->nodes()[t][n].slot);
     std::set<vtkIdType> expectedValues;
     for (const LeafBox& l : visibleLeafBoxes(htg))
     {
-      const double v = values[static_cast<std::size_t>(l.global)];
+      const double v = values[slotOfCell.at(l.global)];
       if (v >= 0.5 && v <= 2.0)
       {
         expectedValues.insert(l.global);
