@@ -5,6 +5,7 @@
 #include <vtkCPPythonScriptV2Helper.h>
 #include <vtkDataObject.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace canopy
@@ -77,8 +78,15 @@ bool CatalystScript::import(vtkDataObject* grid, std::string& error)
   // script's module-level code can build its pipeline on real data.
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
   input->SetGrid(grid);
+  // ParaView's producer is created at import with the description's time, and
+  // the run of the same step sets it again: a time not after the last one makes
+  // it warn. Import just before the step's time (one ulp) so the run's is later.
+  const double time = this->Description->GetTime();
+  const vtkIdType step = this->Description->GetTimeStep();
+  this->Description->SetTimeData(std::nextafter(time, -HUGE_VAL), step);
   const bool ok = this->Helper->Import(this->Description) &&
                   this->Helper->CatalystInitialize(this->Description);
+  this->Description->SetTimeData(time, step);
   input->SetGrid(nullptr);
   this->Imported = ok;
   if (!ok)

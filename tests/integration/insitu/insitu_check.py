@@ -244,6 +244,26 @@ def check_mpi_split(code, log):
         compare_images(image(name), image(name, REFERENCE), name)
 
 
+def check_clean_log(code, log):
+    """Several steps of three scripts (an image, data extracts, a selection) on 2
+    ranks: everything written every step, and not one warning or error in the
+    job's output (ParaView's time handling used to warn on every image step)."""
+    expect(code == 0, "the simulation exits normally")
+    steps = [entry["step"] for entry in expected()]
+    expect(steps_ran(log) == steps and all(
+        re.search(r"^step %d executed ran 3 failures 0$" % step, log, re.M) for step in steps),
+        "all three scripts ran at every step %s (%s)" % (steps, steps_ran(log)))
+    for step in steps:
+        expect(os.path.exists(path("surface_%06d.png" % step)) and
+               os.path.exists(path("selection_%06d.pvtu" % step)) and
+               len(htg_pieces("grid", step)) == RANKS,
+               "step %d: image, selection and grid extracts written" % step)
+    noisy = [line for line in log.splitlines()
+             if re.search(r"WARN|Warning|ERROR", line)]
+    expect(not noisy, "no warning or error in the output (%d line(s)%s)"
+           % (len(noisy), (": " + noisy[0].strip()) if noisy else ""))
+
+
 def check_python_error(code, log):
     """The script raises at step 1 on every rank: step 1 is reported with rank,
     step and the Python message, nothing is extracted then, steps 0 and 2 run."""
