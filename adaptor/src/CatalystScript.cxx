@@ -61,15 +61,24 @@ bool CatalystScript::needsAllFields() const
   return input->GetAllFields();
 }
 
-std::vector<std::string> CatalystScript::neededFields() const
+bool CatalystScript::needsField(const std::string& name) const
 {
+  // Asked by name: ParaView 5.11's GetFieldName(i) returns the c_str() of a copy
+  // destroyed before it returns (names over 15 characters come back as garbage).
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
-  std::vector<std::string> names;
-  for (unsigned int i = 0; i < input->GetNumberOfFields(); ++i)
+  for (int association : {vtkDataObject::CELL, vtkDataObject::POINT, vtkDataObject::FIELD})
   {
-    names.emplace_back(input->GetFieldName(i));
+    if (input->IsFieldNeeded(name.c_str(), association))
+    {
+      return true;
+    }
   }
-  return names;
+  return false;
+}
+
+unsigned int CatalystScript::numberOfNeededFields() const
+{
+  return this->Description->GetInputDescriptionByName(this->Channel.c_str())->GetNumberOfFields();
 }
 
 bool CatalystScript::import(vtkDataObject* grid, std::string& error)

@@ -41,9 +41,12 @@ public:
   /// says why.
   Request request(std::int64_t step, double time, std::string& error);
 
-  /// Fields the script asked for at the last request: `all` or the listed names.
+  /// Fields the script asked for at the last request: all, or the ones named.
   bool needsAllFields() const;
-  std::vector<std::string> neededFields() const;
+  bool needsField(const std::string& name) const;
+  /// How many fields the script named (with needsField, tells whether it named
+  /// some the forest does not have).
+  unsigned int numberOfNeededFields() const;
 
   bool imported() const { return Imported; }
   /// Imports the script with `grid` present and runs its catalyst_initialize.

@@ -382,36 +382,36 @@ bool InSitu::Driver::willExecute(std::int64_t step, double time)
 FieldRequest InSitu::Driver::fieldsFor(const std::vector<bool>& due,
                                        const ForestDescription& forest) const
 {
-  std::set<std::string> wanted;
+  std::vector<std::string> present;
   for (std::size_t i = 0; i < this->Scripts.size(); ++i)
   {
     if (!due[i])
     {
       continue;
     }
-    if (this->Scripts[i]->needsAllFields())
+    const auto& script = *this->Scripts[i];
+    if (script.needsAllFields())
     {
       return FieldRequest::all();
     }
-    for (const auto& name : this->Scripts[i]->neededFields())
+    unsigned int found = 0;
+    for (const auto& field : forest.fields)
     {
-      wanted.insert(name);
+      if (script.needsField(field.name))
+      {
+        ++found;
+        if (std::find(present.begin(), present.end(), field.name) == present.end())
+        {
+          present.push_back(field.name);
+        }
+      }
     }
-  }
-  std::vector<std::string> present;
-  for (const auto& field : forest.fields)
-  {
-    if (wanted.count(field.name) != 0)
+    if (found < script.numberOfNeededFields())
     {
-      present.push_back(field.name);
-      wanted.erase(field.name);
+      vtkVLogF(vtkLogger::VERBOSITY_TRACE,
+               "canopy: '%s' asks for %u field(s) the forest does not have", script.path().c_str(),
+               script.numberOfNeededFields() - found);
     }
-  }
-  for (const auto& missing : wanted)
-  {
-    vtkVLogF(vtkLogger::VERBOSITY_TRACE,
-             "canopy: a pipeline asks for field '%s', which the forest does not have",
-             missing.c_str());
   }
   return FieldRequest::only(present);
 }

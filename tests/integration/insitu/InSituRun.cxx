@@ -10,6 +10,7 @@
 //   --steps N (1)  --distribute trees|split (trees)  --empty-rank R
 //   --corrupt-rank R --corrupt-step S   (that rank passes a malformed tree then)
 //   --no-close (rely on MPI_Finalize)  --summary
+//   --rename-field OLD=NEW   (the simulation calls field OLD by the name NEW)
 #include "DescriptorForest.h"
 #include "PaperCaseDefinitions.h"
 #include "SyntheticForest.h"
@@ -45,6 +46,7 @@ struct Arguments
   int corruptStep = -1;
   bool close = true;
   bool summary = false;
+  std::map<std::string, std::string> renamedFields;
 };
 
 Arguments parse(int argc, char** argv)
@@ -87,6 +89,14 @@ Arguments parse(int argc, char** argv)
       a.close = false;
     else if (key == "--summary")
       a.summary = true;
+    else if (key == "--rename-field")
+    {
+      const std::string pair = value();
+      const auto equals = pair.find('=');
+      if (equals == std::string::npos)
+        throw std::invalid_argument("--rename-field needs OLD=NEW");
+      a.renamedFields[pair.substr(0, equals)] = pair.substr(equals + 1);
+    }
     else
       throw std::invalid_argument("unknown option " + key);
   }
@@ -442,6 +452,12 @@ int main(int argc, char** argv)
             own.push_back(t);
         byTrees = std::make_unique<RankForest>(whole, own);
         local = &byTrees->description();
+      }
+      for (auto& field : local->fields)
+      {
+        const auto renamed = args.renamedFields.find(field.name);
+        if (renamed != args.renamedFields.end())
+          field.name = renamed->second;
       }
       if (rank == args.corruptRank && step == args.corruptStep && !local->trees.empty())
       {

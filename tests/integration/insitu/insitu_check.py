@@ -165,6 +165,26 @@ def check_selection_range_moving(code, log):
                    "step %d: only the requested field was wrapped: %s" % (step, names))
 
 
+def check_selection_long_field_name(code, log):
+    """A value range on a field named with 40 characters, over 4 steps: the script
+    asks for that field alone, and it arrives at every step (ParaView 5.11's
+    GetFieldName hands out freed memory, so a long name used to come back as
+    garbage after the first step, with no failure reported)."""
+    name = "refinementLevel_named_with_forty_chars_x"
+    expect(code == 0, "the simulation exits normally")
+    expect(steps_ran(log) == [0, 1, 2, 3], "every step ran without failure (%s)" % steps_ran(log))
+    for entry in expected():
+        step = entry["step"]
+        want = sum(entry["leaves_by_level"].get(str(level), 0) for level in (3, 4))
+        selection = unstructured("selection_%06d.pvtu" % step)
+        data = selection.GetCellData()
+        names = sorted(data.GetArrayName(i) for i in range(data.GetNumberOfArrays()))
+        expect(name in names, "step %d: the field reached the pipeline (%s)" % (step, names))
+        expect(selection.GetNumberOfCells() == want > 0,
+               "step %d: %d leaves at levels 3-4 selected (expected %d)"
+               % (step, selection.GetNumberOfCells(), want))
+
+
 def check_data_extracts(code, log):
     """Every step: the .htg pieces hold every node, the full-resolution surface one
     quad per leaf (2D) or one face per boundary leaf face (3D, unmasked)."""
