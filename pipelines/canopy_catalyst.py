@@ -270,7 +270,7 @@ def collective(function):
         error = None
         try:
             function(*args, **kwargs)
-        except Exception as exception:  # noqa: BLE001 - re-raised below on every rank
+        except BaseException as exception:  # noqa: B902 - sys.exit() too; re-raised below
             error = exception
         if not _any_rank(error is not None):
             return

@@ -1,5 +1,7 @@
 #include "CatalystScript.h"
 
+#include "DriverPython.h"
+
 #include <vtkCPDataDescription.h>
 #include <vtkCPInputDataDescription.h>
 #include <vtkCPPythonScriptV2Helper.h>
@@ -49,7 +51,8 @@ CatalystScript::Request CatalystScript::requestAfterImport(std::string& error)
   input->AllFieldsOff();
   if (!this->Helper->RequestDataDescription(this->Description))
   {
-    error = "Python error in RequestDataDescription of '" + this->Path + "'";
+    error = "the script '" + this->Path +
+            "' failed in RequestDataDescription: " + this->pythonProblem();
     return Request::Failed;
   }
   return this->Description->GetIfAnyGridNecessary() ? Request::Due : Request::NotDue;
@@ -100,7 +103,7 @@ bool CatalystScript::import(vtkDataObject* grid, std::string& error)
   this->Imported = ok;
   if (!ok)
   {
-    error = "the script '" + this->Path + "' failed to import (Python message above)";
+    error = "the script '" + this->Path + "' failed to import (" + this->pythonProblem() + ")";
   }
   return ok;
 }
@@ -114,17 +117,30 @@ bool CatalystScript::run(vtkDataObject* grid, std::string& error)
   input->SetGrid(nullptr);
   if (!ok)
   {
-    error = "the script '" + this->Path + "' raised an error (Python message above)";
+    error = "the script '" + this->Path + "' " + this->pythonProblem();
   }
   return ok;
 }
 
-void CatalystScript::finalize()
+bool CatalystScript::finalize(std::string& error)
 {
-  if (this->Imported && !this->Disabled)
+  if (!this->Imported || this->Disabled)
   {
-    this->Helper->CatalystFinalize();
+    return true;
   }
+  if (!this->Helper->CatalystFinalize())
+  {
+    error = "the script '" + this->Path + "' failed in catalyst_finalize: " + this->pythonProblem();
+    return false;
+  }
+  return true;
+}
+
+std::string CatalystScript::pythonProblem()
+{
+  auto failure = takeScriptFailure();
+  this->LastTraceback = std::move(failure.traceback);
+  return failure.summary.empty() ? "raised an error (Python message above)" : failure.summary;
 }
 
 } // namespace canopy

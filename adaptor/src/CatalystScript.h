@@ -60,13 +60,21 @@ public:
   void disable() { Disabled = true; }
   bool disabled() const { return Disabled; }
 
-  /// Runs the script's catalyst_finalize (if it was imported and is not disabled).
-  void finalize();
+  /// Runs the script's catalyst_finalize (if it was imported and is not disabled);
+  /// false, with `error` set, when it failed.
+  bool finalize(std::string& error);
+
+  /// The Python traceback of the last failure (empty if it left none).
+  const std::string& lastTraceback() const { return LastTraceback; }
 
   const std::string& path() const { return Path; }
 
 private:
+  /// What the failed Python call left: its summary (the traceback is kept).
+  std::string pythonProblem();
+
   std::string Path;
+  std::string LastTraceback;
   std::string Channel;
   vtkNew<vtkCPPythonScriptV2Helper> Helper;
   vtkNew<vtkCPDataDescription> Description;

@@ -3,6 +3,7 @@
 #include "CatalystScript.h"
 #include "CollectiveAgreement.h"
 #include "DisplayProbe.h"
+#include "DriverPython.h"
 #include "FinalizeGuard.h"
 #include "RuntimePaths.h"
 #include "ScriptInspection.h"
@@ -13,7 +14,6 @@
 #include <vtkHyperTreeGrid.h>
 #include <vtkLogger.h>
 #include <vtkMPI.h>
-#include <vtkPythonInterpreter.h>
 #include <vtkSmartPointer.h>
 
 #include <unistd.h>
@@ -29,32 +29,6 @@ namespace canopy
 {
 namespace
 {
-
-/// A Python expression for any text (paths, arguments): a bytes literal decoded
-/// as UTF-8, so non-ASCII text arrives intact.
-std::string pythonLiteral(const std::string& text)
-{
-  std::ostringstream out;
-  out << "b\"";
-  for (unsigned char c : text)
-  {
-    if (c == '\\' || c == '"')
-    {
-      out << '\\' << c;
-    }
-    else if (c < 0x20 || c >= 0x7f)
-    {
-      static const char* hex = "0123456789abcdef";
-      out << "\\x" << hex[c >> 4] << hex[c & 15];
-    }
-    else
-    {
-      out << c;
-    }
-  }
-  out << "\".decode(\"utf-8\", \"surrogateescape\")";
-  return out.str();
-}
 
 std::string joined(const std::vector<std::string>& items, const char* separator)
 {
@@ -266,27 +240,8 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
     fail("ParaView Catalyst failed to initialize");
   }
 
-  vtkPythonInterpreter::Initialize();
-  vtkPythonInterpreter::PrependPythonPath(pipelinesDirectory().c_str());
-  std::ostringstream registration;
-  registration << "import canopy_catalyst\n"
-               << "canopy_catalyst._can_render = " << (this->CanRender ? "True" : "False") << "\n";
-  for (const auto& script : kept)
-  {
-    registration << "canopy_catalyst._register_arguments(" << pythonLiteral(script.path) << ", [";
-    for (const auto& argument : script.arguments)
-    {
-      registration << pythonLiteral(argument) << ", ";
-    }
-    registration << "])\n";
-  }
-  std::string localProblem;
-  if (vtkPythonInterpreter::RunSimpleString(registration.str().c_str()) != 0)
-  {
-    localProblem = "cannot import the canopy_catalyst helper module from '" + pipelinesDirectory() +
-                   "' (set CANOPY_PIPELINES_DIR)";
-  }
-  else
+  std::string localProblem = startDriverPython(pipelinesDirectory(), kept);
+  if (localProblem.empty())
   {
     try
     {
@@ -568,10 +523,18 @@ void InSitu::Driver::close()
   {
     this->Guard->disarm();
   }
+  // Every rank finalizes its scripts; failures are gathered and logged by rank 0.
+  std::string localErrors;
   for (auto& script : this->Scripts)
   {
-    script->finalize();
+    std::string error;
+    if (!script->finalize(error))
+    {
+      localErrors += (localErrors.empty() ? "" : "; ") + error;
+    }
   }
+  this->logFailures(
+      gatherFailures(this->Communicator, localErrors.empty() ? "" : "close: " + localErrors));
   this->Scripts.clear();
   this->Processor->Finalize();
   this->Processor = nullptr;

@@ -480,7 +480,11 @@ int main(int argc, char** argv)
     if (rank == 0)
       expected << "\n]\n";
     if (args.close)
+    {
       insitu->close();
+      if (rank == 0)
+        std::cout << "closed\n" << std::flush;
+    }
   }
   catch (const std::exception& error)
   {

@@ -307,6 +307,57 @@ def check_python_error_one_rank(code, log):
     expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
 
 
+def check_sys_exit_execute(code, log):
+    """sys.exit() in catalyst_execute at step 1 is reported like an exception (rank,
+    step, script) instead of ending the simulation: steps 0 and 2 run."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(re.search(r"failure: rank 0, step 1: the script .*marker_script.py' .*sys\.exit\(3\)",
+                     log) is not None, "rank 0's sys.exit is reported with step and script")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+    pieces = [len(htg_pieces("grid", step)) for step in range(3)]
+    expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
+
+
+def check_sys_exit_execute_one_rank(code, log):
+    """sys.exit() on rank 1 only: reported for rank 1, every rank skips the step
+    (nobody waits for rank 1), later steps run."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(re.search(r"failure: rank 1, step 1: the script .*marker_script.py' .*sys\.exit\(3\)",
+                     log) is not None, "rank 1's sys.exit is reported with step and script")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+    pieces = [len(htg_pieces("grid", step)) for step in range(3)]
+    expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
+
+
+def check_sys_exit_import(code, log):
+    """sys.exit() at import (module level or catalyst_initialize, on every rank or
+    one): the import failure is reported once, the script disabled everywhere,
+    the simulation runs all its steps."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    failing = "1" if RANKS > 1 else "0"
+    expect(len(re.findall(r"failure: rank %s, step 0: the script .*marker_script.py' failed to "
+                          r"import.*sys\.exit\(4\).*; the script is disabled" % failing,
+                          log)) == 1,
+           "rank %s's sys.exit at import is reported once, at step 0" % failing)
+    expect(len(re.findall(r"^step \d+ ", log, re.M)) == 3, "all 3 steps reported")
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+    expect(not glob.glob(path("ran_*.txt")) and not glob.glob(path("grid_*")),
+           "no rank ran the script: no outputs")
+
+
+def check_sys_exit_finalize(code, log):
+    """sys.exit() in catalyst_finalize on rank 1: close() reports it (rank 0 logs
+    rank 1's failure) and the simulation ends normally."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(steps_ran(log) == [0, 1], "steps 0 and 1 ran (%s)" % steps_ran(log))
+    expect(re.search(r"rank 1, close: the script .*marker_script.py' failed in "
+                     r"catalyst_finalize.*sys\.exit\(4\)", log) is not None,
+           "rank 1's failure in catalyst_finalize is logged")
+    expect("closed" in log.splitlines(), "close() returned")
+
+
 def check_import_error_one_rank(code, log):
     """The script fails to import on rank 1 only: no rank runs it alone (the test
     would time out), the failure is reported once, the script is disabled."""

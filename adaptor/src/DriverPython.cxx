@@ -1,0 +1,104 @@
+#include "vtkPython.h" // first, as Python requires
+
+#include "DriverPython.h"
+
+#include <vtkPythonInterpreter.h>
+#include <vtkSmartPyObject.h>
+
+#include <sstream>
+
+namespace canopy
+{
+namespace
+{
+
+/// A Python expression for any text (paths, arguments): a bytes literal decoded
+/// as UTF-8, so non-ASCII text arrives intact.
+std::string pythonLiteral(const std::string& text)
+{
+  std::ostringstream out;
+  out << "b\"";
+  for (unsigned char c : text)
+  {
+    if (c == '\\' || c == '"')
+    {
+      out << '\\' << c;
+    }
+    else if (c < 0x20 || c >= 0x7f)
+    {
+      static const char* hex = "0123456789abcdef";
+      out << "\\x" << hex[c >> 4] << hex[c & 15];
+    }
+    else
+    {
+      out << c;
+    }
+  }
+  out << "\".decode(\"utf-8\", \"surrogateescape\")";
+  return out.str();
+}
+
+std::string textOf(PyObject* object)
+{
+  if (object == nullptr || !PyUnicode_Check(object))
+  {
+    return {};
+  }
+  Py_ssize_t size = 0;
+  const char* text = PyUnicode_AsUTF8AndSize(object, &size);
+  if (text == nullptr)
+  {
+    PyErr_Clear();
+    return {};
+  }
+  return std::string(text, static_cast<std::size_t>(size));
+}
+
+} // namespace
+
+std::string startDriverPython(const std::string& pipelinesDirectory,
+                              const std::vector<PipelineScript>& scripts)
+{
+  vtkPythonInterpreter::Initialize();
+  vtkPythonInterpreter::PrependPythonPath(pipelinesDirectory.c_str());
+  std::ostringstream code;
+  code << "import canopy_catalyst\n"
+       << "import _canopy_driver\n"
+       << "_canopy_driver.guard_catalyst_calls()\n";
+  for (const auto& script : scripts)
+  {
+    code << "canopy_catalyst._register_arguments(" << pythonLiteral(script.path) << ", [";
+    for (const auto& argument : script.arguments)
+    {
+      code << pythonLiteral(argument) << ", ";
+    }
+    code << "])\n";
+  }
+  if (vtkPythonInterpreter::RunSimpleString(code.str().c_str()) != 0)
+  {
+    return "cannot import Canopy's helper modules from '" + pipelinesDirectory +
+           "' (set CANOPY_PIPELINES_DIR)";
+  }
+  return {};
+}
+
+ScriptFailureText takeScriptFailure()
+{
+  vtkPythonScopeGilEnsurer gil;
+  ScriptFailureText failure;
+  vtkSmartPyObject module(PyImport_ImportModule("_canopy_driver"));
+  vtkSmartPyObject taken(module ? PyObject_CallMethod(module, "take_failure", nullptr) : nullptr);
+  if (!taken)
+  {
+    PyErr_Clear();
+    return failure;
+  }
+  if (PyTuple_Check(taken) && PyTuple_Size(taken) == 2)
+  {
+    failure.summary = textOf(PyTuple_GetItem(taken, 0));
+    failure.traceback = textOf(PyTuple_GetItem(taken, 1));
+  }
+  return failure;
+}
+
+} // namespace canopy
