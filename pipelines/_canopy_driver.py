@@ -9,6 +9,9 @@ wraps them so that
   ParaView's C++ ends the process (its PyErr_Print exits on SystemExit);
 * the driver can read what went wrong (``take_failure``): the one-line summary
   and the traceback, which ranks above 0 cannot print (ParaView silences them).
+
+``StepTimeLimitExceeded`` is what the driver's watchdog raises in a script that
+runs past the step time limit.
 """
 import functools
 import traceback
@@ -20,8 +23,13 @@ class ScriptExit(RuntimeError):
     """A script called sys.exit(); raised instead, so the simulation goes on."""
 
 
+class StepTimeLimitExceeded(TimeoutError):
+    """Raised by the driver's watchdog where a script is when the step time limit
+    passes (InSituOptions::stepTimeLimitSeconds)."""
+
+
 def _summary(error):
-    if isinstance(error, ScriptExit):
+    if isinstance(error, (ScriptExit, StepTimeLimitExceeded)):
         return str(error)
     return "raised an error: " + "".join(
         traceback.format_exception_only(type(error), error)).strip().replace("\n", " ")
@@ -59,3 +67,21 @@ def take_failure():
     global _failure
     failure, _failure = _failure, None
     return failure
+
+
+def install_interrupt(number, interrupt_wanted):
+    """Handles signal `number` on the main thread: when the driver's watchdog
+    wants the running script call stopped (interrupt_wanted() gives the message),
+    raises StepTimeLimitExceeded where the script is. Not installed (False) if
+    the simulation handles that signal itself."""
+    import signal
+    if signal.getsignal(number) not in (signal.SIG_DFL, signal.SIG_IGN):
+        return False
+
+    def on_signal(signal_number, frame):
+        message = interrupt_wanted()
+        if message:
+            raise StepTimeLimitExceeded(message)
+
+    signal.signal(number, on_signal)
+    return True

@@ -5,6 +5,7 @@
 
 #include "canopy/InSitu.h"
 
+#include <cmath>
 #include <memory>
 #include <new>
 #include <string>
@@ -211,6 +212,17 @@ extern "C"
       return failWith(CANOPY_INVALID_ARGUMENT, "canopy_options_set_step_summary: NULL options");
     }
     options->options.stepSummary = enabled != 0;
+    return succeed();
+  }
+
+  int canopy_options_set_step_time_limit(canopy_options* options, double seconds)
+  {
+    if (options == nullptr || !(seconds >= 0.0) || seconds == HUGE_VAL)
+    {
+      return failWith(CANOPY_INVALID_ARGUMENT, "canopy_options_set_step_time_limit: NULL options "
+                                               "or not a finite number of seconds >= 0");
+    }
+    options->options.stepTimeLimitSeconds = seconds;
     return succeed();
   }
 

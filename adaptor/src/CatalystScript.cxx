@@ -1,6 +1,7 @@
 #include "CatalystScript.h"
 
 #include "DriverPython.h"
+#include "StepWatchdog.h"
 
 #include <vtkCPDataDescription.h>
 #include <vtkCPInputDataDescription.h>
@@ -13,8 +14,8 @@
 namespace canopy
 {
 
-CatalystScript::CatalystScript(std::string path, const std::string& channel)
-    : Path(std::move(path)), Channel(channel)
+CatalystScript::CatalystScript(std::string path, const std::string& channel, StepWatchdog& watchdog)
+    : Path(std::move(path)), Channel(channel), Watchdog(watchdog)
 {
   this->Description->AddInput(channel.c_str());
   if (!this->Helper->PrepareFromScript(this->Path))
@@ -26,36 +27,75 @@ CatalystScript::CatalystScript(std::string path, const std::string& channel)
 
 CatalystScript::~CatalystScript() = default;
 
-CatalystScript::Request CatalystScript::request(std::int64_t step, double time, std::string& error)
+double CatalystScript::extraSeconds() const
+{
+  return this->Imported && !this->FirstRun ? 0.0 : StepWatchdog::firstStepExtraSeconds;
+}
+
+std::string CatalystScript::when() const
+{
+  return "step " + std::to_string(this->Description->GetTimeStep());
+}
+
+std::string CatalystScript::failure(bool exceeded)
+{
+  auto python = takeScriptFailure();
+  this->LastTraceback = std::move(python.traceback);
+  if (!python.summary.empty())
+  {
+    return python.summary;
+  }
+  return exceeded ? "exceeded " + this->Watchdog.limitText()
+                  : "raised an error (Python message above)";
+}
+
+template <typename Call>
+bool CatalystScript::watched(const char* call, bool& exceeded, Call&& body)
+{
+  // The watch ends before the failure is read: reading it runs Python, which
+  // the watchdog must not interrupt.
+  const bool closing = std::string(call) == "catalyst_finalize";
+  const auto watch = this->Watchdog.watch(this->Path, call, closing ? "close" : this->when(),
+                                          this->extraSeconds());
+  const bool ok = body();
+  exceeded = watch.exceeded();
+  return ok && !exceeded;
+}
+
+ScriptState CatalystScript::request(std::int64_t step, double time, std::string& error)
 {
   this->Description->SetTimeData(time, static_cast<vtkIdType>(step));
   this->Description->ResetInputDescriptions();
   if (this->Disabled)
   {
-    return Request::NotDue;
+    return ScriptState::NotDue;
   }
   if (!this->Imported)
   {
     auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
     input->AllFieldsOn();
     input->GenerateMeshOn();
-    return Request::Due;
+    return ScriptState::Due;
   }
   return this->requestAfterImport(error);
 }
 
-CatalystScript::Request CatalystScript::requestAfterImport(std::string& error)
+ScriptState CatalystScript::requestAfterImport(std::string& error)
 {
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
   input->GenerateMeshOff();
   input->AllFieldsOff();
-  if (!this->Helper->RequestDataDescription(this->Description))
+  bool exceeded = false;
+  const bool ok =
+      this->watched("RequestDataDescription", exceeded,
+                    [&] { return this->Helper->RequestDataDescription(this->Description); });
+  if (!ok)
   {
     error = "the script '" + this->Path +
-            "' failed in RequestDataDescription: " + this->pythonProblem();
-    return Request::Failed;
+            "' failed in RequestDataDescription: " + this->failure(exceeded);
+    return ScriptState::Failed;
   }
-  return this->Description->GetIfAnyGridNecessary() ? Request::Due : Request::NotDue;
+  return this->Description->GetIfAnyGridNecessary() ? ScriptState::Due : ScriptState::NotDue;
 }
 
 bool CatalystScript::needsAllFields() const
@@ -96,15 +136,21 @@ bool CatalystScript::import(vtkDataObject* grid, std::string& error)
   const double time = this->Description->GetTime();
   const vtkIdType step = this->Description->GetTimeStep();
   this->Description->SetTimeData(std::nextafter(time, -HUGE_VAL), step);
-  const bool ok = this->Helper->Import(this->Description) &&
-                  this->Helper->CatalystInitialize(this->Description);
+  bool exceeded = false;
+  const bool ok = this->watched("import", exceeded,
+                                [&]
+                                {
+                                  return this->Helper->Import(this->Description) &&
+                                         this->Helper->CatalystInitialize(this->Description);
+                                });
+  if (!ok)
+  {
+    error = "the script '" + this->Path + "' failed to import (" + this->failure(exceeded) + ")";
+  }
   this->Description->SetTimeData(time, step);
   input->SetGrid(nullptr);
   this->Imported = ok;
-  if (!ok)
-  {
-    error = "the script '" + this->Path + "' failed to import (" + this->pythonProblem() + ")";
-  }
+  this->FirstRun = ok;
   return ok;
 }
 
@@ -112,13 +158,16 @@ bool CatalystScript::run(vtkDataObject* grid, std::string& error)
 {
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
   input->SetGrid(grid);
-  const bool ok = this->Helper->CatalystExecute(this->Description);
-  // Do not keep the simulation's memory referenced from the description.
-  input->SetGrid(nullptr);
+  bool exceeded = false;
+  const bool ok = this->watched("catalyst_execute", exceeded,
+                                [&] { return this->Helper->CatalystExecute(this->Description); });
+  this->FirstRun = false;
   if (!ok)
   {
-    error = "the script '" + this->Path + "' " + this->pythonProblem();
+    error = "the script '" + this->Path + "' " + this->failure(exceeded);
   }
+  // Do not keep the simulation's memory referenced from the description.
+  input->SetGrid(nullptr);
   return ok;
 }
 
@@ -128,19 +177,15 @@ bool CatalystScript::finalize(std::string& error)
   {
     return true;
   }
-  if (!this->Helper->CatalystFinalize())
+  bool exceeded = false;
+  if (!this->watched("catalyst_finalize", exceeded,
+                     [&] { return this->Helper->CatalystFinalize(); }))
   {
-    error = "the script '" + this->Path + "' failed in catalyst_finalize: " + this->pythonProblem();
+    error =
+        "the script '" + this->Path + "' failed in catalyst_finalize: " + this->failure(exceeded);
     return false;
   }
   return true;
-}
-
-std::string CatalystScript::pythonProblem()
-{
-  auto failure = takeScriptFailure();
-  this->LastTraceback = std::move(failure.traceback);
-  return failure.summary.empty() ? "raised an error (Python message above)" : failure.summary;
 }
 
 } // namespace canopy

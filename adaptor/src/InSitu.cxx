@@ -5,8 +5,10 @@
 #include "DisplayProbe.h"
 #include "DriverPython.h"
 #include "FinalizeGuard.h"
+#include "JobOutput.h"
 #include "RuntimePaths.h"
 #include "ScriptInspection.h"
+#include "StepWatchdog.h"
 
 #include "canopy/HtgBuilder.h"
 
@@ -20,6 +22,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
@@ -89,9 +92,15 @@ private:
   void logFailures(const std::vector<std::string>& failures) const;
   FieldRequest fieldsFor(const std::vector<bool>& due, const ForestDescription& forest) const;
 
+  // Canopy's agreements and ParaView's collectives on separate communicators:
+  // a rank waiting in one can never be matched with a rank in the other.
   MPI_Comm Communicator = MPI_COMM_NULL;
+  MPI_Comm ParaViewCommunicator = MPI_COMM_NULL;
   int Rank = 0;
   InSituOptions Options;
+  std::unique_ptr<JobOutput> Output;
+  std::unique_ptr<RankAgreement> Agreement;
+  std::unique_ptr<StepWatchdog> Watchdog;
   vtkSmartPointer<vtkCPProcessor> Processor;
   std::vector<std::unique_ptr<CatalystScript>> Scripts;
   bool CanRender = false;
@@ -117,9 +126,15 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   }
   MPI_Comm_dup(communicator, &this->Communicator);
   MPI_Comm_rank(this->Communicator, &this->Rank);
+  this->Output = std::make_unique<JobOutput>();
   auto fail = [this](const std::string& message)
   {
+    this->Watchdog.reset();
     MPI_Comm_free(&this->Communicator);
+    if (this->ParaViewCommunicator != MPI_COMM_NULL)
+    {
+      MPI_Comm_free(&this->ParaViewCommunicator);
+    }
     throw InSituError("canopy::InSitu: " + message);
   };
 
@@ -146,6 +161,11 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   {
     problems.push_back("the output directory is empty");
   }
+  if (!std::isfinite(this->Options.stepTimeLimitSeconds) ||
+      this->Options.stepTimeLimitSeconds < 0.0)
+  {
+    problems.push_back("the step time limit must be a finite number of seconds >= 0 (0: none)");
+  }
   // Absolute paths: ParaView imports scripts lazily, and the simulation may
   // change its working directory after open.
   std::error_code ignoredError;
@@ -169,11 +189,17 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
                          "' is given twice (copy it to run it with other arguments)");
     }
   }
-  const auto optionFailures = gatherFailures(this->Communicator, joined(problems, "; "));
+  const auto optionFailures = RankAgreement(this->Communicator, *this->Output, 0.0, 0.0)
+                                  .gatherFailures(joined(problems, "; "));
   if (!optionFailures.empty())
   {
     fail(joined(optionFailures, "\n"));
   }
+  this->Watchdog = std::make_unique<StepWatchdog>(this->Options.stepTimeLimitSeconds, this->Rank,
+                                                  this->Communicator, *this->Output);
+  this->Agreement = std::make_unique<RankAgreement>(this->Communicator, *this->Output,
+                                                    this->Options.stepTimeLimitSeconds,
+                                                    this->Watchdog->graceSeconds());
 
   if (this->Options.verbosity >= vtkLogger::VERBOSITY_TRACE - 18)
   {
@@ -229,7 +255,8 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
 
   catalystStarted = true;
   this->Processor = vtkSmartPointer<vtkCPProcessor>::New();
-  vtkMPICommunicatorOpaqueComm opaque(&this->Communicator);
+  MPI_Comm_dup(this->Communicator, &this->ParaViewCommunicator);
+  vtkMPICommunicatorOpaqueComm opaque(&this->ParaViewCommunicator);
   int started = this->Processor->Initialize(opaque);
   int everyStarted = 0;
   MPI_Allreduce(&started, &everyStarted, 1, MPI_INT, MPI_MIN, this->Communicator);
@@ -243,12 +270,13 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   std::string localProblem = startDriverPython(pipelinesDirectory(), kept);
   if (localProblem.empty())
   {
+    this->Watchdog->connectPython();
     try
     {
       for (const auto& script : kept)
       {
         this->Scripts.push_back(
-            std::make_unique<CatalystScript>(script.path, this->Options.channel));
+            std::make_unique<CatalystScript>(script.path, this->Options.channel, *this->Watchdog));
       }
     }
     catch (const std::exception& error)
@@ -256,7 +284,7 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
       localProblem = error.what();
     }
   }
-  const auto startFailures = gatherFailures(this->Communicator, localProblem);
+  const auto startFailures = this->Agreement->gatherFailures(localProblem);
   if (!startFailures.empty())
   {
     this->Scripts.clear();
@@ -280,40 +308,38 @@ const InSitu::Driver::Requests& InSitu::Driver::requestAll(std::int64_t step, do
     return requests;
   }
   requests = Requests{step, time, std::vector<bool>(this->Scripts.size(), false), {}, true};
-  std::vector<int> states(this->Scripts.size(), 0);
+  std::vector<ScriptState> states(this->Scripts.size(), ScriptState::NotDue);
   std::string localErrors;
+  const auto since = std::chrono::steady_clock::now();
+  double extraSeconds = 0.0;
   for (std::size_t i = 0; i < this->Scripts.size(); ++i)
   {
     std::string error;
-    switch (this->Scripts[i]->request(step, time, error))
+    extraSeconds = std::max(extraSeconds, this->Scripts[i]->extraSeconds());
+    states[i] = this->Scripts[i]->request(step, time, error);
+    if (states[i] == ScriptState::Failed)
     {
-    case CatalystScript::Request::NotDue:
-      states[i] = 0;
-      break;
-    case CatalystScript::Request::Due:
-      states[i] = 1;
-      break;
-    case CatalystScript::Request::Failed:
-      states[i] = 2;
       localErrors += (localErrors.empty() ? "" : "; ") + error;
-      break;
     }
   }
-  const auto agreed = agreeOnStates(this->Communicator, states);
+  const auto waited = RankAgreement::After{
+      "RequestDataDescription of the scripts at step " + std::to_string(step), since, extraSeconds};
+  const auto agreed = this->Agreement->agree(states, &waited);
   bool anyProblem = false;
   for (std::size_t i = 0; i < this->Scripts.size(); ++i)
   {
-    anyProblem = anyProblem || agreed.maximum[i] == 2 || agreed.minimum[i] != agreed.maximum[i];
-    requests.due[i] = agreed.minimum[i] == 1 && agreed.maximum[i] == 1;
+    anyProblem = anyProblem || agreed.maximum[i] == ScriptState::Failed ||
+                 agreed.minimum[i] != agreed.maximum[i];
+    requests.due[i] = agreed.minimum[i] == ScriptState::Due;
   }
   if (anyProblem)
   {
     std::string local =
         localErrors.empty() ? std::string() : "step " + std::to_string(step) + ": " + localErrors;
-    requests.failures = gatherFailures(this->Communicator, local);
+    requests.failures = this->Agreement->gatherFailures(local);
     for (std::size_t i = 0; i < this->Scripts.size(); ++i)
     {
-      if (agreed.maximum[i] != 2 && agreed.minimum[i] != agreed.maximum[i])
+      if (agreed.maximum[i] != ScriptState::Failed && agreed.minimum[i] != agreed.maximum[i])
       {
         requests.failures.push_back("step " + std::to_string(step) + ": ranks disagree whether '" +
                                     this->Scripts[i]->path() + "' runs; skipped");
@@ -447,7 +473,7 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
   }
   const std::string stepText = "step " + std::to_string(step) + ": ";
   const auto buildFailures =
-      gatherFailures(this->Communicator, localProblem.empty() ? "" : stepText + localProblem);
+      this->Agreement->gatherFailures(localProblem.empty() ? "" : stepText + localProblem);
   if (!buildFailures.empty())
   {
     this->logFailures(buildFailures);
@@ -458,10 +484,10 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
   // Each phase that can fail on some ranks only (import, the script's own
   // request, the run) ends in an agreement, so no rank enters a script's
   // collectives alone.
-  auto agree = [&](const std::string& localError)
+  auto agree = [&](const std::string& localError, const RankAgreement::After* waited = nullptr)
   {
     auto failures =
-        gatherFailures(this->Communicator, localError.empty() ? "" : stepText + localError);
+        this->Agreement->gatherFailures(localError.empty() ? "" : stepText + localError, waited);
     this->logFailures(failures);
     report.failures.insert(report.failures.end(), failures.begin(), failures.end());
     return failures.empty();
@@ -473,23 +499,28 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
       continue;
     }
     auto& script = *this->Scripts[i];
+    const std::string scriptText = "the script '" + script.path() + "'";
+    const std::string atStep = " at step " + std::to_string(step);
     std::string error;
     if (!script.imported())
     {
+      auto since = std::chrono::steady_clock::now();
       const bool imported = script.import(grid, error);
-      if (!agree(imported ? "" : error + "; the script is disabled"))
+      const auto importing = RankAgreement::After{scriptText + " (import)" + atStep, since,
+                                                  StepWatchdog::firstStepExtraSeconds};
+      if (!agree(imported ? "" : error + "; the script is disabled", &importing))
       {
         script.disable(); // on every rank, also where the import worked
         continue;
       }
+      since = std::chrono::steady_clock::now();
       const auto state = script.requestAfterImport(error);
-      const int local = state == CatalystScript::Request::Failed ? 2
-                        : state == CatalystScript::Request::Due  ? 1
-                                                                 : 0;
-      const auto agreed = agreeOnStates(this->Communicator, {local});
-      if (agreed.maximum[0] == 2)
+      const auto requesting = RankAgreement::After{
+          scriptText + " (RequestDataDescription)" + atStep, since, script.extraSeconds()};
+      const auto agreed = this->Agreement->agree({state}, &requesting);
+      if (agreed.maximum[0] == ScriptState::Failed)
       {
-        agree(local == 2 ? error : "");
+        agree(state == ScriptState::Failed ? error : "");
         continue;
       }
       if (agreed.minimum[0] != agreed.maximum[0])
@@ -498,12 +529,17 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
                               : "");
         continue;
       }
-      if (agreed.maximum[0] == 0)
+      if (agreed.maximum[0] == ScriptState::NotDue)
       {
         continue; // imported, and not due at this step
       }
     }
-    if (agree(script.run(grid, error) ? "" : error))
+    const auto since = std::chrono::steady_clock::now();
+    const double extraSeconds = script.extraSeconds();
+    const bool ran = script.run(grid, error);
+    const auto running =
+        RankAgreement::After{scriptText + " (catalyst_execute)" + atStep, since, extraSeconds};
+    if (agree(ran ? "" : error, &running))
     {
       report.pipelinesRun.push_back(script.path());
     }
@@ -525,6 +561,7 @@ void InSitu::Driver::close()
   }
   // Every rank finalizes its scripts; failures are gathered and logged by rank 0.
   std::string localErrors;
+  const auto since = std::chrono::steady_clock::now();
   for (auto& script : this->Scripts)
   {
     std::string error;
@@ -533,12 +570,15 @@ void InSitu::Driver::close()
       localErrors += (localErrors.empty() ? "" : "; ") + error;
     }
   }
-  this->logFailures(
-      gatherFailures(this->Communicator, localErrors.empty() ? "" : "close: " + localErrors));
+  const auto finalizing = RankAgreement::After{"catalyst_finalize of the scripts at close", since};
+  this->logFailures(this->Agreement->gatherFailures(
+      localErrors.empty() ? "" : "close: " + localErrors, &finalizing));
   this->Scripts.clear();
   this->Processor->Finalize();
   this->Processor = nullptr;
+  this->Watchdog.reset();
   this->Display.reset();
+  MPI_Comm_free(&this->ParaViewCommunicator);
   MPI_Comm_free(&this->Communicator);
 }
 

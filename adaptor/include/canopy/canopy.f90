@@ -55,6 +55,11 @@ module canopy
       type(c_ptr), value :: options
       integer(c_int), value :: enabled
     end function
+    integer(c_int) function canopy_options_set_step_time_limit(options, seconds) bind(c)
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: options
+      real(c_double), value :: seconds
+    end function
 
     type(c_ptr) function canopy_forest_create(dimension, branch_factor, max_levels, x, &
                                               points_x, y, points_y, z, points_z) bind(c)

@@ -64,6 +64,9 @@ extern "C"
   /* vtkLogger stderr verbosity (0 = INFO, 9 = TRACE); below -9 leaves it unchanged. */
   int canopy_options_set_verbosity(canopy_options* options, int verbosity);
   int canopy_options_set_step_summary(canopy_options* options, int enabled);
+  /* The longest a call into a script may take, in seconds (0: no limit); see
+   * InSituOptions::stepTimeLimitSeconds. */
+  int canopy_options_set_step_time_limit(canopy_options* options, double seconds);
 
   /* ---- forest (borrowed views of the simulation's arrays) ---------------- */
   /* Root grid point coordinates per axis; a 2D forest has one point on one axis. */

@@ -11,6 +11,7 @@
 //   --corrupt-rank R --corrupt-step S   (that rank passes a malformed tree then)
 //   --no-close (rely on MPI_Finalize)  --summary
 //   --rename-field OLD=NEW   (the simulation calls field OLD by the name NEW)
+//   --time-limit SECONDS     (InSituOptions::stepTimeLimitSeconds)
 #include "DescriptorForest.h"
 #include "PaperCaseDefinitions.h"
 #include "SyntheticForest.h"
@@ -47,6 +48,7 @@ struct Arguments
   bool close = true;
   bool summary = false;
   std::map<std::string, std::string> renamedFields;
+  double timeLimit = 0.0;
 };
 
 Arguments parse(int argc, char** argv)
@@ -89,6 +91,8 @@ Arguments parse(int argc, char** argv)
       a.close = false;
     else if (key == "--summary")
       a.summary = true;
+    else if (key == "--time-limit")
+      a.timeLimit = std::stod(value());
     else if (key == "--rename-field")
     {
       const std::string pair = value();
@@ -417,6 +421,7 @@ int main(int argc, char** argv)
     options.scripts = args.scripts;
     options.outputDirectory = args.output;
     options.stepSummary = args.summary;
+    options.stepTimeLimitSeconds = args.timeLimit;
     insitu = std::make_unique<canopy::InSitu>(MPI_COMM_WORLD, options);
 
     std::ofstream expected;

@@ -39,6 +39,7 @@ program fortran_api_test
   ierr = canopy_options_add_script_argument(options, "--frequency=2"//c_null_char)
   call check(canopy_options_set_output_directory(options, trim(output)//c_null_char) == CANOPY_OK, &
              "output directory")
+  call check(canopy_options_set_step_time_limit(options, 120.0_c_double) == CANOPY_OK, "time limit")
   insitu = c_null_ptr
   call check(canopy_open_f(int(MPI_COMM_WORLD, c_int), options, insitu) == CANOPY_OK, "open")
   call canopy_options_destroy(options)

@@ -14,6 +14,7 @@ import os
 import re
 import shutil
 import sys
+import time
 
 import numpy
 
@@ -23,9 +24,12 @@ from output_checks import (cell_array, expect, finish, read_htg_pieces,  # noqa:
 
 
 def run(command):
+    global ELAPSED
     shutil.rmtree(OUTPUT, ignore_errors=True)
     os.makedirs(OUTPUT, exist_ok=True)
+    start = time.monotonic()
     code, log = run_command(command)
+    ELAPSED = time.monotonic() - start
     with open(os.path.join(OUTPUT, "run.log"), "w") as out:
         out.write(log)
     return code, log
@@ -356,6 +360,59 @@ def check_sys_exit_finalize(code, log):
                      r"catalyst_finalize.*sys\.exit\(4\)", log) is not None,
            "rank 1's failure in catalyst_finalize is logged")
     expect("closed" in log.splitlines(), "close() returned")
+
+
+LIMIT = r"the step time limit \(5 s\)"
+
+
+def check_loop_one_rank(code, log):
+    """catalyst_execute loops forever on rank 1 at step 1 (under @canopy.collective,
+    rank 0 waits in ParaView's AllReduce): rank 1 is interrupted at the limit, the
+    step is skipped on both ranks, the run goes on."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(re.search(r"failure: rank 1, step 1: the script .*marker_script.py' exceeded "
+                     + LIMIT + " and was interrupted", log) is not None,
+           "rank 1's loop is reported with step, script and the limit")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+
+
+def check_loop_all_ranks(code, log):
+    """catalyst_execute loops on both ranks at step 1: both are interrupted and
+    reported, the step is skipped, the run goes on."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    for rank in (0, 1):
+        expect(re.search(r"failure: rank %d, step 1: the script .*marker_script.py' exceeded "
+                         % rank + LIMIT + " and was interrupted", log) is not None,
+               "rank %d's loop is reported with step, script and the limit" % rank)
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+
+
+def check_unguarded_error_one_rank(code, log):
+    """Rank 1 raises at step 2 of 4 in a catalyst_execute without @canopy.collective;
+    rank 0 then waits for it in ParaView's AllReduce, where Python cannot be
+    interrupted. Instead of hanging, the job ends (MPI_Abort, exit code 124) with
+    rank 0 named as stuck (script, step) and rank 1's own error shown."""
+    expect(code == 124, "the job is ended with exit code 124 (got %d)" % code)
+    expect(ELAPSED < 60, "within a minute (%.1f s)" % ELAPSED)
+    expect(re.search(r"rank 0, step 2: the script '.*marker_script.py' is still in "
+                     r"catalyst_execute .* after " + LIMIT + " and cannot be interrupted", log)
+           is not None, "rank 0 is named as stuck, with script and step")
+    expect(re.search(r"rank 1, .*step 2.*RuntimeError: failing on purpose at step 2 on rank 1",
+                     log) is not None, "rank 1's error reaches the output")
+    expect(steps_ran(log) == [0, 1], "steps 0 and 1 ran before (%s)" % steps_ran(log))
+
+
+def check_loop_finalize(code, log):
+    """catalyst_finalize loops on rank 1: interrupted at the limit, reported by
+    close(), and the simulation ends normally."""
+    expect(code == 0, "the simulation exits normally (exit code %d)" % code)
+    expect(re.search(r"rank 1, close: the script .*marker_script.py' failed in catalyst_finalize: "
+                     r"exceeded " + LIMIT, log) is not None,
+           "rank 1's looping catalyst_finalize is reported")
+    expect("closed" in log.splitlines(), "close() returned")
+    expect(os.path.exists(path("finalized.txt")), "rank 0's catalyst_finalize ran")
 
 
 def check_import_error_one_rank(code, log):

@@ -6,6 +6,10 @@ rank number):
   --exit-steps=S,...     call sys.exit(3) in catalyst_execute at these steps
   --exit-at=import|initialize|finalize   call sys.exit(4) there
   --fail-import-rank=R   raise at import on rank R
+  --loop-steps=S,...     loop forever in catalyst_execute at these steps
+  --loop-at=finalize     loop forever in catalyst_finalize
+  --collective=0         catalyst_execute without @canopy.collective
+  --collective-call=1    catalyst_execute ends with a collective inside ParaView
 catalyst_finalize writes finalized.txt (rank 0)."""
 import os
 import sys
@@ -20,7 +24,8 @@ def my_rank():
 
 
 settings = canopy.settings(fail_steps="", exit_steps="", exit_at="", fail_ranks="all",
-                           fail_import_rank=-1)
+                           fail_import_rank=-1, loop_steps="", loop_at="", collective=True,
+                           collective_call=False)
 
 
 def failing_rank():
@@ -42,19 +47,38 @@ def catalyst_initialize():
         sys.exit(4)
 
 
-@canopy.collective
-def catalyst_execute(info):
+def loop_forever():
+    spins = 0
+    while True:
+        spins += 1
+
+
+def execute(info):
     if info.timestep in settings.list("fail_steps", int) and failing_rank():
-        raise RuntimeError("failing on purpose at step %d" % info.timestep)
+        raise RuntimeError("failing on purpose at step %d on rank %d" % (info.timestep, my_rank()))
     if info.timestep in settings.list("exit_steps", int) and failing_rank():
         sys.exit(3)
+    if info.timestep in settings.list("loop_steps", int) and failing_rank():
+        loop_forever()
     with open(os.path.join(settings.output_directory, "ran_%06d.txt" % info.timestep), "w") as out:
         out.write("rank %d\n" % my_rank())
+
+
+if settings.collective:
+    execute = canopy.collective(execute)
+
+
+def catalyst_execute(info):
+    execute(info)
+    if settings.collective_call:
+        canopy._reduce([1.0], "SUM_OP")  # every rank must come: ParaView's AllReduce
 
 
 def catalyst_finalize():
     if settings.exit_at == "finalize" and failing_rank():
         sys.exit(4)
+    if settings.loop_at == "finalize" and failing_rank():
+        loop_forever()
     if my_rank() == 0:
         with open(os.path.join(settings.output_directory, "finalized.txt"), "w") as out:
             out.write("finalized\n")
