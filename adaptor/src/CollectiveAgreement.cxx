@@ -71,10 +71,12 @@ void RankAgreement::maxReduce(std::vector<int>& values, const After* after,
 }
 
 std::vector<std::string> RankAgreement::gatherFailures(const std::string& localFailure,
-                                                       const After* after) const
+                                                       const After* after,
+                                                       const std::string& localDetail) const
 {
   std::vector<int> anyFailed{localFailure.empty() ? 0 : 1};
-  this->maxReduce(anyFailed, after, localFailure);
+  this->maxReduce(anyFailed, after,
+                  localDetail.empty() ? localFailure : localFailure + "\n" + localDetail);
   if (!anyFailed[0])
   {
     return {};
@@ -100,6 +102,28 @@ std::vector<std::string> RankAgreement::gatherFailures(const std::string& localF
     }
   }
   return failures;
+}
+
+std::vector<std::string> RankAgreement::gatherOnRoot(const std::string& local) const
+{
+  int size = 1;
+  MPI_Comm_size(this->Communicator, &size);
+  int localLength = static_cast<int>(local.size());
+  std::vector<int> lengths(this->Rank == 0 ? size : 0, 0);
+  MPI_Gather(&localLength, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, this->Communicator);
+  std::vector<int> offsets(lengths.size(), 0);
+  std::exclusive_scan(lengths.begin(), lengths.end(), offsets.begin(), 0);
+  std::string all(lengths.empty() ? 0 : static_cast<std::size_t>(offsets.back() + lengths.back()),
+                  '\0');
+  MPI_Gatherv(local.data(), localLength, MPI_CHAR, all.data(), lengths.data(), offsets.data(),
+              MPI_CHAR, 0, this->Communicator);
+  std::vector<std::string> texts;
+  for (std::size_t rank = 0; rank < lengths.size(); ++rank)
+  {
+    texts.push_back(all.substr(static_cast<std::size_t>(offsets[rank]),
+                               static_cast<std::size_t>(lengths[rank])));
+  }
+  return texts;
 }
 
 RankAgreement::States RankAgreement::agree(const std::vector<ScriptState>& local,

@@ -44,8 +44,14 @@ public:
   /// Every rank's failure message (empty on ranks that succeeded), as
   /// "rank R, message", in rank order; empty when all succeeded. Collective.
   /// Cost when nothing failed: one MPI_Allreduce of an int.
+  /// With `after`, a rank that waits past the limit writes its own failure and
+  /// `localDetail` (its traceback) on the job's output.
   std::vector<std::string> gatherFailures(const std::string& localFailure,
-                                          const After* after = nullptr) const;
+                                          const After* after = nullptr,
+                                          const std::string& localDetail = {}) const;
+
+  /// Every rank's text on rank 0 (index: rank; empty elsewhere). Collective.
+  std::vector<std::string> gatherOnRoot(const std::string& local) const;
 
   /// Per-script states agreed across ranks (minimum and maximum). Collective.
   struct States

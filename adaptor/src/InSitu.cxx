@@ -90,6 +90,13 @@ private:
   };
   const Requests& requestAll(std::int64_t step, double time);
   void logFailures(const std::vector<std::string>& failures) const;
+  /// After calls into scripts: every rank's failure, gathered; rank 0 logs them
+  /// with the Python tracebacks of the other ranks (ParaView silences their
+  /// stderr). `localTraceback` goes with this rank's failure: "step 4: Python
+  /// traceback of the script '...':\n...".
+  std::vector<std::string> gatherScriptFailures(const std::string& localFailure,
+                                                const std::string& localTraceback,
+                                                const RankAgreement::After* after) const;
   FieldRequest fieldsFor(const std::vector<bool>& due, const ForestDescription& forest) const;
 
   // Canopy's agreements and ParaView's collectives on separate communicators:
@@ -310,6 +317,7 @@ const InSitu::Driver::Requests& InSitu::Driver::requestAll(std::int64_t step, do
   requests = Requests{step, time, std::vector<bool>(this->Scripts.size(), false), {}, true};
   std::vector<ScriptState> states(this->Scripts.size(), ScriptState::NotDue);
   std::string localErrors;
+  std::string tracebacks;
   const auto since = std::chrono::steady_clock::now();
   double extraSeconds = 0.0;
   for (std::size_t i = 0; i < this->Scripts.size(); ++i)
@@ -320,6 +328,11 @@ const InSitu::Driver::Requests& InSitu::Driver::requestAll(std::int64_t step, do
     if (states[i] == ScriptState::Failed)
     {
       localErrors += (localErrors.empty() ? "" : "; ") + error;
+      if (!this->Scripts[i]->lastTraceback().empty())
+      {
+        tracebacks += "step " + std::to_string(step) + ": Python traceback of the script '" +
+                      this->Scripts[i]->path() + "':\n" + this->Scripts[i]->lastTraceback();
+      }
     }
   }
   const auto waited = RankAgreement::After{
@@ -337,6 +350,14 @@ const InSitu::Driver::Requests& InSitu::Driver::requestAll(std::int64_t step, do
     std::string local =
         localErrors.empty() ? std::string() : "step " + std::to_string(step) + ": " + localErrors;
     requests.failures = this->Agreement->gatherFailures(local);
+    const auto everyTraceback = this->Agreement->gatherOnRoot(tracebacks);
+    for (std::size_t rank = 1; rank < everyTraceback.size(); ++rank)
+    {
+      if (!everyTraceback[rank].empty())
+      {
+        vtkLogF(ERROR, "canopy: rank %zu, %s", rank, everyTraceback[rank].c_str());
+      }
+    }
     for (std::size_t i = 0; i < this->Scripts.size(); ++i)
     {
       if (agreed.maximum[i] != ScriptState::Failed && agreed.minimum[i] != agreed.maximum[i])
@@ -409,6 +430,30 @@ void InSitu::Driver::logFailures(const std::vector<std::string>& failures) const
   {
     vtkLogF(ERROR, "canopy: %s", failure.c_str());
   }
+}
+
+std::vector<std::string>
+InSitu::Driver::gatherScriptFailures(const std::string& localFailure,
+                                     const std::string& localTraceback,
+                                     const RankAgreement::After* after) const
+{
+  const std::string traceback = localFailure.empty() ? std::string() : localTraceback;
+  auto failures = this->Agreement->gatherFailures(localFailure, after, traceback);
+  if (failures.empty())
+  {
+    return failures;
+  }
+  // Everyone knows that some rank failed: the tracebacks can be gathered too.
+  const auto tracebacks = this->Agreement->gatherOnRoot(traceback);
+  this->logFailures(failures);
+  for (std::size_t rank = 1; rank < tracebacks.size(); ++rank)
+  {
+    if (!tracebacks[rank].empty())
+    {
+      vtkLogF(ERROR, "canopy: rank %zu, %s", rank, tracebacks[rank].c_str());
+    }
+  }
+  return failures;
 }
 
 StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestDescription& forest)
@@ -484,11 +529,15 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
   // Each phase that can fail on some ranks only (import, the script's own
   // request, the run) ends in an agreement, so no rank enters a script's
   // collectives alone.
-  auto agree = [&](const std::string& localError, const RankAgreement::After* waited = nullptr)
+  auto agree = [&](const CatalystScript& script, const std::string& localError,
+                   const RankAgreement::After* waited = nullptr)
   {
-    auto failures =
-        this->Agreement->gatherFailures(localError.empty() ? "" : stepText + localError, waited);
-    this->logFailures(failures);
+    const std::string traceback = script.lastTraceback().empty()
+                                      ? std::string()
+                                      : stepText + "Python traceback of the script '" +
+                                            script.path() + "':\n" + script.lastTraceback();
+    auto failures = this->gatherScriptFailures(localError.empty() ? "" : stepText + localError,
+                                               traceback, waited);
     report.failures.insert(report.failures.end(), failures.begin(), failures.end());
     return failures.empty();
   };
@@ -508,7 +557,7 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
       const bool imported = script.import(grid, error);
       const auto importing = RankAgreement::After{scriptText + " (import)" + atStep, since,
                                                   StepWatchdog::firstStepExtraSeconds};
-      if (!agree(imported ? "" : error + "; the script is disabled", &importing))
+      if (!agree(script, imported ? "" : error + "; the script is disabled", &importing))
       {
         script.disable(); // on every rank, also where the import worked
         continue;
@@ -520,13 +569,14 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
       const auto agreed = this->Agreement->agree({state}, &requesting);
       if (agreed.maximum[0] == ScriptState::Failed)
       {
-        agree(state == ScriptState::Failed ? error : "");
+        agree(script, state == ScriptState::Failed ? error : "");
         continue;
       }
       if (agreed.minimum[0] != agreed.maximum[0])
       {
-        agree(this->Rank == 0 ? "ranks disagree whether '" + script.path() + "' runs; skipped"
-                              : "");
+        agree(script, this->Rank == 0
+                          ? "ranks disagree whether '" + script.path() + "' runs; skipped"
+                          : "");
         continue;
       }
       if (agreed.maximum[0] == ScriptState::NotDue)
@@ -539,7 +589,7 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
     const bool ran = script.run(grid, error);
     const auto running =
         RankAgreement::After{scriptText + " (catalyst_execute)" + atStep, since, extraSeconds};
-    if (agree(ran ? "" : error, &running))
+    if (agree(script, ran ? "" : error, &running))
     {
       report.pipelinesRun.push_back(script.path());
     }
@@ -561,6 +611,7 @@ void InSitu::Driver::close()
   }
   // Every rank finalizes its scripts; failures are gathered and logged by rank 0.
   std::string localErrors;
+  std::string tracebacks;
   const auto since = std::chrono::steady_clock::now();
   for (auto& script : this->Scripts)
   {
@@ -568,11 +619,16 @@ void InSitu::Driver::close()
     if (!script->finalize(error))
     {
       localErrors += (localErrors.empty() ? "" : "; ") + error;
+      if (!script->lastTraceback().empty())
+      {
+        tracebacks += "close: Python traceback of the script '" + script->path() + "':\n" +
+                      script->lastTraceback();
+      }
     }
   }
   const auto finalizing = RankAgreement::After{"catalyst_finalize of the scripts at close", since};
-  this->logFailures(this->Agreement->gatherFailures(
-      localErrors.empty() ? "" : "close: " + localErrors, &finalizing));
+  this->gatherScriptFailures(localErrors.empty() ? "" : "close: " + localErrors, tracebacks,
+                             &finalizing);
   this->Scripts.clear();
   this->Processor->Finalize();
   this->Processor = nullptr;

@@ -415,6 +415,21 @@ def check_loop_finalize(code, log):
     expect(os.path.exists(path("finalized.txt")), "rank 0's catalyst_finalize ran")
 
 
+def check_error_text_rank1(code, log):
+    """A Python error on rank 1 only (ParaView silences rank 1's stderr): its
+    message and its traceback reach the job's output, with rank and step."""
+    expect(code == 0, "the simulation exits normally")
+    expect(re.search(r"rank 1, step 1: the script .*marker_script.py' raised an error: "
+                     r"RuntimeError: zebra-7731-only-on-rank-1", log) is not None,
+           "rank 1's exception message is in the output, with rank and step")
+    match = re.search(r"rank 1, step 1: Python traceback of [^\n]*marker_script.py':\n(.*?)"
+                      r"RuntimeError: zebra-7731-only-on-rank-1", log, re.S)
+    expect(match is not None and re.search(r'File ".*marker_script.py", line \d+, in execute',
+                                           match.group(1)) is not None,
+           "rank 1's traceback (down to the script's line) is in the output")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+
+
 def check_import_error_one_rank(code, log):
     """The script fails to import on rank 1 only: no rank runs it alone (the test
     would time out), the failure is reported once, the script is disabled."""

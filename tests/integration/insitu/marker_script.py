@@ -2,7 +2,8 @@
 """Test pipeline: records each step it runs (ran_<step>.txt and an .htg extract
 of the grid) and misbehaves on request, on the ranks in --fail-ranks (all, or a
 rank number):
-  --fail-steps=S,...     raise in catalyst_execute at these steps
+  --fail-steps=S,...     raise in catalyst_execute at these steps (--fail-message: with
+                         this text instead of the default)
   --exit-steps=S,...     call sys.exit(3) in catalyst_execute at these steps
   --exit-at=import|initialize|finalize   call sys.exit(4) there
   --fail-import-rank=R   raise at import on rank R
@@ -25,7 +26,7 @@ def my_rank():
 
 settings = canopy.settings(fail_steps="", exit_steps="", exit_at="", fail_ranks="all",
                            fail_import_rank=-1, loop_steps="", loop_at="", collective=True,
-                           collective_call=False)
+                           collective_call=False, fail_message="")
 
 
 def failing_rank():
@@ -55,7 +56,8 @@ def loop_forever():
 
 def execute(info):
     if info.timestep in settings.list("fail_steps", int) and failing_rank():
-        raise RuntimeError("failing on purpose at step %d on rank %d" % (info.timestep, my_rank()))
+        raise RuntimeError(settings.fail_message or
+                           "failing on purpose at step %d on rank %d" % (info.timestep, my_rank()))
     if info.timestep in settings.list("exit_steps", int) and failing_rank():
         sys.exit(3)
     if info.timestep in settings.list("loop_steps", int) and failing_rank():
