@@ -224,10 +224,12 @@ def frame_grid(view, grid, values):
 
 def color_by(display, view, grid, field):
     """Colors the display by a cell field over its global range this step."""
-    from paraview.simple import ColorBy, GetColorTransferFunction
+    from paraview.simple import GetColorTransferFunction
     if not field:
         return
-    ColorBy(display, ("CELLS", field))
+    # Not ColorBy(): it rescales to this rank's data, and warns on a rank without any.
+    display.ColorArrayName = ["CELLS", field]
+    display.LookupTable = GetColorTransferFunction(field)
     info = _at_step_time(grid).GetCellDataInformation().GetArray(field)
     local = (info.GetRange(-1 if info.GetNumberOfComponents() > 1 else 0) if info is not None
              else (float("inf"), float("-inf")))

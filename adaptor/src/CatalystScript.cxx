@@ -2,12 +2,14 @@
 
 #include "DriverPython.h"
 #include "StepWatchdog.h"
+#include "VtkMessageCapture.h"
 
 #include <vtkCPDataDescription.h>
 #include <vtkCPInputDataDescription.h>
 #include <vtkCPPythonScriptV2Helper.h>
 #include <vtkDataObject.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -159,16 +161,35 @@ bool CatalystScript::run(vtkDataObject* grid, std::string& error)
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
   input->SetGrid(grid);
   bool exceeded = false;
-  const bool ok = this->watched("catalyst_execute", exceeded,
-                                [&] { return this->Helper->CatalystExecute(this->Description); });
+  VtkMessageCapture logged;
+  bool ok = this->watched("catalyst_execute", exceeded,
+                          [&] { return this->Helper->CatalystExecute(this->Description); });
   this->FirstRun = false;
+  const auto messages = logged.messages();
   if (!ok)
   {
     error = "the script '" + this->Path + "' " + this->failure(exceeded);
   }
+  else if (!messages.empty())
+  {
+    // A writer's error (full disk, a file it cannot open) or any warning: the
+    // step's extracts cannot be trusted.
+    this->LastTraceback.clear();
+    std::string first = messages.front();
+    std::replace(first.begin(), first.end(), '\n', ' ');
+    error = "the script '" + this->Path + "' logged an error: " + first +
+            (messages.size() > 1 ? " (and " + std::to_string(messages.size() - 1) + " more)"
+                                 : std::string());
+    ok = false;
+  }
   // Do not keep the simulation's memory referenced from the description.
   input->SetGrid(nullptr);
   return ok;
+}
+
+void CatalystScript::discardOutputs()
+{
+  discardStepOutputs(this->Path);
 }
 
 bool CatalystScript::finalize(std::string& error)

@@ -55,8 +55,14 @@ public:
   bool import(vtkDataObject* grid, std::string& error);
   /// Right after import: asks the script itself whether it is due at this step.
   ScriptState requestAfterImport(std::string& error);
-  /// Runs the script on `grid` (catalyst_execute, then its extractors).
+  /// Runs the script on `grid` (catalyst_execute, then its extractors). Fails
+  /// also when VTK or ParaView log an error or warning meanwhile (writers say
+  /// nothing else), and when the extracts would not fit on the disk (checked,
+  /// over all ranks, before any is written).
   bool run(vtkDataObject* grid, std::string& error);
+  /// After a run that failed on some rank: removes the files that run wrote
+  /// (the step's extracts of this script), on every rank.
+  void discardOutputs();
 
   /// Never runs again, nor is finalized (used when its import failed on some rank).
   void disable() { Disabled = true; }

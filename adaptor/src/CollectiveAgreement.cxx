@@ -104,6 +104,14 @@ std::vector<std::string> RankAgreement::gatherFailures(const std::string& localF
   return failures;
 }
 
+std::vector<double> RankAgreement::reduce(std::vector<double> values, MPI_Op operation) const
+{
+  std::vector<double> reduced(values.size());
+  MPI_Allreduce(values.data(), reduced.data(), static_cast<int>(values.size()), MPI_DOUBLE,
+                operation, this->Communicator);
+  return reduced;
+}
+
 std::vector<std::string> RankAgreement::gatherOnRoot(const std::string& local) const
 {
   int size = 1;

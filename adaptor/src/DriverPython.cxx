@@ -2,6 +2,9 @@
 
 #include "DriverPython.h"
 
+#include "CollectiveAgreement.h"
+#include "StepWatchdog.h"
+
 #include <vtkPythonInterpreter.h>
 #include <vtkSmartPyObject.h>
 
@@ -37,6 +40,36 @@ std::string pythonLiteral(const std::string& text)
   out << "\".decode(\"utf-8\", \"surrogateescape\")";
   return out.str();
 }
+
+const RankAgreement* connectedAgreement = nullptr;
+StepWatchdog* connectedWatchdog = nullptr;
+
+/// agree_before_extracts(outcome, needed, free) -> (any failed, needed in all, least free);
+/// outcome: "" when the script succeeded on this rank, else its failure.
+PyObject* agreeBeforeExtracts(PyObject*, PyObject* arguments)
+{
+  const char* outcome = "";
+  double needed = 0.0;
+  double available = 0.0;
+  if (!PyArg_ParseTuple(arguments, "sdd", &outcome, &needed, &available))
+  {
+    return nullptr;
+  }
+  if (connectedAgreement == nullptr || connectedWatchdog == nullptr)
+  {
+    PyErr_SetString(PyExc_RuntimeError, "the in-situ driver is closed");
+    return nullptr;
+  }
+  const bool failed = *outcome != '\0';
+  connectedWatchdog->noteWaiting(failed ? outcome : "succeeded");
+  const auto most = connectedAgreement->reduce({failed ? 1.0 : 0.0, -available}, MPI_MAX);
+  const auto sum = connectedAgreement->reduce({needed}, MPI_SUM);
+  return Py_BuildValue("(Odd)", most[0] != 0.0 ? Py_True : Py_False, sum[0], -most[1]);
+}
+
+PyMethodDef agreeBeforeExtractsMethod = {
+    "agree_before_extracts", &agreeBeforeExtracts, METH_VARARGS,
+    "(outcome, needed, free) -> (any rank failed, needed by all ranks, least free)"};
 
 std::string textOf(PyObject* object)
 {
@@ -99,6 +132,36 @@ ScriptFailureText takeScriptFailure()
     failure.traceback = textOf(PyTuple_GetItem(taken, 1));
   }
   return failure;
+}
+
+void connectAgreement(const RankAgreement* agreement, StepWatchdog* watchdog)
+{
+  connectedAgreement = agreement;
+  connectedWatchdog = watchdog;
+  if (agreement == nullptr)
+  {
+    return;
+  }
+  vtkPythonScopeGilEnsurer gil;
+  vtkSmartPyObject module(PyImport_ImportModule("_canopy_driver"));
+  vtkSmartPyObject function(PyCFunction_New(&agreeBeforeExtractsMethod, nullptr));
+  if (!module || !function ||
+      PyObject_SetAttrString(module, "agree_before_extracts", function) != 0)
+  {
+    PyErr_Print();
+  }
+}
+
+void discardStepOutputs(const std::string& scriptPath)
+{
+  vtkPythonScopeGilEnsurer gil;
+  vtkSmartPyObject module(PyImport_ImportModule("_canopy_driver"));
+  vtkSmartPyObject done(
+      module ? PyObject_CallMethod(module, "discard_outputs", "s", scriptPath.c_str()) : nullptr);
+  if (!done)
+  {
+    PyErr_Print(); // shows why; the step is reported failed anyway
+  }
 }
 
 } // namespace canopy

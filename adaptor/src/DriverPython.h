@@ -27,4 +27,16 @@ struct ScriptFailureText
 };
 ScriptFailureText takeScriptFailure();
 
+class RankAgreement;
+class StepWatchdog;
+
+/// Gives the Python side the ranks' agreement before a script's extracts are
+/// written (_canopy_driver.agree_before_extracts), on Canopy's communicator:
+/// ParaView's may still be busy on a rank whose script is stuck in a collective.
+/// The watchdog learns that this rank waits there. nullptr disconnects it.
+void connectAgreement(const RankAgreement* agreement, StepWatchdog* watchdog);
+
+/// Removes what the last run of the script wrote (pipelines/_canopy_driver.py).
+void discardStepOutputs(const std::string& scriptPath);
+
 } // namespace canopy

@@ -278,6 +278,7 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   if (localProblem.empty())
   {
     this->Watchdog->connectPython();
+    connectAgreement(this->Agreement.get(), this->Watchdog.get());
     try
     {
       for (const auto& script : kept)
@@ -593,6 +594,10 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
     {
       report.pipelinesRun.push_back(script.path());
     }
+    else
+    {
+      script.discardOutputs(); // nothing half-written may look like a result
+    }
   }
   return finish();
 }
@@ -630,6 +635,7 @@ void InSitu::Driver::close()
   this->gatherScriptFailures(localErrors.empty() ? "" : "close: " + localErrors, tracebacks,
                              &finalizing);
   this->Scripts.clear();
+  connectAgreement(nullptr, nullptr);
   this->Processor->Finalize();
   this->Processor = nullptr;
   this->Watchdog.reset();

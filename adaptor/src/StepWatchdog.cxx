@@ -145,10 +145,21 @@ StepWatchdog::Watch StepWatchdog::watch(const std::string& script, const std::st
     this->Script = script;
     this->Call = call;
     this->When = when;
+    this->WaitingNote.clear();
     interruptibleCall.store(this->Serial);
   }
   this->Changed.notify_all();
   return Watch(this);
+}
+
+void StepWatchdog::noteWaiting(const std::string& outcome)
+{
+  std::lock_guard<std::mutex> lock(this->Mutex);
+  if (this->Active)
+  {
+    this->WaitingNote = "waiting for the other ranks to finish the script '" + this->Script +
+                        "' (" + this->Call + "); on this rank it " + outcome;
+  }
 }
 
 void StepWatchdog::end()
@@ -203,38 +214,61 @@ void StepWatchdog::run()
       continue;
     }
     this->Exceeded = true;
-    const auto stuckAt = limitAt + grace;
-    // Interrupt, and again every second while the script goes on (it may have
-    // swallowed the exception).
+    const std::string where = "rank " + std::to_string(this->Rank) + ", " + this->When + ": ";
+    bool noted = false;
     auto nextInterrupt = Clock::now();
     while (!callEnded())
     {
       const auto now = Clock::now();
-      if (now >= stuckAt)
+      if (this->WaitingNote.empty())
       {
-        this->Output.endJob(
-            this->AbortCommunicator,
-            "rank " + std::to_string(this->Rank) + ", " + this->When + ": the script '" +
-                this->Script + "' is still in " + this->Call + " " + seconds(this->GraceSeconds) +
-                " after " + this->limitText() +
-                " and cannot be interrupted: it is in C code or waits in an MPI collective "
-                "(for example for a rank whose script failed). Ending the job (MPI_Abort).");
+        // In the script: interrupt it, and again every second while it goes on
+        // (it may have swallowed the exception); past the grace it is stuck
+        // where Python cannot get control back.
+        if (now >= limitAt + grace)
+        {
+          this->Output.endJob(this->AbortCommunicator,
+                              where + "the script '" + this->Script + "' is still in " +
+                                  this->Call + " " + seconds(this->GraceSeconds) + " after " +
+                                  this->limitText() +
+                                  " and cannot be interrupted: it is in C code or waits in an MPI "
+                                  "collective (for example for a rank whose script failed). "
+                                  "Ending the job (MPI_Abort).");
+        }
+        if (now >= nextInterrupt)
+        {
+          requestedInterrupt.store(serial);
+          if (this->UseSignal)
+          {
+            pthread_kill(this->Caller, SIGURG);
+          }
+          else
+          {
+            Py_AddPendingCall(&interruptByPendingCall, nullptr);
+          }
+          nextInterrupt = now + std::chrono::seconds(1);
+        }
       }
-      if (now >= nextInterrupt)
+      else
       {
-        requestedInterrupt.store(serial);
-        if (this->UseSignal)
+        // Done with the script here, waiting for the others: say so at once
+        // (the rank stuck in the script may end the job first), and leave
+        // ending the job to that rank, which says where it is stuck, unless it
+        // does not.
+        if (!noted)
         {
-          pthread_kill(this->Caller, SIGURG);
+          this->Output.write(where + this->WaitingNote + "; " + this->limitText() + " has passed");
+          noted = true;
         }
-        else
+        if (now >= limitAt + 2 * grace)
         {
-          Py_AddPendingCall(&interruptByPendingCall, nullptr);
+          this->Output.endJob(this->AbortCommunicator,
+                              where + "the other ranks have not finished the script '" +
+                                  this->Script + "' " + seconds(2 * this->GraceSeconds) +
+                                  " after " + this->limitText() + ". Ending the job (MPI_Abort).");
         }
-        nextInterrupt = now + std::chrono::seconds(1);
       }
-      this->Changed.wait_until(lock, std::min(now + std::chrono::milliseconds(100), stuckAt),
-                               callEnded);
+      this->Changed.wait_until(lock, now + std::chrono::milliseconds(100), callEnded);
     }
   }
 }

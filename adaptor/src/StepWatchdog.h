@@ -68,6 +68,12 @@ public:
   /// (the simulation handles SIGURG itself), interrupting is best effort.
   bool connectPython();
 
+  /// The watched call is done with the script's code on this rank and now
+  /// waits for the other ranks; `outcome` says how the script ended here
+  /// ("succeeded", "raised an error: ..."). Past the limit this is written on
+  /// the job's output at once (the rank stuck elsewhere may end the job first).
+  void noteWaiting(const std::string& outcome);
+
   /// "the step time limit (2 s)"
   std::string limitText() const;
 
@@ -92,6 +98,7 @@ private:
   std::string Script;
   std::string Call;
   std::string When;
+  std::string WaitingNote;
   pthread_t Caller{};
   bool UseSignal = false;
   std::thread Thread;

@@ -13,6 +13,7 @@ import json
 import os
 import re
 import shutil
+import subprocess
 import sys
 import time
 
@@ -23,14 +24,39 @@ from output_checks import (cell_array, expect, finish, read_htg_pieces,  # noqa:
                            read_png, read_polydata, read_unstructured, run_command)
 
 
-def run(command):
+SKIP = 77  # CTest's SKIP_RETURN_CODE for these tests
+
+
+def run(command, tmpfs=None):
+    """Runs the command in a fresh OUTPUT (with `tmpfs`, e.g. "200k": a tmpfs of
+    that size mounted there for the run, so the disk can be filled)."""
     global ELAPSED
+    if tmpfs:
+        subprocess.run(["umount", OUTPUT], stderr=subprocess.DEVNULL)  # a crashed run's
     shutil.rmtree(OUTPUT, ignore_errors=True)
     os.makedirs(OUTPUT, exist_ok=True)
-    start = time.monotonic()
-    code, log = run_command(command)
-    ELAPSED = time.monotonic() - start
-    with open(os.path.join(OUTPUT, "run.log"), "w") as out:
+    log_path = os.path.join(OUTPUT, "run.log")
+    if tmpfs:
+        mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=" + tmpfs, "tmpfs", OUTPUT],
+                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if mounted.returncode != 0:
+            print("SKIPPED: cannot mount a %s tmpfs at %s to fill it: %s"
+                  % (tmpfs, OUTPUT, mounted.stdout.strip() or "mount failed"))
+            sys.exit(SKIP)
+        log_path = OUTPUT + ".log"
+    try:
+        start = time.monotonic()
+        code, log = run_command(command)
+        ELAPSED = time.monotonic() - start
+    finally:
+        if tmpfs:
+            snapshot = OUTPUT + ".files"  # what the run left, for the checks
+            shutil.rmtree(snapshot, ignore_errors=True)
+            shutil.copytree(OUTPUT, snapshot, symlinks=True)
+            subprocess.run(["umount", OUTPUT])
+            shutil.rmtree(OUTPUT, ignore_errors=True)
+            os.rename(snapshot, OUTPUT)
+    with open(log_path, "w") as out:
         out.write(log)
     return code, log
 
@@ -430,6 +456,73 @@ def check_error_text_rank1(code, log):
     expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
 
 
+def read_expected(name):
+    """The simulation's totals written outside OUTPUT (None if it did not finish them)."""
+    try:
+        with open(os.path.join(os.path.dirname(OUTPUT), name)) as source:
+            return json.load(source)
+    except (OSError, ValueError):
+        return None
+
+
+def step_files(step):
+    return sorted(os.path.relpath(p, OUTPUT) for p in glob.glob(path("*_%06d*" % step)) +
+                  glob.glob(path("*_%06d*/*" % step)))
+
+
+def check_full_disk(code, log):
+    """Output on a 512 KiB tmpfs, filled before step 2 of 4 so that the step's
+    extracts (grid, surface, selection) do not fit: step 2 is reported failed,
+    saying so, for both scripts; it leaves no file at all (not even a partial
+    one); steps 0 and 1 are intact; nothing crashes (VTK 9.2's polydata and
+    unstructured writers segfault on a full disk); step 3, with the space back,
+    is written again."""
+    totals = read_expected("full_disk.expected.json")
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    if totals is None:
+        expect(False, "the simulation wrote its totals")
+        return
+    expect("Segmentation fault" not in log and "SIGSEGV" not in log, "no crash")
+    for script in ("data_extracts.py", "selection_extract.py"):
+        expect(re.search(r"failure: rank \d, step 2: the script '.*%s' .*not enough free disk "
+                         r"space" % script, log) is not None,
+               "step 2 of %s is reported failed for want of disk space" % script)
+    expect(steps_ran(log) == [0, 1, 3], "steps 0, 1 and 3 ran, step 2 failed (%s)"
+           % steps_ran(log))
+    expect(step_files(2) == [], "nothing of step 2 is left (%s)" % step_files(2))
+    for step in (0, 1, 3):
+        nodes = sum(g.GetNumberOfCells() for g in htg_pieces("grid", step))
+        surface = polydata("grid_surface_%06d.pvtp" % step).GetNumberOfCells()
+        selected = unstructured("selection_%06d.pvtu" % step).GetNumberOfCells()
+        expect(nodes == totals[step]["nodes"] and surface == totals[step]["leaves"] and
+               selected > 0, "step %d's extracts are intact: %d nodes, %d quads, %d selected"
+               % (step, nodes, surface, selected))
+
+
+check_full_disk.tmpfs = "512k"
+
+
+def check_writer_error(code, log):
+    """A folder stands where step 1's selection summary (.pvtu) goes: the writer's
+    error marks the selection's step failed with VTK's message; the pieces it
+    had written are removed; the other script's step and the other steps are
+    untouched."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(re.search(r"failure: rank 0, step 1: the script '.*selection_extract.py' .*"
+                     r"(cannot|Cannot|unable|Unable|Error|error).*selection_000001", log)
+           is not None, "step 1 of the selection is reported failed with the writer's message")
+    expect(re.search(r"^step 1 executed ran 1 failures [1-9]", log, re.M) is not None,
+           "step 1: the other script ran")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran without failure (%s)" % steps_ran(log))
+    expect(not os.path.exists(path("selection_000001")),
+           "the pieces written for the failed step are removed")
+    expect(os.path.isdir(path("selection_000001.pvtu")), "the folder in the way is left alone")
+    expect(len(htg_pieces("grid", 1)) == RANKS, "the other script's step 1 is intact")
+    for step in (0, 2):
+        expect(unstructured("selection_%06d.pvtu" % step).GetNumberOfCells() > 0,
+               "step %d's selection is intact" % step)
+
+
 def check_import_error_one_rank(code, log):
     """The script fails to import on rank 1 only: no rank runs it alone (the test
     would time out), the failure is reported once, the script is disabled."""
@@ -499,6 +592,7 @@ if __name__ == "__main__":
     REFERENCE = sys.argv[3] if separator > 3 else None
     COMMAND = sys.argv[separator + 1:]
     RANKS = int(COMMAND[COMMAND.index("-np") + 1]) if "-np" in COMMAND else 1
-    exit_code, output = run(COMMAND)
-    globals()["check_" + CHECK](exit_code, output)
+    check = globals()["check_" + CHECK]
+    exit_code, output = run(COMMAND, getattr(check, "tmpfs", None))
+    check(exit_code, output)
     finish()
