@@ -31,17 +31,21 @@ def run(command, tmpfs=None):
     """Runs the command in a fresh OUTPUT (with `tmpfs`, e.g. "200k": a tmpfs of
     that size mounted there for the run, so the disk can be filled)."""
     global ELAPSED
-    if tmpfs:
-        subprocess.run(["umount", OUTPUT], stderr=subprocess.DEVNULL)  # a crashed run's
+    if tmpfs and os.path.ismount(OUTPUT):
+        subprocess.run(["umount", OUTPUT])  # left by a run that crashed
     shutil.rmtree(OUTPUT, ignore_errors=True)
     os.makedirs(OUTPUT, exist_ok=True)
     log_path = os.path.join(OUTPUT, "run.log")
     if tmpfs:
-        mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=" + tmpfs, "tmpfs", OUTPUT],
-                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        if mounted.returncode != 0:
-            print("SKIPPED: cannot mount a %s tmpfs at %s to fill it: %s"
-                  % (tmpfs, OUTPUT, mounted.stdout.strip() or "mount failed"))
+        try:
+            mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=" + tmpfs, "tmpfs",
+                                      OUTPUT], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                     text=True)
+            why = mounted.stdout.strip() or "mount failed" if mounted.returncode != 0 else ""
+        except OSError as error:
+            why = str(error)
+        if why:
+            print("SKIPPED: cannot mount a %s tmpfs at %s to fill it: %s" % (tmpfs, OUTPUT, why))
             sys.exit(SKIP)
         log_path = OUTPUT + ".log"
     try:
