@@ -9,10 +9,8 @@ and in variables, dashes or underscores in arguments.
 """
 import os
 
-# Filled by the driver at open: script path -> its arguments; whether every
-# rank has an X display.
+# Filled by the driver at open: script path -> its arguments.
 _arguments = {}
-_can_render = True
 
 COMMON_DEFAULTS = {
     "output_directory": "canopy-output",

@@ -104,6 +104,14 @@ std::vector<std::string> RankAgreement::gatherFailures(const std::string& localF
   return failures;
 }
 
+bool RankAgreement::allOf(bool local) const
+{
+  int value = local ? 1 : 0;
+  int every = 0;
+  MPI_Allreduce(&value, &every, 1, MPI_INT, MPI_MIN, this->Communicator);
+  return every == 1;
+}
+
 std::vector<double> RankAgreement::reduce(std::vector<double> values, MPI_Op operation) const
 {
   std::vector<double> reduced(values.size());

@@ -61,6 +61,9 @@ public:
   };
   States agree(const std::vector<ScriptState>& local, const After* after = nullptr) const;
 
+  /// Whether `local` holds on every rank. Collective.
+  bool allOf(bool local) const;
+
   /// MPI_Allreduce of doubles with `operation`. Collective; blocking (it is
   /// used inside a script call, which the watchdog bounds).
   std::vector<double> reduce(std::vector<double> values, MPI_Op operation) const;

@@ -3,11 +3,13 @@
 #include "DriverPython.h"
 
 #include "CollectiveAgreement.h"
+#include "RuntimePaths.h"
 #include "StepWatchdog.h"
 
 #include <vtkPythonInterpreter.h>
 #include <vtkSmartPyObject.h>
 
+#include <cstdlib>
 #include <sstream>
 
 namespace canopy
@@ -88,6 +90,13 @@ std::string textOf(PyObject* object)
 }
 
 } // namespace
+
+void exportScriptEnvironment(const std::string& outputDirectory, const std::string& channel)
+{
+  setenv("CANOPY_OUTPUT_DIRECTORY", outputDirectory.c_str(), 1);
+  setenv("CANOPY_CHANNEL", channel.c_str(), 1);
+  setenv("CANOPY_PLUGIN", pluginPath().c_str(), 0);
+}
 
 std::string startDriverPython(const std::string& pipelinesDirectory,
                               const std::vector<PipelineScript>& scripts)

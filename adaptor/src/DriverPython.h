@@ -11,6 +11,11 @@
 namespace canopy
 {
 
+/// What scripts read from the environment: CANOPY_OUTPUT_DIRECTORY and
+/// CANOPY_CHANNEL (their settings' defaults), CANOPY_PLUGIN (the plugin they
+/// load; an existing value wins).
+void exportScriptEnvironment(const std::string& outputDirectory, const std::string& channel);
+
 /// Puts `pipelinesDirectory` on Python's path, imports the helper modules,
 /// registers each script's arguments and guards ParaView's calls into scripts
 /// (sys.exit() becomes an error). Empty on success, else what went wrong.
