@@ -7,6 +7,7 @@
 #include "canopy/ForestValidation.h"
 #include "canopy/InSitu.h"
 
+#include <cmath>
 #include <cstdarg>
 #include <cstdint>
 #include <cstdio>
@@ -426,6 +427,27 @@ extern "C"
                        return nullHandle(function, "options");
                      }
                      options->options.stepSummary = enabled != 0;
+                     return succeed();
+                   });
+  }
+
+  int canopy_options_set_step_time_limit(canopy_options* options, double seconds)
+  {
+    static const char* const function = "canopy_options_set_step_time_limit";
+    return guarded(function, CANOPY_INVALID_ARGUMENT,
+                   [&]
+                   {
+                     if (options == nullptr)
+                     {
+                       return nullHandle(function, "options");
+                     }
+                     if (!(seconds >= 0.0) || seconds == HUGE_VAL)
+                     {
+                       return fail(CANOPY_INVALID_ARGUMENT,
+                                   "%s: seconds must be a finite number >= 0, got %g", function,
+                                   seconds);
+                     }
+                     options->options.stepTimeLimitSeconds = seconds;
                      return succeed();
                    });
   }

@@ -46,6 +46,15 @@ struct InSituOptions
   int verbosity = -10;
   /// Log one line per executed step (rank 0): pipelines run, cells, times.
   bool stepSummary = false;
+  /// The longest any call into a script may take (its import, its
+  /// RequestDataDescription, its catalyst_execute with its extracts, its
+  /// catalyst_finalize), in seconds; 0: no limit. A script still running then is
+  /// interrupted (a Python exception where it is), reported with rank, script
+  /// and step, and the step skipped on every rank. A rank that cannot be
+  /// interrupted (in C code, or waiting in an MPI collective inside ParaView)
+  /// is named on stderr and the job is ended with MPI_Abort (exit code 124)
+  /// rather than hanging. See docs/insitu.md.
+  double stepTimeLimitSeconds = 0.0;
 };
 
 /// Thrown by the InSitu constructor when the options are unusable (no script,

@@ -90,6 +90,9 @@ extern "C"
   int canopy_options_set_verbosity(canopy_options* options, int verbosity);
   /* [in] enabled  nonzero: rank 0 logs one line per executed step. */
   int canopy_options_set_step_summary(canopy_options* options, int enabled);
+  /* The longest a call into a script may take, in seconds (0: no limit); see
+   * InSituOptions::stepTimeLimitSeconds. */
+  int canopy_options_set_step_time_limit(canopy_options* options, double seconds);
 
   /* ---- forest (borrowed views of the simulation's arrays) ---------------- */
   /* The root grid: rectilinear point coordinates per axis; a 2D forest has one
