@@ -20,8 +20,9 @@ void requireUsableMpi(MPI_Comm communicator);
 /// ScriptSearch.h) and makes the paths and the output directory absolute
 /// (ParaView imports scripts lazily, and the simulation may change its working
 /// directory), then lists what is wrong with the options on this rank: no
-/// script, a script missing (with every place looked at) or given twice, an empty channel or output directory, a time limit
-/// that is not a number of seconds >= 0, Catalyst not startable in this process.
+/// script, a script missing (with every place looked at) or given twice, an empty channel or output
+/// directory, a time limit that is not a number of seconds >= 0, Catalyst not startable in this
+/// process.
 std::vector<std::string> optionProblems(InSituOptions& options);
 
 /// Empty when `directory` exists (it is created if missing) and is writable.

@@ -15,6 +15,7 @@
 #include "StepRequests.h"
 #include "StepWatchdog.h"
 
+#include "canopy/GridBuilder.h"
 #include "canopy/HtgBuilder.h"
 
 #include <vtkHyperTreeGrid.h>
@@ -68,6 +69,8 @@ private:
   std::unique_ptr<XDisplayConnection> Display;
   std::unique_ptr<CatalystSession> Session;
   ScriptList Scripts;
+  /// Keeps the grid from step to step, rebuilding only what changed.
+  GridBuilder Builder;
   std::optional<StepRequests> Requested;
   bool CanRender = false;
   bool Open = false;
@@ -173,9 +176,11 @@ StepReport& InSitu::Driver::finish(StepReport& report, std::int64_t step, double
   if (this->Options.stepSummary && report.executed && this->Rank == 0)
   {
     vtkLogF(INFO,
-            "canopy: step %lld time %g: ran [%s], %zu failure(s), %lld cells on rank 0, %.3f s",
+            "canopy: step %lld time %g: ran [%s], %zu failure(s), %lld cells on rank 0, %.3f s "
+            "(grid %.3f s, %zu of %zu trees rebuilt)",
             static_cast<long long>(step), time, joined(report.pipelinesRun, ", ").c_str(),
-            report.failures.size(), static_cast<long long>(report.localCells), report.seconds);
+            report.failures.size(), static_cast<long long>(report.localCells), report.seconds,
+            report.buildSeconds, report.treesRebuilt, report.treesRebuilt + report.treesKept);
   }
   return report;
 }
@@ -219,8 +224,13 @@ vtkSmartPointer<vtkHyperTreeGrid> InSitu::Driver::buildGrid(const ForestDescript
   {
     try
     {
-      grid = buildHyperTreeGrid(forest, fieldsNeeded(this->Scripts, requests.due, forest));
+      const auto start = std::chrono::steady_clock::now();
+      grid = this->Builder.build(forest, fieldsNeeded(this->Scripts, requests.due, forest));
+      report.buildSeconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       report.localCells = grid->GetNumberOfCells();
+      report.treesRebuilt = this->Builder.lastBuild().treesRebuilt;
+      report.treesKept = this->Builder.lastBuild().treesKept;
     }
     catch (const InvalidForest& error)
     {

@@ -15,6 +15,7 @@
 
 #include <mpi.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -73,6 +74,11 @@ struct StepReport
   std::vector<std::string> failures;     ///< "rank R, step S: message", every rank's
   std::int64_t localCells = 0;           ///< cells of this rank's grid (0 when not built)
   double seconds = 0.0;                  ///< wall time of the call on this rank
+  double buildSeconds = 0.0;             ///< of which building the grid (this rank)
+  /// This rank's trees built anew and kept from the previous executed step: the
+  /// grid is rebuilt only where the forest's topology changed (canopy::GridBuilder).
+  std::size_t treesRebuilt = 0;
+  std::size_t treesKept = 0;
 };
 
 class InSitu

@@ -323,12 +323,32 @@ def check_moving_2d(code, log):
            "one summary line per step: %s" % summaries)
     expect([int(cells) for _, cells in summaries] == [entry["nodes"] for entry in expected()],
            "summaries give the grid's cells each step")
+    rebuilt = trees_rebuilt(log)
+    expect(len(rebuilt) == 4 and any(0 < r < t for r, t in rebuilt[1:]),
+           "a moving front rebuilds some trees, not all: %s" % rebuilt)
     images = [image("surface_%06d.png" % step) for step in range(4)]
     for step in range(1, 4):
         changed = int((numpy.abs(images[step].astype(int) - images[step - 1].astype(int))
                        .max(axis=2) > 0).sum())
         expect(changed > 100, "the image changes from step %d to %d (%d pixels)"
                % (step - 1, step, changed))
+
+
+def trees_rebuilt(log):
+    """Per executed step in the summaries: (trees rebuilt, trees)."""
+    return [(int(r), int(t)) for r, t in
+            re.findall(r"canopy: step \d+ time .*\(grid [0-9.]+ s, (\d+) of (\d+) trees rebuilt\)",
+                       log)]
+
+
+def check_unchanged_steps(code, log):
+    """A forest that does not change: the first step builds every tree, the
+    next ones none (the grid is kept), and the extracts are right every step."""
+    check_data_extracts(code, log)
+    rebuilt = trees_rebuilt(log)
+    expect(len(rebuilt) == 3 and rebuilt[0][0] == rebuilt[0][1] > 0,
+           "step 0 builds every tree: %s" % rebuilt)
+    expect(all(r == 0 for r, _ in rebuilt[1:]), "steps 1 and 2 rebuild no tree: %s" % rebuilt)
 
 
 def check_cinema(code, log):
