@@ -90,8 +90,10 @@ HyperTreeGridPiece HyperTreeGridPiece::describe(vtkHyperTreeGrid* htg)
     const vtkIdType vertices = tree->GetNumberOfVertices();
     std::size_t elderCount = 0;
     const unsigned int* elder = tree->GetElderChildIndexArray(elderCount);
-    const bool implicit = tree->IsGlobalIndexImplicit();
-    const vtkIdType start = implicit ? tree->GetGlobalIndexStart() : 0;
+    // VTK 9.2's IsGlobalIndexImplicit() answers the opposite of its name; the
+    // start is reliable: -1 means a per-node table.
+    const vtkIdType start = tree->GetGlobalIndexStart();
+    const bool implicit = start >= 0;
 
     piece.treeIds.push_back(entry.index);
     piece.treeDescriptorStart.push_back(piece.descriptors.size());
@@ -108,7 +110,12 @@ HyperTreeGridPiece HyperTreeGridPiece::describe(vtkHyperTreeGrid* htg)
       const vtkIdType local = order[position];
       const vtkIdType cell = implicit ? start + local : tree->GetGlobalIndexFromLocal(local);
       const auto slot = static_cast<std::size_t>(local);
-      const bool refined = slot < elderCount && elder[slot] != noChild;
+      // As VTK's compact tree decides, guarded: a single-vertex tree is a leaf
+      // whatever its table says (a fresh tree keeps a 0 there), and an entry
+      // pointing past the tree's vertices is never followed.
+      const bool refined = vertices > 1 && slot < elderCount && elder[slot] != noChild &&
+                           elder[slot] != 0 &&
+                           static_cast<vtkIdType>(elder[slot]) + children <= vertices;
       const bool masked = mask != nullptr && mask->GetValue(cell) != 0;
       const bool hidden = masked || maskedAncestor[position] != 0;
       piece.descriptors.push(refined);
