@@ -15,7 +15,7 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
 
 Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI rank):
   <prefix>.vtkhdf                               vtkhdf: the grid, every step in one file
-                                                  (VTK 9.7+, ParaView with VTK 9.7+)
+                                                  (VTK 9.5+: ParaView 6.0 and later)
   <prefix>.pvd                                  htg: the grid's steps as one time series
                                                   (ParaView 5.11: open this),
   <prefix>_<step>.vtm                             one step, listing its pieces,

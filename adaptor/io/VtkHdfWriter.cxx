@@ -922,7 +922,7 @@ const std::string& VtkHdfWriter::fileName() const
   return this->Impl->FileName;
 }
 
-void VtkHdfWriter::writeStep(vtkHyperTreeGrid* htg, double time, std::int64_t step)
+void VtkHdfWriter::writeStep(vtkHyperTreeGrid* htg, std::int64_t step, double time)
 {
   Implementation& impl = *this->Impl;
   const QuietHdfErrors quiet;

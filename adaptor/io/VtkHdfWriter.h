@@ -6,7 +6,7 @@
 // Usable without Catalyst:
 //
 //   canopy::io::VtkHdfWriter writer(MPI_COMM_WORLD, "run/grid.vtkhdf");
-//   for (...) { auto htg = canopy::buildHyperTreeGrid(forest); writer.writeStep(htg, time, step); }
+//   for (...) { auto htg = canopy::buildHyperTreeGrid(forest); writer.writeStep(htg, step, time); }
 //
 // Fields are written from the grid's arrays: Canopy's zero-copy arrays over
 // the simulation's memory go to HDF5 straight from there; arrays that read
@@ -49,18 +49,22 @@ class CANOPYIO_EXPORT VtkHdfWriter
 {
 public:
   /// `communicator`: the ranks writing pieces (MPI_COMM_NULL: one process
-  /// without MPI). Nothing is opened before the first step.
+  /// without MPI); used as given, not duplicated, so it must stay valid while
+  /// the writer writes. `fileName`: the .vtkhdf file (its folder must exist).
+  /// Nothing is opened before the first step; the file is closed after each.
   VtkHdfWriter(MPI_Comm communicator, std::string fileName, VtkHdfWriterOptions options = {});
   ~VtkHdfWriter();
   VtkHdfWriter(const VtkHdfWriter&) = delete;
   VtkHdfWriter& operator=(const VtkHdfWriter&) = delete;
 
-  /// Appends this rank's piece as the file's next step, at `time`. Collective.
-  /// `step` (the simulation's) only labels messages. Throws WriteError on every
+  /// Appends this rank's piece of `htg` (borrowed for the call only; null is an
+  /// error reported like any other) as the file's next step, at `time`.
+  /// Collective. `step` (the simulation's; -1: none) only labels messages (the
+  /// argument order is HtgSeriesWriter::writeStep's). Throws WriteError on every
   /// rank if any rank failed (disk full, unwritable folder, HDF5 error, grids
   /// that do not match the file): the step is then not in the file, and every
   /// step written before is still there, readable.
-  void writeStep(vtkHyperTreeGrid* htg, double time, std::int64_t step = -1);
+  void writeStep(vtkHyperTreeGrid* htg, std::int64_t step, double time);
 
   /// Steps in the file after the last successful write.
   std::int64_t numberOfSteps() const;

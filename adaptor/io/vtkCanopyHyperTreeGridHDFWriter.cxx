@@ -87,7 +87,7 @@ void vtkCanopyHyperTreeGridHDFWriter::WriteData()
   }
   try
   {
-    this->Internal->Writer->writeStep(htg, time, this->TimeStep);
+    this->Internal->Writer->writeStep(htg, this->TimeStep, time);
   }
   catch (const canopy::io::WriteError& error)
   {

@@ -167,7 +167,7 @@ int main(int argc, char** argv)
   {
     canopy::io::VtkHdfWriter writer(MPI_COMM_WORLD, (output / "vtkhdf" / "grid.vtkhdf").string());
     seconds.push_back(
-        medianSeconds(steps, [&](int step) { writer.writeStep(htg, 0.1 * step, step); }));
+        medianSeconds(steps, [&](int step) { writer.writeStep(htg, step, 0.1 * step); }));
   }
   {
     canopy::io::HtgSeriesWriter writer(MPI_COMM_WORLD,

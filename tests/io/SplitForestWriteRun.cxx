@@ -237,7 +237,7 @@ int main(int argc, char** argv)
         std::ofstream(output / ("forest_" + std::to_string(step) + ".json"))
             << forestJson(whole.description(), ranks, step, time);
       const auto htg = canopy::buildHyperTreeGrid(part.description);
-      writer.writeStep(htg, time, step);
+      writer.writeStep(htg, step, time);
       if (rank == 0)
         std::cout << "step " << step << " executed ran 1 failures 0" << std::endl;
     }
