@@ -24,7 +24,8 @@ namespace
 {
 
 /// The default pipelines: images of the adaptive surface, a selection of the
-/// blob (scalar above 0.5) and full data extracts, from Canopy's pipelines/.
+/// blob (scalar above 0.5) and full data extracts (the grid as VTKHDF for current
+/// ParaView and as the .pvd series ParaView 5.11 opens), from Canopy's pipelines/.
 std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOptions& o)
 {
   std::vector<canopy::PipelineScript> scripts;
@@ -52,7 +53,8 @@ std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOption
   scripts.push_back({dir + "/selection_extract.py",
                      {every + std::to_string(o.selectionEvery), "--selection=range",
                       "--value-field=scalar", "--value-range=0.5,1e30"}});
-  scripts.push_back({dir + "/data_extracts.py", {every + std::to_string(o.extractEvery)}});
+  scripts.push_back(
+      {dir + "/data_extracts.py", {every + std::to_string(o.extractEvery), "--format=both"}});
   return scripts;
 }
 

@@ -359,3 +359,46 @@ def _reduce(values, operation):
     total = vtkDoubleArray()
     controller.AllReduce(local, total, getattr(vtkCommunicator, operation))
     return [total.GetValue(i) for i in range(total.GetNumberOfTuples())]
+
+
+GRID_FORMATS = ("vtkhdf", "htg", "both")
+
+
+def grid_writers(grid, values):
+    """Writers of the whole grid for a script's catalyst_execute (see write_grid),
+    by the 'format' setting: 'vtkhdf' (every step in <file_prefix>.vtkhdf, read by
+    current VTK/ParaView), 'htg' (the series <file_prefix>.pvd that ParaView 5.11
+    opens: per step a .vtm of .htg pieces) or 'both'. They write the 'fields'
+    setting's fields (all when empty). Needs load_canopy_plugin first."""
+    from paraview import servermanager
+    form = str(values.format).lower()
+    if form not in GRID_FORMATS:
+        raise ValueError("format %r: expected one of %s" % (values.format, ", ".join(GRID_FORMATS)))
+    base = os.path.join(values.output_directory, values.file_prefix)
+    fields = values.list("fields")
+    writers = []
+    if form in ("vtkhdf", "both"):
+        writers.append(servermanager.writers.CanopyHyperTreeGridHDFWriter(
+            Input=grid, FileName=base + ".vtkhdf", CellArrays=fields))
+    if form in ("htg", "both"):
+        writers.append(servermanager.writers.CanopyHyperTreeGridSeriesWriter(
+            Input=grid, FileName=base + ".pvd", CellArrays=fields))
+    return writers
+
+
+def write_grid(writers, info):
+    """Writes this step with every writer of grid_writers. Collective: each writer
+    agrees over ranks, so when any rank fails, every rank raises the same error,
+    naming each rank's problem and the step (the driver then reports the step as
+    failed on all ranks)."""
+    problems = []
+    for writer in writers:
+        writer.TimeStep = info.timestep
+        writer.TimeValue = info.time
+        writer.UpdatePipeline(info.time)
+        writer.UpdatePropertyInformation()
+        problem = writer.GetProperty("LastError").GetData()
+        if problem:
+            problems.append(problem)
+    if problems:
+        raise RuntimeError("; ".join(problems))
