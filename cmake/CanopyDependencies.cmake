@@ -43,6 +43,16 @@ _canopy_find_dependency(Boost)
 # The MPI-IO build of HDF5 (Debian: libhdf5-openmpi-dev), the one ParaView's VTK
 # links; Canopy::IO writes VTKHDF files through it from every rank.
 set(HDF5_PREFER_PARALLEL TRUE)
+# A build directory configured before Canopy wrote HDF5 caches the serial build
+# (h5cc); forget it so that the MPI-IO one is found.
+if(HDF5_C_LIBRARY_hdf5 MATCHES "/serial/")
+  get_cmake_property(_canopy_cache_variables CACHE_VARIABLES)
+  foreach(_canopy_variable IN LISTS _canopy_cache_variables)
+    if(_canopy_variable MATCHES "^HDF5_")
+      unset(${_canopy_variable} CACHE)
+    endif()
+  endforeach()
+endif()
 _canopy_find_dependency(HDF5 COMPONENTS C HL)
 _canopy_find_dependency(NetCDF)
 _canopy_find_dependency(MPI COMPONENTS C CXX)
