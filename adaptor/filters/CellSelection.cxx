@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -49,13 +50,45 @@ long rootCellAlong(const std::vector<double>& c, double x)
   return std::min(i, static_cast<long>(c.size()) - 2);
 }
 
+/// Cells already selected: a bit per cell when that is small next to the
+/// points (a hash set costs more per insertion), else a hash set.
+class SeenCells
+{
+public:
+  SeenCells(vtkIdType cells, std::size_t points)
+  {
+    const auto words = static_cast<std::size_t>(cells / 64 + 1);
+    if (words <= 64 * points + 65536)
+    {
+      Bits.assign(words, 0);
+    }
+  }
+  /// False when already there.
+  bool insert(vtkIdType global)
+  {
+    if (Bits.empty())
+    {
+      return Set.insert(global).second;
+    }
+    std::uint64_t& word = Bits[static_cast<std::size_t>(global) / 64];
+    const std::uint64_t bit = std::uint64_t(1) << (global % 64);
+    const bool fresh = (word & bit) == 0;
+    word |= bit;
+    return fresh;
+  }
+
+private:
+  std::vector<std::uint64_t> Bits;
+  std::unordered_set<vtkIdType> Set;
+};
+
 } // namespace
 
 std::vector<SelectedNode> CellSelection::byLocation(const std::vector<Vec3>& points,
                                                     SelectionReport& report) const
 {
   std::vector<SelectedNode> selected;
-  std::unordered_set<vtkIdType> seen;
+  SeenCells seen(Grid.numberOfCells(), points.size());
   const int f = Grid.branchFactor();
   for (const Vec3& p : points)
   {
@@ -95,12 +128,7 @@ std::vector<SelectedNode> CellSelection::byLocation(const std::vector<Vec3>& poi
         int digit = 0;
         for (int d = 1; d < f; ++d)
         {
-          std::array<std::int64_t, 3> probe = n.ijk;
-          probe[a] = n.ijk[a] * f + d;
-          Vec3 lo;
-          Vec3 hi;
-          Grid.nodeBounds(*tree, n.level + 1, probe, lo, hi);
-          if (lo[a] <= p[a])
+          if (Grid.nodeLower(*tree, n.level + 1, a, n.ijk[a] * f + d) <= p[a])
           {
             digit = d;
           }
@@ -117,7 +145,7 @@ std::vector<SelectedNode> CellSelection::byLocation(const std::vector<Vec3>& poi
       continue;
     }
     n.global = tree->globalIndex(n.node);
-    if (!seen.insert(n.global).second)
+    if (!seen.insert(n.global))
     {
       ++report.duplicates;
       continue;

@@ -3,6 +3,7 @@
 // (per-axis area equal to the exposed voxel faces, every quad with an occupied
 // voxel behind it and an empty one in front, closed-surface volume identity),
 // and culling must only ever remove pieces of that surface.
+#include "ConvexClip.h"
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
@@ -12,6 +13,7 @@
 
 #include <gtest/gtest.h>
 #include <vtkCamera.h>
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkHyperTreeGrid.h>
@@ -366,6 +368,91 @@ TEST(AdaptiveSurface3D, CulledSurfaceIsASubsetOfTheFullSurface)
     EXPECT_LT(front.size(), seen.size() + (seen.empty() ? 1 : 0));
   }
   EXPECT_GE(partial, 5) << "most views should cull something";
+}
+
+/// VTK's own planes of a camera's frustum (near and far moved far away): an
+/// implementation independent of the filter's separating-axis test.
+std::vector<ClipPlane> frustumPlanes(vtkCamera* camera, double aspect, double slack)
+{
+  const double distance = camera->GetDistance();
+  camera->SetClippingRange(distance / 1e9, distance * 1e9);
+  double planes[24];
+  camera->GetFrustumPlanes(aspect, planes);
+  std::vector<ClipPlane> result;
+  for (int p = 0; p < 6; ++p)
+  {
+    const double* h = planes + 4 * p;
+    const double norm = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    result.push_back({{h[0], h[1], h[2], h[3] + slack * norm}});
+  }
+  return result;
+}
+
+TEST(AdaptiveSurface3D, CulledSurfaceIsExactlyTheFullSurfaceInsideTheView)
+{
+  // A face of a visible node is drawn only if it overlaps the view with positive
+  // area: the culled surface is the full surface's faces that VTK's frustum
+  // planes clip to a positive area (general-position views: the brute force is
+  // given a slack of 1e-9 either way, and no face may fall in between).
+  for (bool withMask : {false, true})
+  {
+    DescriptorForest forest(paperCaseB(withMask));
+    auto htg = buildHyperTreeGrid(forest.description());
+    const auto fullQuads = quadsOf(fullSurface(htg));
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> unit(0, 1);
+    int culled = 0;
+    for (int v = 0; v < 20; ++v)
+    {
+      vtkNew<vtkCamera> camera;
+      camera->SetFocalPoint(4.5 * unit(random), 3 * unit(random), 1.4 * unit(random));
+      camera->SetPosition(10 * unit(random) - 3, 10 * unit(random) - 3, 6 * unit(random) - 2);
+      camera->SetViewUp(0, 0, 1);
+      camera->OrthogonalizeViewUp();
+      camera->SetParallelProjection(v % 2);
+      camera->SetParallelScale(0.2 + unit(random));
+      camera->SetViewAngle(15 + 30 * unit(random));
+      const auto seen = quadKeys(viewSurface(htg, camera, 640, 480, false));
+      const auto inner = frustumPlanes(camera, 640.0 / 480.0, -1e-9);
+      const auto outer = frustumPlanes(camera, 640.0 / 480.0, 1e-9);
+      vtkNew<vtkPolyData> expected;
+      vtkNew<vtkPoints> points;
+      vtkNew<vtkCellArray> cells;
+      vtkNew<vtkPolyData> possible;
+      vtkNew<vtkPoints> possiblePoints;
+      vtkNew<vtkCellArray> possibleCells;
+      for (const Quad& q : fullQuads)
+      {
+        const std::vector<ClipPoint> polygon(q.p.begin(), q.p.end());
+        for (int pass = 0; pass < 2; ++pass)
+        {
+          if (clippedArea(polygon, pass ? outer : inner) > 0)
+          {
+            vtkPoints* to = pass ? possiblePoints.Get() : points.Get();
+            vtkIdType ids[4];
+            for (int k = 0; k < 4; ++k)
+            {
+              ids[k] = to->InsertNextPoint(q.p[k].data());
+            }
+            (pass ? possibleCells : cells)->InsertNextCell(4, ids);
+          }
+        }
+      }
+      expected->SetPoints(points);
+      expected->SetPolys(cells);
+      possible->SetPoints(possiblePoints);
+      possible->SetPolys(possibleCells);
+      const auto surely = quadKeys(expected);
+      const auto maybe = quadKeys(possible);
+      EXPECT_TRUE(std::includes(seen.begin(), seen.end(), surely.begin(), surely.end()))
+          << "view " << v << ": a face inside the view is missing";
+      EXPECT_TRUE(std::includes(maybe.begin(), maybe.end(), seen.begin(), seen.end()))
+          << "view " << v << ": a face outside the view is drawn";
+      EXPECT_EQ(surely.size(), maybe.size()) << "view " << v << ": not in general position";
+      culled += seen.size() < fullQuads.size();
+    }
+    EXPECT_GE(culled, 10);
+  }
 }
 
 TEST(AdaptiveSurface3D, SkippedBackFacesFaceAwayFromTheCamera)
