@@ -12,6 +12,7 @@
 #include "vtkCanopyAdaptiveSurface.h"
 
 #include <gtest/gtest.h>
+#include <vtkBitArray.h>
 #include <vtkCamera.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -322,6 +323,47 @@ vtkSmartPointer<vtkPolyData> viewSurface(vtkHyperTreeGrid* htg, vtkCamera* camer
   filter->SetSkipBackFaces(backFaces);
   filter->Update();
   return filter->GetPolyDataOutput();
+}
+
+TEST(AdaptiveSurface3D, KeptTopologyFollowsMaskAndGridChanges)
+{
+  // The filter keeps what it reads of the topology between executions (keyed by
+  // the grid's, the mask's and the trees' state): after a change of the mask in
+  // place, or a new grid, its output must equal a fresh filter's.
+  DescriptorForest forest(paperCaseB(true));
+  auto htg = buildHyperTreeGrid(forest.description());
+  vtkNew<vtkCamera> camera;
+  camera->SetFocalPoint(2.25, 1.5, 0.7);
+  camera->SetPosition(2.25 + 6, 1.5 - 7, 0.7 + 5);
+  camera->SetViewUp(0, 0, 1);
+  vtkNew<vtkCanopyAdaptiveSurface> kept;
+  kept->SetInputData(htg);
+  kept->SetCamera(camera);
+  kept->SetViewportSize(800, 600);
+  kept->SetLevelOfDetail(false);
+  kept->Update();
+  EXPECT_EQ(quadKeys(kept->GetPolyDataOutput()),
+            quadKeys(viewSurface(htg, camera, 800, 600, false)));
+  // Unmask every cell, in place.
+  vtkBitArray* mask = htg->GetMask();
+  ASSERT_NE(mask, nullptr);
+  for (vtkIdType i = 0; i < mask->GetNumberOfValues(); ++i)
+  {
+    mask->SetValue(i, 0);
+  }
+  mask->Modified();
+  htg->Modified();
+  kept->Update();
+  const auto unmasked = quadKeys(kept->GetPolyDataOutput());
+  EXPECT_EQ(unmasked, quadKeys(viewSurface(htg, camera, 800, 600, false)));
+  EXPECT_EQ(unmasked, quadKeys(fullSurface(htg))); // the whole box is in this view
+  // A different grid.
+  DescriptorForest plain(paperCaseB(false));
+  auto other = buildHyperTreeGrid(plain.description());
+  kept->SetInputData(other);
+  kept->Update();
+  EXPECT_EQ(quadKeys(kept->GetPolyDataOutput()),
+            quadKeys(viewSurface(other, camera, 800, 600, false)));
 }
 
 TEST(AdaptiveSurface3D, WholeGridInViewEqualsTheFullSurface)
