@@ -1,6 +1,7 @@
 #include "AdaptiveSurfaceBuilder.h"
 
 #include "GridSection.h"
+#include "TreeTraversal.h"
 
 #include <vtkSMPTools.h>
 
@@ -18,14 +19,9 @@ namespace
 
 using Index3 = std::array<std::int64_t, 3>;
 
-/// Integer position of a node inside its tree, at its level, and its box.
-struct NodeFrame
-{
-  vtkIdType node;
-  int level;
-  Index3 ijk;          ///< along each axis, in [0, f^level)
-  bool inside = false; ///< 3D: strictly inside the view volume (so are its descendants)
-};
+/// A node of the walk; its inherited bit: strictly inside the view volume (3D),
+/// and so are its descendants and faces.
+using NodeFrame = WalkNode;
 
 /// Lower corner and upper corner of a node.
 void nodeBox(const HyperTreeAccess& grid, const TreeAccess& tree, const NodeFrame& n, Vec3& lo,
@@ -139,84 +135,79 @@ struct TreeWalk
     }
   }
 
+  /// The shared walk (TreeTraversal.h); its inherited bit is "inside the view".
   void walk()
   {
-    std::vector<NodeFrame> stack{{0, 0, {{0, 0, 0}}, false}};
     Vec3 lo{{0, 0, 0}};
     Vec3 hi{{0, 0, 0}};
     const bool solid3D = grid.dimension() == 3;
-    while (!stack.empty())
+    walkTree(grid, tree, [&](NodeFrame& n) { return enter(n, solid3D, lo, hi); });
+  }
+
+  WalkStep enter(NodeFrame& n, bool solid3D, Vec3& lo, Vec3& hi)
+  {
+    // The global index costs a virtual call for explicit indices: only when needed.
+    vtkIdType global = -1;
+    if (grid.hasMask())
     {
-      NodeFrame n = stack.back();
-      stack.pop_back();
-      // The global index costs a virtual call for explicit indices: only when needed.
-      vtkIdType global = -1;
-      if (grid.hasMask())
+      global = tree.globalIndex(n.node);
+      if (grid.isMasked(global))
       {
-        global = tree.globalIndex(n.node);
-        if (grid.isMasked(global))
-        {
-          continue;
-        }
-      }
-      // 3D: a node none of whose faces, nor any inside it, can be exposed draws
-      // nothing, whether descent stops there or not (a topology fact, memoized).
-      if (solid3D && !mayExpose(n))
-      {
-        continue;
-      }
-      // The box is needed to cull and to emit, not to count a full surface.
-      bool haveBox = false;
-      if (options.view)
-      {
-        nodeBox(grid, tree, n, lo, hi);
-        haveBox = true;
-        if (!visible(lo, hi, n.inside))
-        {
-          continue;
-        }
-      }
-      // A node with absent descendants is never drawn whole: other ranks draw
-      // their parts of it, so every pixel keeps exactly one owner.
-      const bool stop =
-          tree.isLeaf(n.node) || (haveBox && lodStops(lo, hi) && !tree.hasAbsentDescendant(n.node));
-      if (stop)
-      {
-        if (!out.counting || out.keep)
-        {
-          if (global < 0)
-          {
-            global = tree.globalIndex(n.node);
-          }
-          if (!haveBox)
-          {
-            nodeBox(grid, tree, n, lo, hi);
-          }
-        }
-        if (grid.dimension() == 1)
-        {
-          const int u = grid.activeAxes()[0];
-          std::array<Vec3, 2> segment{{lo, lo}};
-          segment[1][u] = hi[u];
-          emitCell(out, segment, global, n.level);
-        }
-        else if (grid.dimension() == 2)
-        {
-          emitPlaneQuad(lo, hi, global, n.level);
-        }
-        else
-        {
-          emitExposedFaces(n, lo, hi, global);
-        }
-        continue;
-      }
-      const vtkIdType first = tree.firstChild(n.node);
-      // Push in reverse so children are visited in order (deterministic output).
-      for (int c = grid.childrenPerNode(); c-- > 0;)
-      {
-        stack.push_back({first + c, n.level + 1, childIndex(n, c, grid), n.inside});
+        return WalkStep::Skip;
       }
     }
+    // 3D: a node none of whose faces, nor any inside it, can be exposed draws
+    // nothing, whether descent stops there or not (a topology fact, memoized).
+    if (solid3D && !mayExpose(n))
+    {
+      return WalkStep::Skip;
+    }
+    // The box is needed to cull and to emit, not to count a full surface.
+    bool haveBox = false;
+    if (options.view)
+    {
+      nodeBox(grid, tree, n, lo, hi);
+      haveBox = true;
+      if (!visible(lo, hi, n.inherited))
+      {
+        return WalkStep::Skip;
+      }
+    }
+    // A node with absent descendants is never drawn whole: other ranks draw
+    // their parts of it, so every pixel keeps exactly one owner.
+    const bool stop =
+        tree.isLeaf(n.node) || (haveBox && lodStops(lo, hi) && !tree.hasAbsentDescendant(n.node));
+    if (stop)
+    {
+      if (!out.counting || out.keep)
+      {
+        if (global < 0)
+        {
+          global = tree.globalIndex(n.node);
+        }
+        if (!haveBox)
+        {
+          nodeBox(grid, tree, n, lo, hi);
+        }
+      }
+      if (grid.dimension() == 1)
+      {
+        const int u = grid.activeAxes()[0];
+        std::array<Vec3, 2> segment{{lo, lo}};
+        segment[1][u] = hi[u];
+        emitCell(out, segment, global, n.level);
+      }
+      else if (grid.dimension() == 2)
+      {
+        emitPlaneQuad(lo, hi, global, n.level);
+      }
+      else
+      {
+        emitExposedFaces(n, lo, hi, global);
+      }
+      return WalkStep::Skip;
+    }
+    return WalkStep::Descend;
   }
 
   bool mayExpose(const NodeFrame& n) const
@@ -411,13 +402,13 @@ struct TreeWalk
         }
         if (state == 2)
         {
-          emitFace(axis, side, lo, hi, lo, hi, global, n.level, n.inside);
+          emitFace(axis, side, lo, hi, lo, hi, global, n.level, n.inherited);
         }
         else if (state == 3)
         {
           // Same-level neighbour, unmasked: exposed where its descendants touching
           // the face are masked.
-          emitExposedParts(*neighbour, m, axis, side, lo, hi, global, n.level, n.inside);
+          emitExposedParts(*neighbour, m, axis, side, lo, hi, global, n.level, n.inherited);
         }
       }
     }

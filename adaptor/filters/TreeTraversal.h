@@ -21,7 +21,7 @@ struct WalkNode
   vtkIdType node;
   int level;
   std::array<std::int64_t, 3> ijk;
-  bool inherited;
+  bool inherited = false;
 };
 
 enum class WalkStep
