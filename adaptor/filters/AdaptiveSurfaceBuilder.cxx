@@ -1,12 +1,15 @@
 #include "AdaptiveSurfaceBuilder.h"
 
 #include "GridSection.h"
+#include "TreeTraversal.h"
 
 #include <vtkSMPTools.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 
 namespace canopy
 {
@@ -16,13 +19,9 @@ namespace
 
 using Index3 = std::array<std::int64_t, 3>;
 
-/// Integer position of a node inside its tree, at its level, and its box.
-struct NodeFrame
-{
-  vtkIdType node;
-  int level;
-  Index3 ijk; ///< along each axis, in [0, f^level)
-};
+/// A node of the walk; its inherited bit: strictly inside the view volume (3D),
+/// and so are its descendants and faces.
+using NodeFrame = WalkNode;
 
 /// Lower corner and upper corner of a node.
 void nodeBox(const HyperTreeAccess& grid, const TreeAccess& tree, const NodeFrame& n, Vec3& lo,
@@ -59,6 +58,10 @@ struct CellSink
   SurfaceArrays arrays{nullptr, nullptr, nullptr};
   std::size_t next = 0;
   bool counting = true;
+  std::size_t limit = 0; ///< writing: cells the buffer holds (never written past)
+  /// Counting into a tree's own buffer (3D: the output is small next to the
+  /// walk, so it is walked once and copied, not walked twice).
+  TreeCells* keep = nullptr;
 };
 
 /// A cell of N points (4: a quad; 2: a segment of a 1D grid). One grid's cells
@@ -66,7 +69,16 @@ struct CellSink
 template <std::size_t N>
 void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level)
 {
-  if (!out.counting)
+  if (out.keep)
+  {
+    for (const Vec3& c : corners)
+    {
+      out.keep->points.insert(out.keep->points.end(), c.begin(), c.end());
+    }
+    out.keep->cellIds.push_back(cellId);
+    out.keep->levels.push_back(static_cast<unsigned char>(level));
+  }
+  else if (!out.counting && out.next < out.limit)
   {
     double* p = out.arrays.points + 3 * N * out.next;
     for (const Vec3& c : corners)
@@ -99,9 +111,11 @@ struct TreeWalk
     return options.view->footprintInPixels(boxCorners(lo, hi)) <= options.pixelThreshold;
   }
 
-  bool visible(const Vec3& lo, const Vec3& hi) const
+  /// `inside`: set when the whole box is inside the view (3D; then neither it
+  /// nor its descendants or faces need another test).
+  bool visible(const Vec3& lo, const Vec3& hi, bool& inside) const
   {
-    if (!options.view || !options.cullOutsideView)
+    if (!options.view || !options.cullOutsideView || inside)
     {
       return true;
     }
@@ -109,84 +123,106 @@ struct TreeWalk
     {
       return region->overlaps(lo, hi);
     }
-    return options.view->overlapsBox(lo, hi);
+    switch (options.view->classifyBox(lo, hi))
+    {
+    case ViewVolume::BoxSide::Outside:
+      return false;
+    case ViewVolume::BoxSide::Inside:
+      inside = true;
+      return true;
+    default:
+      return options.view->overlapsBox(lo, hi);
+    }
   }
 
+  /// The shared walk (TreeTraversal.h); its inherited bit is "inside the view".
   void walk()
   {
-    std::vector<NodeFrame> stack{{0, 0, {{0, 0, 0}}}};
     Vec3 lo{{0, 0, 0}};
     Vec3 hi{{0, 0, 0}};
-    while (!stack.empty())
+    const bool solid3D = grid.dimension() == 3;
+    walkTree(grid, tree, [&](NodeFrame& n) { return enter(n, solid3D, lo, hi); });
+  }
+
+  WalkStep enter(NodeFrame& n, bool solid3D, Vec3& lo, Vec3& hi)
+  {
+    // The global index costs a virtual call for explicit indices: only when needed.
+    vtkIdType global = -1;
+    if (grid.hasMask())
     {
-      const NodeFrame n = stack.back();
-      stack.pop_back();
-      // The global index costs a virtual call for explicit indices: only when needed.
-      vtkIdType global = -1;
-      if (grid.hasMask())
+      global = tree.globalIndex(n.node);
+      if (grid.isMasked(global))
       {
-        global = tree.globalIndex(n.node);
-        if (grid.isMasked(global))
-        {
-          continue;
-        }
-      }
-      // The box is needed to cull and to emit, not to count a full surface.
-      bool haveBox = false;
-      if (options.view)
-      {
-        nodeBox(grid, tree, n, lo, hi);
-        haveBox = true;
-        if (!visible(lo, hi))
-        {
-          continue;
-        }
-      }
-      // A node with absent descendants is never drawn whole: other ranks draw
-      // their parts of it, so every pixel keeps exactly one owner.
-      const bool stop =
-          tree.isLeaf(n.node) || (haveBox && lodStops(lo, hi) && !tree.hasAbsentDescendant(n.node));
-      if (!stop && grid.dimension() == 3 && !mayExposeInside(n))
-      {
-        continue; // a solid subtree surrounded by solid neighbours: nothing exposed
-      }
-      if (stop)
-      {
-        if (!out.counting)
-        {
-          if (global < 0)
-          {
-            global = tree.globalIndex(n.node);
-          }
-          if (!haveBox)
-          {
-            nodeBox(grid, tree, n, lo, hi);
-          }
-        }
-        if (grid.dimension() == 1)
-        {
-          const int u = grid.activeAxes()[0];
-          std::array<Vec3, 2> segment{{lo, lo}};
-          segment[1][u] = hi[u];
-          emitCell(out, segment, global, n.level);
-        }
-        else if (grid.dimension() == 2)
-        {
-          emitPlaneQuad(lo, hi, global, n.level);
-        }
-        else
-        {
-          emitExposedFaces(n, lo, hi, global);
-        }
-        continue;
-      }
-      const vtkIdType first = tree.firstChild(n.node);
-      // Push in reverse so children are visited in order (deterministic output).
-      for (int c = grid.childrenPerNode(); c-- > 0;)
-      {
-        stack.push_back({first + c, n.level + 1, childIndex(n, c, grid)});
+        return WalkStep::Skip;
       }
     }
+    // 3D: a node none of whose faces, nor any inside it, can be exposed draws
+    // nothing, whether descent stops there or not (a topology fact, memoized).
+    if (solid3D && !mayExpose(n))
+    {
+      return WalkStep::Skip;
+    }
+    // The box is needed to cull and to emit, not to count a full surface.
+    bool haveBox = false;
+    if (options.view)
+    {
+      nodeBox(grid, tree, n, lo, hi);
+      haveBox = true;
+      if (!visible(lo, hi, n.inherited))
+      {
+        return WalkStep::Skip;
+      }
+    }
+    // A node with absent descendants is never drawn whole: other ranks draw
+    // their parts of it, so every pixel keeps exactly one owner.
+    const bool stop =
+        tree.isLeaf(n.node) || (haveBox && lodStops(lo, hi) && !tree.hasAbsentDescendant(n.node));
+    if (stop)
+    {
+      if (!out.counting || out.keep)
+      {
+        if (global < 0)
+        {
+          global = tree.globalIndex(n.node);
+        }
+        if (!haveBox)
+        {
+          nodeBox(grid, tree, n, lo, hi);
+        }
+      }
+      if (grid.dimension() == 1)
+      {
+        const int u = grid.activeAxes()[0];
+        std::array<Vec3, 2> segment{{lo, lo}};
+        segment[1][u] = hi[u];
+        emitCell(out, segment, global, n.level);
+      }
+      else if (grid.dimension() == 2)
+      {
+        emitPlaneQuad(lo, hi, global, n.level);
+      }
+      else
+      {
+        emitExposedFaces(n, lo, hi, global);
+      }
+      return WalkStep::Skip;
+    }
+    return WalkStep::Descend;
+  }
+
+  bool mayExpose(const NodeFrame& n) const
+  {
+    auto& memo = tree.exposeMemo;
+    if (memo.empty())
+    {
+      memo.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
+    }
+    unsigned char& known = memo[static_cast<std::size_t>(n.node)];
+    if (known == 0)
+    {
+      known = mayExposeInside(n) ? 2 : 1;
+    }
+    return known == 2;
   }
 
   void emitPlaneQuad(const Vec3& lo, const Vec3& hi, vtkIdType global, int level)
@@ -205,7 +241,7 @@ struct TreeWalk
   /// Face of [lo, hi] normal to `axis` on side `side` (0 low, 1 high), restricted
   /// on the two other axes to [plo, phi], outward-oriented.
   void emitFace(int axis, int side, const Vec3& lo, const Vec3& hi, const Vec3& plo,
-                const Vec3& phi, vtkIdType global, int level)
+                const Vec3& phi, vtkIdType global, int level, bool inside)
   {
     const int b = (axis + 1) % 3;
     const int c = (axis + 2) % 3;
@@ -226,6 +262,18 @@ struct TreeWalk
         facing = normal[axis] * (x - e[axis]);
       }
       if (facing >= 0)
+      {
+        return;
+      }
+    }
+    if (options.view && options.cullOutsideView && !inside)
+    {
+      // A visible node's face can still lie outside the view: a face with no
+      // area inside the view volume is not drawn.
+      Vec3 flo = plo;
+      Vec3 fhi = phi;
+      flo[axis] = fhi[axis] = x;
+      if (!options.view->overlapsBox(flo, fhi))
       {
         return;
       }
@@ -285,62 +333,82 @@ struct TreeWalk
     return {t.firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
   }
 
+  /// What lies across one face of n, a topology fact: 1 nothing to draw (a
+  /// covering or another rank's region), 2 the whole face is drawn (masked, or
+  /// the grid's boundary), 3 a same-level unmasked neighbour `m` in `neighbour`
+  /// with masked descendants (parts of the face may show).
+  int faceState(const NodeFrame& n, int axis, int side, const TreeAccess*& neighbour,
+                NodeFrame& m) const
+  {
+    // The same-level position across the face, possibly in the next tree.
+    // Another rank's part (an absent cell, or a tree elsewhere) is solid:
+    // faces between ranks are inside the domain and never drawn.
+    Index3 across;
+    bool elsewhere = false;
+    neighbour = neighbourAcross(n, axis, side, across, elsewhere);
+    if (!neighbour)
+    {
+      return elsewhere ? 1 : 2;
+    }
+    // Descend the neighbour tree towards `across` at level n.level.
+    m = NodeFrame{0, 0, {{0, 0, 0}}};
+    while (true)
+    {
+      if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
+      {
+        return grid.isAbsent(neighbour->globalIndex(m.node)) ? 1 : 2;
+      }
+      if (m.level == n.level)
+      {
+        // Parts of the face show only where masked descendants of m touch it.
+        return neighbour->isLeaf(m.node) || !neighbour->hasMaskedDescendant(m.node) ? 1 : 3;
+      }
+      if (neighbour->isLeaf(m.node))
+      {
+        return 1;
+      }
+      // Level of detail is checked at n's level (in emitExposedParts), not on
+      // the coarser nodes of the path: projecting each costs more than it saves.
+      m = childToward(*neighbour, m, n.level, across);
+    }
+  }
+
   /// For each of the six faces of a node where descent stopped: the parts not
   /// covered by unmasked (or solid-by-level-of-detail) nodes on the other side.
   void emitExposedFaces(const NodeFrame& n, const Vec3& lo, const Vec3& hi, vtkIdType global)
   {
+    auto& memo = tree.faceMemo;
+    if (memo.empty())
+    {
+      memo.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
+    }
+    std::uint16_t& known = memo[static_cast<std::size_t>(n.node)];
     for (int axis = 0; axis < 3; ++axis)
     {
       for (int side = 0; side < 2; ++side)
       {
-        // The same-level position across the face, possibly in the next tree.
-        // Another rank's part (an absent cell, or a tree elsewhere) is solid:
-        // faces between ranks are inside the domain and never drawn.
-        Index3 across;
-        bool elsewhere = false;
-        const TreeAccess* neighbour = neighbourAcross(n, axis, side, across, elsewhere);
-        if (!neighbour)
-        {
-          if (!elsewhere)
-          {
-            emitFace(axis, side, lo, hi, lo, hi, global, n.level);
-          }
-          continue;
-        }
-        // Descend the neighbour tree towards `across` at level n.level.
+        const int shift = 2 * (2 * axis + side);
+        int state = (known >> shift) & 3;
+        const TreeAccess* neighbour = nullptr;
         NodeFrame m{0, 0, {{0, 0, 0}}};
-        bool covered = false;
-        bool exposed = false;
-        while (true)
+        if (state == 0)
         {
-          if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
-          {
-            exposed = !grid.isAbsent(neighbour->globalIndex(m.node));
-            covered = !exposed;
-            break;
-          }
-          if (m.level == n.level)
-          {
-            break;
-          }
-          if (neighbour->isLeaf(m.node))
-          {
-            covered = true;
-            break;
-          }
-          // Level of detail is checked at n's level (in emitExposedParts), not on
-          // the coarser nodes of the path: projecting each costs more than it saves.
-          m = childToward(*neighbour, m, n.level, across);
+          state = faceState(n, axis, side, neighbour, m);
+          known = static_cast<std::uint16_t>(known | (state << shift));
         }
-        if (exposed)
+        else if (state == 3)
         {
-          emitFace(axis, side, lo, hi, lo, hi, global, n.level);
+          faceState(n, axis, side, neighbour, m); // the neighbour itself
         }
-        else if (!covered)
+        if (state == 2)
+        {
+          emitFace(axis, side, lo, hi, lo, hi, global, n.level, n.inherited);
+        }
+        else if (state == 3)
         {
           // Same-level neighbour, unmasked: exposed where its descendants touching
           // the face are masked.
-          emitExposedParts(*neighbour, m, axis, side, lo, hi, global, n.level);
+          emitExposedParts(*neighbour, m, axis, side, lo, hi, global, n.level, n.inherited);
         }
       }
     }
@@ -406,9 +474,9 @@ struct TreeWalk
 
   /// m: an unmasked node across the face of our node (same level or finer).
   void emitExposedParts(const TreeAccess& t, const NodeFrame& m, int axis, int side, const Vec3& lo,
-                        const Vec3& hi, vtkIdType global, int level)
+                        const Vec3& hi, vtkIdType global, int level, bool inside)
   {
-    if (t.isLeaf(m.node) || lodStops(t, m))
+    if (t.isLeaf(m.node) || !t.hasMaskedDescendant(m.node) || lodStops(t, m))
     {
       return; // covered
     }
@@ -441,10 +509,10 @@ struct TreeWalk
         Vec3 clo;
         Vec3 chi;
         nodeBox(grid, t, child, clo, chi);
-        emitFace(axis, side, lo, hi, clo, chi, global, level);
+        emitFace(axis, side, lo, hi, clo, chi, global, level, inside);
         continue;
       }
-      emitExposedParts(t, child, axis, side, lo, hi, global, level);
+      emitExposedParts(t, child, axis, side, lo, hi, global, level, inside);
     }
   }
 };
@@ -468,18 +536,36 @@ std::size_t AdaptiveSurfaceBuilder::count()
 {
   const auto& trees = Grid.trees();
   std::vector<std::size_t> counts(trees.size(), 0);
-  vtkSMPTools::For(
-      0, static_cast<vtkIdType>(trees.size()),
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        for (vtkIdType t = begin; t < end; ++t)
+  // A full 1D/2D surface has one cell per visible leaf: a kept access knows how
+  // many per tree, so one walk (the writing one) suffices.
+  const bool full = !Options.view || (!Options.cullOutsideView && !Options.levelOfDetail);
+  const bool known = std::all_of(trees.begin(), trees.end(),
+                                 [](const TreeAccess& t) { return t.visibleLeaves >= 0; });
+  if (full && known && Grid.dimension() < 3)
+  {
+    std::transform(trees.begin(), trees.end(), counts.begin(),
+                   [](const TreeAccess& t) { return static_cast<std::size_t>(t.visibleLeaves); });
+  }
+  else
+  {
+    if (Grid.dimension() == 3)
+    {
+      Kept.assign(trees.size(), TreeCells());
+    }
+    vtkSMPTools::For(
+        0, static_cast<vtkIdType>(trees.size()),
+        [&](vtkIdType begin, vtkIdType end)
         {
-          CellSink sink;
-          TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
-          walk.walk();
-          counts[static_cast<std::size_t>(t)] = sink.next;
-        }
-      });
+          for (vtkIdType t = begin; t < end; ++t)
+          {
+            CellSink sink;
+            sink.keep = Kept.empty() ? nullptr : &Kept[static_cast<std::size_t>(t)];
+            TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
+            walk.walk();
+            counts[static_cast<std::size_t>(t)] = sink.next;
+          }
+        });
+  }
   // Trees write at prefix-sum offsets: the output order is the tree order, the
   // same for any number of threads.
   Offsets.assign(trees.size() + 1, 0);
@@ -493,6 +579,26 @@ std::size_t AdaptiveSurfaceBuilder::count()
 void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
 {
   const auto& trees = Grid.trees();
+  const std::size_t perCell = pointsPerCell();
+  if (!Kept.empty())
+  {
+    vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
+                     [&](vtkIdType begin, vtkIdType end)
+                     {
+                       for (vtkIdType t = begin; t < end; ++t)
+                       {
+                         const TreeCells& cells = Kept[static_cast<std::size_t>(t)];
+                         const std::size_t first = Offsets[static_cast<std::size_t>(t)];
+                         std::copy(cells.points.begin(), cells.points.end(),
+                                   arrays.points + 3 * perCell * first);
+                         std::copy(cells.cellIds.begin(), cells.cellIds.end(),
+                                   arrays.cellIds + first);
+                         std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
+                       }
+                     });
+    return;
+  }
+  std::atomic<bool> mismatch{false};
   vtkSMPTools::For(
       0, static_cast<vtkIdType>(trees.size()),
       [&](vtkIdType begin, vtkIdType end)
@@ -502,12 +608,21 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
           const std::size_t first = Offsets[static_cast<std::size_t>(t)];
           CellSink sink;
           sink.counting = false;
+          sink.limit = Offsets[static_cast<std::size_t>(t) + 1] - first;
           sink.arrays = {arrays.points + 3 * pointsPerCell() * first, arrays.cellIds + first,
                          arrays.levels + first};
           TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
           walk.walk();
+          if (sink.next != Offsets[static_cast<std::size_t>(t) + 1] - first)
+          {
+            mismatch = true; // never expected: counts come from the same topology
+          }
         }
       });
+  if (mismatch)
+  {
+    throw std::logic_error("the surface's cell count changed between counting and writing");
+  }
 }
 
 } // namespace canopy

@@ -55,8 +55,19 @@ struct SurfaceArrays
 
 /// Two passes over the trees (in parallel with vtkSMPTools): count, then write
 /// each tree's cells at its offset. The output is allocated once, in its final
-/// place; its order is the tree order for any number of threads.
+/// place; its order is the tree order for any number of threads. A full 1D/2D
+/// surface of a kept access is not counted (the access knows its leaves); a 3D
+/// surface is walked once, its cells kept per tree and copied.
 class GridSection;
+
+/// One tree's cells, kept by the counting pass when it is cheaper to copy them
+/// than to walk the tree again (3D).
+struct TreeCells
+{
+  std::vector<double> points;
+  std::vector<vtkIdType> cellIds;
+  std::vector<unsigned char> levels;
+};
 
 class AdaptiveSurfaceBuilder
 {
@@ -77,6 +88,7 @@ private:
   SurfaceOptions Options;
   std::unique_ptr<GridSection> Region; ///< 1D/2D culling region, built once for both passes
   std::vector<std::size_t> Offsets;
+  std::vector<TreeCells> Kept; ///< per tree, when the counting pass kept the cells
 };
 
 } // namespace canopy

@@ -2,11 +2,13 @@
 
 #include "ClippedPolytope.h"
 #include "GridSection.h"
+#include "TreeTraversal.h"
 
 #include <vtkDataArray.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -49,13 +51,45 @@ long rootCellAlong(const std::vector<double>& c, double x)
   return std::min(i, static_cast<long>(c.size()) - 2);
 }
 
+/// Cells already selected: a bit per cell when that is small next to the
+/// points (a hash set costs more per insertion), else a hash set.
+class SeenCells
+{
+public:
+  SeenCells(vtkIdType cells, std::size_t points)
+  {
+    const auto words = static_cast<std::size_t>(cells / 64 + 1);
+    if (words <= 64 * points + 65536)
+    {
+      Bits.assign(words, 0);
+    }
+  }
+  /// False when already there.
+  bool insert(vtkIdType global)
+  {
+    if (Bits.empty())
+    {
+      return Set.insert(global).second;
+    }
+    std::uint64_t& word = Bits[static_cast<std::size_t>(global) / 64];
+    const std::uint64_t bit = std::uint64_t(1) << (global % 64);
+    const bool fresh = (word & bit) == 0;
+    word |= bit;
+    return fresh;
+  }
+
+private:
+  std::vector<std::uint64_t> Bits;
+  std::unordered_set<vtkIdType> Set;
+};
+
 } // namespace
 
 std::vector<SelectedNode> CellSelection::byLocation(const std::vector<Vec3>& points,
                                                     SelectionReport& report) const
 {
   std::vector<SelectedNode> selected;
-  std::unordered_set<vtkIdType> seen;
+  SeenCells seen(Grid.numberOfCells(), points.size());
   const int f = Grid.branchFactor();
   for (const Vec3& p : points)
   {
@@ -95,12 +129,7 @@ std::vector<SelectedNode> CellSelection::byLocation(const std::vector<Vec3>& poi
         int digit = 0;
         for (int d = 1; d < f; ++d)
         {
-          std::array<std::int64_t, 3> probe = n.ijk;
-          probe[a] = n.ijk[a] * f + d;
-          Vec3 lo;
-          Vec3 hi;
-          Grid.nodeBounds(*tree, n.level + 1, probe, lo, hi);
-          if (lo[a] <= p[a])
+          if (Grid.nodeLower(*tree, n.level + 1, a, n.ijk[a] * f + d) <= p[a])
           {
             digit = d;
           }
@@ -117,7 +146,7 @@ std::vector<SelectedNode> CellSelection::byLocation(const std::vector<Vec3>& poi
       continue;
     }
     n.global = tree->globalIndex(n.node);
-    if (!seen.insert(n.global).second)
+    if (!seen.insert(n.global))
     {
       ++report.duplicates;
       continue;
@@ -147,45 +176,38 @@ std::vector<SelectedNode> CellSelection::byId(const std::vector<vtkIdType>& ids,
   {
     return selected;
   }
-  // One traversal of all trees for all ids; output in tree order.
+  // One traversal of all trees for all ids; output in tree order. The walk's
+  // inherited bit says that an ancestor is hidden.
   std::size_t found = 0;
   for (const TreeAccess& tree : Grid.trees())
   {
-    struct Frame
+    const bool allFound =
+        !walkTree(Grid, tree,
+                  [&](WalkNode& n)
+                  {
+                    if (found >= wanted.size())
+                    {
+                      return WalkStep::Stop;
+                    }
+                    const vtkIdType global = tree.globalIndex(n.node);
+                    n.inherited = n.inherited || hidden(tree, n.node);
+                    if (wanted.count(global))
+                    {
+                      ++found;
+                      if (n.inherited)
+                      {
+                        ++report.masked;
+                      }
+                      else
+                      {
+                        selected.push_back({&tree, n.node, global, n.level, n.ijk});
+                      }
+                    }
+                    return WalkStep::Descend;
+                  });
+    if (allFound)
     {
-      vtkIdType node;
-      int level;
-      std::array<std::int64_t, 3> ijk;
-      bool hidden;
-    };
-    std::vector<Frame> stack{{0, 0, {{0, 0, 0}}, false}};
-    while (!stack.empty() && found < wanted.size())
-    {
-      const Frame n = stack.back();
-      stack.pop_back();
-      const vtkIdType global = tree.globalIndex(n.node);
-      const bool isHidden = n.hidden || hidden(tree, n.node);
-      if (wanted.count(global))
-      {
-        ++found;
-        if (isHidden)
-        {
-          ++report.masked;
-        }
-        else
-        {
-          selected.push_back({&tree, n.node, global, n.level, n.ijk});
-        }
-      }
-      if (tree.isLeaf(n.node))
-      {
-        continue;
-      }
-      const vtkIdType first = tree.firstChild(n.node);
-      for (int c = Grid.childrenPerNode(); c-- > 0;)
-      {
-        stack.push_back({first + c, n.level + 1, Grid.childPosition(n.ijk, c), isHidden});
-      }
+      break;
     }
   }
   return selected;
@@ -198,50 +220,38 @@ std::vector<SelectedNode> CellSelection::byValue(vtkDataArray* values, int compo
   const int nc = values->GetNumberOfComponents();
   for (const TreeAccess& tree : Grid.trees())
   {
-    struct Frame
-    {
-      vtkIdType node;
-      int level;
-      std::array<std::int64_t, 3> ijk;
-    };
-    std::vector<Frame> stack{{0, 0, {{0, 0, 0}}}};
-    while (!stack.empty())
-    {
-      const Frame n = stack.back();
-      stack.pop_back();
-      if (hidden(tree, n.node))
-      {
-        continue;
-      }
-      if (tree.isLeaf(n.node))
-      {
-        const vtkIdType global = tree.globalIndex(n.node);
-        double v = 0;
-        if (component >= 0)
-        {
-          v = values->GetComponent(global, component);
-        }
-        else
-        {
-          for (int c = 0; c < nc; ++c)
-          {
-            const double x = values->GetComponent(global, c);
-            v += x * x;
-          }
-          v = std::sqrt(v);
-        }
-        if (v >= low && v <= high) // false for NaN
-        {
-          selected.push_back({&tree, n.node, global, n.level, n.ijk});
-        }
-        continue;
-      }
-      const vtkIdType first = tree.firstChild(n.node);
-      for (int c = Grid.childrenPerNode(); c-- > 0;)
-      {
-        stack.push_back({first + c, n.level + 1, Grid.childPosition(n.ijk, c)});
-      }
-    }
+    walkTree(Grid, tree,
+             [&](WalkNode& n)
+             {
+               if (hidden(tree, n.node))
+               {
+                 return WalkStep::Skip;
+               }
+               if (!tree.isLeaf(n.node))
+               {
+                 return WalkStep::Descend;
+               }
+               const vtkIdType global = tree.globalIndex(n.node);
+               double v = 0;
+               if (component >= 0)
+               {
+                 v = values->GetComponent(global, component);
+               }
+               else
+               {
+                 for (int c = 0; c < nc; ++c)
+                 {
+                   const double x = values->GetComponent(global, c);
+                   v += x * x;
+                 }
+                 v = std::sqrt(v);
+               }
+               if (v >= low && v <= high) // false for NaN
+               {
+                 selected.push_back({&tree, n.node, global, n.level, n.ijk});
+               }
+               return WalkStep::Skip;
+             });
   }
   return selected;
 }
@@ -255,38 +265,25 @@ std::vector<SelectedNode> CellSelection::byRegion(const Overlaps& overlaps,
   Vec3 hi;
   for (const TreeAccess& tree : Grid.trees())
   {
-    struct Frame
-    {
-      vtkIdType node;
-      int level;
-      std::array<std::int64_t, 3> ijk;
-    };
-    std::vector<Frame> stack{{0, 0, {{0, 0, 0}}}};
-    while (!stack.empty())
-    {
-      const Frame n = stack.back();
-      stack.pop_back();
-      ++report.visited;
-      if (hidden(tree, n.node))
-      {
-        continue;
-      }
-      Grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
-      if (!overlaps(lo, hi))
-      {
-        continue; // nothing below can overlap: children lie inside their parent
-      }
-      if (tree.isLeaf(n.node))
-      {
-        selected.push_back({&tree, n.node, tree.globalIndex(n.node), n.level, n.ijk});
-        continue;
-      }
-      const vtkIdType first = tree.firstChild(n.node);
-      for (int c = Grid.childrenPerNode(); c-- > 0;)
-      {
-        stack.push_back({first + c, n.level + 1, Grid.childPosition(n.ijk, c)});
-      }
-    }
+    walkTree(Grid, tree,
+             [&](WalkNode& n)
+             {
+               ++report.visited;
+               if (hidden(tree, n.node))
+               {
+                 return WalkStep::Skip;
+               }
+               Grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
+               if (!overlaps(lo, hi))
+               {
+                 return WalkStep::Skip; // nothing below can overlap: children lie inside
+               }
+               if (tree.isLeaf(n.node))
+               {
+                 selected.push_back({&tree, n.node, tree.globalIndex(n.node), n.level, n.ijk});
+               }
+               return WalkStep::Descend;
+             });
   }
   return selected;
 }

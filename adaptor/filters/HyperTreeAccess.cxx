@@ -13,7 +13,7 @@
 namespace canopy
 {
 
-HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
+HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables) : IndexTables(indexTables)
 {
   Dimension = static_cast<int>(htg->GetDimension());
   BranchFactor = static_cast<int>(htg->GetBranchFactor());
@@ -140,7 +140,7 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
   // Masked descendants: only the 3D surface needs them (to skip solid subtrees).
   // Absent descendants: level of detail must not stop above them.
   const bool masked = Mask && Dimension == 3;
-  if (masked || AnyAbsent)
+  if (masked || AnyAbsent || IndexTables)
   {
     vtkSMPTools::For(0, static_cast<vtkIdType>(Trees.size()),
                      [&](vtkIdType begin, vtkIdType end)
@@ -148,6 +148,10 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
                        for (vtkIdType t = begin; t < end; ++t)
                        {
                          computeHiddenBelow(Trees[static_cast<std::size_t>(t)], masked, AnyAbsent);
+                         if (IndexTables && Dimension < 3)
+                         {
+                           countVisibleLeaves(Trees[static_cast<std::size_t>(t)]);
+                         }
                        }
                      });
   }
@@ -158,7 +162,7 @@ void HyperTreeAccess::computeHiddenBelow(TreeAccess& access, bool masked, bool a
   // Children have larger local indices than their parent (breadth-first
   // construction and SubdivideLeaf both append), so one reverse pass suffices.
   const vtkIdType vertices = access.numberOfVertices;
-  if (!access.implicitGlobalIndex)
+  if (!access.implicitGlobalIndex && (masked || absent || IndexTables))
   {
     access.globalTable.resize(static_cast<std::size_t>(vertices));
     for (vtkIdType n = 0; n < vertices; ++n)
@@ -173,6 +177,10 @@ void HyperTreeAccess::computeHiddenBelow(TreeAccess& access, bool masked, bool a
   if (absent)
   {
     access.absentBelow.assign(static_cast<std::size_t>(vertices), 0);
+  }
+  if (!masked && !absent)
+  {
+    return;
   }
   for (vtkIdType n = vertices; n-- > 0;)
   {
@@ -205,6 +213,32 @@ void HyperTreeAccess::computeHiddenBelow(TreeAccess& access, bool masked, bool a
       access.absentBelow[static_cast<std::size_t>(n)] = absentHere;
     }
   }
+}
+
+void HyperTreeAccess::countVisibleLeaves(TreeAccess& access) const
+{
+  vtkIdType visible = 0;
+  std::vector<vtkIdType> stack{0};
+  while (!stack.empty())
+  {
+    const vtkIdType n = stack.back();
+    stack.pop_back();
+    if (Mask && isMasked(access.globalIndex(n)))
+    {
+      continue;
+    }
+    if (access.isLeaf(n))
+    {
+      ++visible;
+      continue;
+    }
+    const vtkIdType first = access.firstChild(n);
+    for (vtkIdType c = first; c < first + Children; ++c)
+    {
+      stack.push_back(c);
+    }
+  }
+  access.visibleLeaves = visible;
 }
 
 bool HyperTreeAccess::treeElsewhere(long i, long j, long k) const

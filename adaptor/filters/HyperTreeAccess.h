@@ -48,6 +48,16 @@ struct TreeAccess
 
   vtkIdType numberOfVertices = 0;
   int childrenPerNode = 0;
+  /// 3D surface memos, filled on first use and kept with the access (they depend
+  /// on the topology only, not on the view). Written only by the thread walking
+  /// this tree. exposeMemo: 0 unknown, 1 nothing inside can be exposed, 2 may be.
+  /// faceMemo: 2 bits per face (axis * 2 + side): 0 unknown, 1 nothing to draw,
+  /// 2 drawn whole, 3 a same-level unmasked neighbour with masked descendants.
+  mutable std::vector<unsigned char> exposeMemo;
+  mutable std::vector<std::uint16_t> faceMemo;
+  /// Unmasked leaves without a masked ancestor: the cells of a full 1D/2D
+  /// surface. Counted only with index tables (a kept access); -1 otherwise.
+  vtkIdType visibleLeaves = -1;
 
   /// As VTK's compact tree decides, plus a guard: a single-vertex tree is a
   /// leaf whatever its table says (vtkHyperTreeGridSource leaves a 0 there),
@@ -82,7 +92,14 @@ struct TreeAccess
 class HyperTreeAccess
 {
 public:
-  explicit HyperTreeAccess(vtkHyperTreeGrid* htg);
+  /// `indexTables`: read every explicit global-index table once, here (worth it
+  /// when the access is kept across executions: VTK's per-node virtual lookup is
+  /// slow). Masked-descendant flags (3D with a mask) and absent-descendant flags
+  /// are always computed.
+  explicit HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables = false);
+
+  /// Whether explicit global indices were read into tables.
+  bool hasIndexTables() const { return IndexTables; }
 
   int dimension() const { return Dimension; }
   int branchFactor() const { return BranchFactor; }
@@ -174,6 +191,18 @@ public:
     }
   }
 
+  /// Lower bound along `axis` of the node at integer position `index` (along
+  /// that axis) and `level`: the same value nodeBounds() gives.
+  double nodeLower(const TreeAccess& tree, int level, int axis, std::int64_t index) const
+  {
+    const double count = static_cast<double>(CellsPerRoot[static_cast<std::size_t>(level)]);
+    if (tree.size[axis] == 0)
+    {
+      return tree.origin[axis];
+    }
+    return tree.origin[axis] + tree.size[axis] * (static_cast<double>(index) / count);
+  }
+
   bool hasMask() const { return Mask != nullptr; }
   /// Absent cells: parts of split trees another rank owns. Canopy's builder
   /// masks them and marks them DUPLICATECELL in VTK's ghost array; a masked
@@ -196,6 +225,9 @@ public:
 
 private:
   void computeHiddenBelow(TreeAccess& access, bool masked, bool absent) const;
+  void countVisibleLeaves(TreeAccess& access) const;
+
+  bool IndexTables = false;
 
   int Dimension = 0;
   int BranchFactor = 2;

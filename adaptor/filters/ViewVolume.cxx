@@ -225,6 +225,29 @@ bool ViewVolume::overlapsBox(const Vec3& lo, const Vec3& hi) const
   return true;
 }
 
+ViewVolume::BoxSide ViewVolume::classifyBox(const Vec3& lo, const Vec3& hi) const
+{
+  const Vec3& o = anchor();
+  bool inside = true;
+  for (const HalfSpace& h : HalfSpaces)
+  {
+    double low = 0;
+    double high = 0;
+    for (int i = 0; i < 3; ++i)
+    {
+      const double n = h.normal[i];
+      low += n * ((n >= 0 ? lo[i] : hi[i]) - o[i]);
+      high += n * ((n >= 0 ? hi[i] : lo[i]) - o[i]);
+    }
+    if (low >= h.offset)
+    {
+      return BoxSide::Outside;
+    }
+    inside = inside && high < h.offset;
+  }
+  return inside ? BoxSide::Inside : BoxSide::Crossing;
+}
+
 std::array<double, 2> ViewVolume::toPixels(const Vec3& p) const
 {
   double x = 0;

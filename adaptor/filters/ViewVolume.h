@@ -61,6 +61,17 @@ public:
   /// frustum's face normals and edge cross products), not a bounding sphere.
   bool overlapsBox(const Vec3& lo, const Vec3& hi) const;
 
+  /// Quick, by the half-spaces alone: Inside when the box lies strictly inside
+  /// every half-space (so inside the view, as are all boxes within it), Outside
+  /// when it lies entirely beyond one of them, else Crossing (ask overlapsBox).
+  enum class BoxSide
+  {
+    Outside,
+    Inside,
+    Crossing
+  };
+  BoxSide classifyBox(const Vec3& lo, const Vec3& hi) const;
+
   /// Depth along the direction of projection, from the camera (perspective) or
   /// from the focal point (parallel).
   double depth(const Vec3& p) const;

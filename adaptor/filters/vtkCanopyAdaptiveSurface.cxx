@@ -3,6 +3,7 @@
 #include "AdaptiveSurfaceBuilder.h"
 #include "GatherTuples.h"
 #include "HyperTreeAccess.h"
+#include "HyperTreeAccessCache.h"
 #include "ViewVolume.h"
 
 #include <vtkAOSDataArrayTemplate.h>
@@ -47,6 +48,7 @@ namespace
 } // namespace
 
 vtkCanopyAdaptiveSurface::vtkCanopyAdaptiveSurface()
+    : Topology(std::make_unique<canopy::HyperTreeAccessCache>())
 {
   this->AppropriateOutput = true;
 }
@@ -238,7 +240,8 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   vtkIdType perCell = 4;
   try
   {
-    const canopy::HyperTreeAccess grid(input);
+    const std::shared_ptr<const canopy::HyperTreeAccess> access = this->Topology->get(input, true);
+    const canopy::HyperTreeAccess& grid = *access;
     std::unique_ptr<canopy::ViewVolume> view;
     canopy::SurfaceOptions options;
     if (this->ViewDependent)
@@ -261,6 +264,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   }
   catch (const std::exception& e)
   {
+    this->Topology->clear();
     vtkErrorMacro("cannot build the surface: " << e.what());
     return 0;
   }

@@ -32,6 +32,7 @@
 #include <vtkWeakPointer.h>
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,10 @@ class vtkCamera;
 class vtkDataArray;
 class vtkPolyData;
 class vtkRenderer;
+namespace canopy
+{
+class HyperTreeAccessCache;
+}
 
 class CANOPYFILTERS_EXPORT vtkCanopyAdaptiveSurface : public vtkHyperTreeGridAlgorithm
 {
@@ -159,6 +164,9 @@ private:
   std::map<std::string, vtkSmartPointer<vtkDataArray>> Reusable;
   template <typename ArrayType>
   vtkSmartPointer<ArrayType> ReusableArray(const std::string& key, int dataType);
+  /// What the input's topology costs to read (index tables, masked-descendant
+  /// flags), kept while the topology is unchanged: a camera move does not pay it.
+  std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
   int LastRendererSize[2] = {0, 0};
   vtkTimeStamp RendererSizeTime;
 };

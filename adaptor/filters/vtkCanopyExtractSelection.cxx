@@ -4,6 +4,7 @@
 #include "Frustum.h"
 #include "GatherTuples.h"
 #include "HyperTreeAccess.h"
+#include "PointMerger.h"
 
 #include <vtkBitArray.h>
 #include <vtkCellArray.h>
@@ -24,7 +25,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <sstream>
 #include <unordered_set>
 
@@ -165,24 +165,25 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
                     const std::vector<canopy::SelectedNode>& nodes, vtkHyperTreeGrid* input,
                     vtkUnstructuredGrid* output)
 {
-  std::map<std::array<double, 3>, vtkIdType> pointIds;
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  auto pointId = [&](const std::array<double, 3>& p)
-  {
-    const auto it = pointIds.find(p);
-    if (it != pointIds.end())
-    {
-      return it->second;
-    }
-    const vtkIdType id = points->InsertNextPoint(p.data());
-    pointIds.emplace(p, id);
-    return id;
-  };
+  // Points merged by exact value, ids in order of first use; arrays sized for
+  // the worst case once (growing them costs a copy per doubling).
   const int dimension = grid.dimension();
-  vtkNew<vtkCellArray> cells;
-  for (const canopy::SelectedNode& n : nodes)
+  const vtkIdType perCell = dimension == 1 ? 2 : dimension == 2 ? 4 : 8;
+  const auto count = static_cast<vtkIdType>(nodes.size());
+  vtkNew<vtkDoubleArray> coordinates;
+  coordinates->SetNumberOfComponents(3);
+  coordinates->SetNumberOfTuples(perCell * count);
+  canopy::PointMerger merger(coordinates->GetPointer(0), static_cast<std::size_t>(perCell * count));
+  vtkNew<vtkIdTypeArray> offsets;
+  offsets->SetNumberOfTuples(count + 1);
+  vtkNew<vtkIdTypeArray> connectivity;
+  connectivity->SetNumberOfTuples(perCell * count);
+  vtkIdType* offset = offsets->GetPointer(0);
+  vtkIdType* ids = connectivity->GetPointer(0);
+  for (vtkIdType i = 0; i < count; ++i)
   {
+    const canopy::SelectedNode& n = nodes[static_cast<std::size_t>(i)];
+    offset[i] = perCell * i;
     canopy::Vec3 lo;
     canopy::Vec3 hi;
     selection.bounds(n, lo, hi);
@@ -190,21 +191,19 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
     {
       canopy::Vec3 end = lo;
       end[static_cast<std::size_t>(grid.activeAxes()[0])] = hi[grid.activeAxes()[0]];
-      const vtkIdType ids[2] = {pointId(lo), pointId(end)};
-      cells->InsertNextCell(2, ids);
+      *ids++ = merger.id(lo);
+      *ids++ = merger.id(end);
     }
     else if (dimension == 3)
     {
-      vtkIdType ids[8];
       for (int k = 0; k < 2; ++k)
       {
         const double z = k ? hi[2] : lo[2];
-        ids[4 * k + 0] = pointId({{lo[0], lo[1], z}});
-        ids[4 * k + 1] = pointId({{hi[0], lo[1], z}});
-        ids[4 * k + 2] = pointId({{hi[0], hi[1], z}});
-        ids[4 * k + 3] = pointId({{lo[0], hi[1], z}});
+        *ids++ = merger.id({{lo[0], lo[1], z}});
+        *ids++ = merger.id({{hi[0], lo[1], z}});
+        *ids++ = merger.id({{hi[0], hi[1], z}});
+        *ids++ = merger.id({{lo[0], hi[1], z}});
       }
-      cells->InsertNextCell(8, ids);
     }
     else
     {
@@ -216,17 +215,20 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
       corners[2][u] = hi[u];
       corners[2][v] = hi[v];
       corners[3][v] = hi[v];
-      vtkIdType ids[4];
-      for (int c = 0; c < 4; ++c)
+      for (const canopy::Vec3& c : corners)
       {
-        ids[c] = pointId(corners[c]);
+        *ids++ = merger.id(c);
       }
-      cells->InsertNextCell(4, ids);
     }
   }
+  offset[count] = perCell * count;
+  coordinates->SetNumberOfTuples(merger.count()); // shrinks in place
+  vtkNew<vtkPoints> points;
+  points->SetData(coordinates);
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, connectivity);
   output->SetPoints(points);
   output->SetCells(dimension == 1 ? VTK_LINE : dimension == 2 ? VTK_QUAD : VTK_HEXAHEDRON, cells);
-  const auto count = static_cast<vtkIdType>(nodes.size());
   std::vector<vtkIdType> globals(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i)
   {

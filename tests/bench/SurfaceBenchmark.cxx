@@ -7,7 +7,9 @@
 //                   (Canopy) and Scale (upstream)
 // and PNG images of the sweep's extremes.
 //
-// Usage: canopy_bench_surface [--output DIR] [--max-level L] [--quick]
+// Usage: canopy_bench_surface [--output DIR] [--max-level L] [--quick] [--canopy-only]
+//                             [--repetitions N] (median of N steady-state executions)
+// (--canopy-only: skip the upstream filters, to profile Canopy under callgrind)
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
 
@@ -36,6 +38,8 @@
 namespace
 {
 
+bool canopyOnly = false;
+
 using canopy::testing::compare;
 using canopy::testing::downsample;
 using canopy::testing::Image;
@@ -48,9 +52,13 @@ double secondsSince(Clock::time_point start)
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+/// Re-executions timed per measurement (--repetitions): the median is reported.
+int repetitions = 1;
+
 /// Steady state: times the second Update() of an algorithm (re-executed after
-/// Modified()), as when a camera moves. The first execution also pays for
-/// mapping fresh output memory, which on this VM costs 1.3-3 ns per byte.
+/// Modified()), as when a camera moves; with --repetitions N, the median of N
+/// re-executions. The first execution also pays for mapping fresh output
+/// memory, which on this VM costs 1.3-3 ns per byte.
 template <typename Algorithm>
 double timeUpdate(Algorithm* algorithm, double* firstSeconds = nullptr)
 {
@@ -61,10 +69,16 @@ double timeUpdate(Algorithm* algorithm, double* firstSeconds = nullptr)
   {
     *firstSeconds = secondsSince(start);
   }
-  algorithm->Modified();
-  start = Clock::now();
-  algorithm->Update();
-  return secondsSince(start);
+  std::vector<double> times;
+  for (int r = 0; r < repetitions; ++r)
+  {
+    algorithm->Modified();
+    start = Clock::now();
+    algorithm->Update();
+    times.push_back(secondsSince(start));
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
 }
 
 struct Forest2D
@@ -117,7 +131,7 @@ void full2d(const std::filesystem::path& out, int maxLevel)
     const double canopySeconds = timeUpdate(canopy.Get(), &canopyFirst);
     vtkNew<vtkHyperTreeGridGeometry> geometry;
     geometry->SetInputData(f.htg);
-    const double vtkSeconds = timeUpdate(geometry.Get());
+    const double vtkSeconds = canopyOnly ? -1 : timeUpdate(geometry.Get());
     const auto quads = static_cast<double>(canopy->GetPolyDataOutput()->GetNumberOfCells());
     // What the output holds per quad: 4 double points, 4 connectivity ids and an
     // offset, the original id, the level and one double field.
@@ -218,13 +232,14 @@ void surface3d(const std::filesystem::path& out, int maxLevel)
       const double canopySeconds = timeUpdate(canopy.Get());
       vtkNew<vtkHyperTreeGridGeometry> geometry;
       geometry->SetInputData(f.htg);
-      const double geometrySeconds = timeUpdate(geometry.Get());
-      const vtkIdType gq = vtkPolyData::SafeDownCast(geometry->GetOutput())->GetNumberOfCells();
+      const double geometrySeconds = canopyOnly ? -1 : timeUpdate(geometry.Get());
+      const vtkIdType gq =
+          canopyOnly ? -1 : vtkPolyData::SafeDownCast(geometry->GetOutput())->GetNumberOfCells();
       // vtkAdaptiveDataSetSurfaceFilter aborts on an assertion with masked 3D
       // input in Debian's build (it descends into masked nodes): unmasked only.
       double adaptiveSeconds = -1;
       vtkIdType aq = -1;
-      if (!cutaway)
+      if (!cutaway && !canopyOnly)
       {
         vtkNew<vtkAdaptiveDataSetSurfaceFilter> upstream;
         upstream->SetInputData(f.htg);
@@ -332,9 +347,14 @@ int main(int argc, char** argv)
       maxLevel = std::atoi(argv[++i]);
     else if (arg == "--quick")
       maxLevel = 9;
+    else if (arg == "--canopy-only")
+      canopyOnly = true;
+    else if (arg == "--repetitions" && i + 1 < argc)
+      repetitions = std::max(1, std::atoi(argv[++i]));
     else
     {
-      std::cerr << "usage: canopy_bench_surface [--output DIR] [--max-level L] [--quick]\n";
+      std::cerr << "usage: canopy_bench_surface [--output DIR] [--max-level L] [--quick] "
+                   "[--canopy-only] [--repetitions N]\n";
       return 2;
     }
   }

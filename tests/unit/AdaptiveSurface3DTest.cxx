@@ -3,6 +3,7 @@
 // (per-axis area equal to the exposed voxel faces, every quad with an occupied
 // voxel behind it and an empty one in front, closed-surface volume identity),
 // and culling must only ever remove pieces of that surface.
+#include "ConvexClip.h"
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
@@ -11,6 +12,7 @@
 #include "vtkCanopyAdaptiveSurface.h"
 
 #include <gtest/gtest.h>
+#include <vtkBitArray.h>
 #include <vtkCamera.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -286,21 +288,26 @@ TEST(AdaptiveSurface3D, RandomForestsFullSurfaceIsExactlyTheBoundary)
 
 using QuadKey = std::array<long long, 12>;
 
+QuadKey quadKey(const Quad& q)
+{
+  std::array<std::array<long long, 3>, 4> corners;
+  for (int k = 0; k < 4; ++k)
+    for (int a = 0; a < 3; ++a)
+      corners[k][a] = std::llround(q.p[k][a] * 1e9);
+  std::sort(corners.begin(), corners.end());
+  QuadKey key;
+  for (int k = 0; k < 4; ++k)
+    for (int a = 0; a < 3; ++a)
+      key[3 * k + a] = corners[k][a];
+  return key;
+}
+
 std::set<QuadKey> quadKeys(vtkPolyData* surface)
 {
   std::set<QuadKey> keys;
   for (const Quad& q : quadsOf(surface))
   {
-    std::array<std::array<long long, 3>, 4> corners;
-    for (int k = 0; k < 4; ++k)
-      for (int a = 0; a < 3; ++a)
-        corners[k][a] = std::llround(q.p[k][a] * 1e9);
-    std::sort(corners.begin(), corners.end());
-    QuadKey key;
-    for (int k = 0; k < 4; ++k)
-      for (int a = 0; a < 3; ++a)
-        key[3 * k + a] = corners[k][a];
-    keys.insert(key);
+    keys.insert(quadKey(q));
   }
   return keys;
 }
@@ -316,6 +323,47 @@ vtkSmartPointer<vtkPolyData> viewSurface(vtkHyperTreeGrid* htg, vtkCamera* camer
   filter->SetSkipBackFaces(backFaces);
   filter->Update();
   return filter->GetPolyDataOutput();
+}
+
+TEST(AdaptiveSurface3D, KeptTopologyFollowsMaskAndGridChanges)
+{
+  // The filter keeps what it reads of the topology between executions (keyed by
+  // the grid's, the mask's and the trees' state): after a change of the mask in
+  // place, or a new grid, its output must equal a fresh filter's.
+  DescriptorForest forest(paperCaseB(true));
+  auto htg = buildHyperTreeGrid(forest.description());
+  vtkNew<vtkCamera> camera;
+  camera->SetFocalPoint(2.25, 1.5, 0.7);
+  camera->SetPosition(2.25 + 6, 1.5 - 7, 0.7 + 5);
+  camera->SetViewUp(0, 0, 1);
+  vtkNew<vtkCanopyAdaptiveSurface> kept;
+  kept->SetInputData(htg);
+  kept->SetCamera(camera);
+  kept->SetViewportSize(800, 600);
+  kept->SetLevelOfDetail(false);
+  kept->Update();
+  EXPECT_EQ(quadKeys(kept->GetPolyDataOutput()),
+            quadKeys(viewSurface(htg, camera, 800, 600, false)));
+  // Unmask every cell, in place.
+  vtkBitArray* mask = htg->GetMask();
+  ASSERT_NE(mask, nullptr);
+  for (vtkIdType i = 0; i < mask->GetNumberOfValues(); ++i)
+  {
+    mask->SetValue(i, 0);
+  }
+  mask->Modified();
+  htg->Modified();
+  kept->Update();
+  const auto unmasked = quadKeys(kept->GetPolyDataOutput());
+  EXPECT_EQ(unmasked, quadKeys(viewSurface(htg, camera, 800, 600, false)));
+  EXPECT_EQ(unmasked, quadKeys(fullSurface(htg))); // the whole box is in this view
+  // A different grid.
+  DescriptorForest plain(paperCaseB(false));
+  auto other = buildHyperTreeGrid(plain.description());
+  kept->SetInputData(other);
+  kept->Update();
+  EXPECT_EQ(quadKeys(kept->GetPolyDataOutput()),
+            quadKeys(viewSurface(other, camera, 800, 600, false)));
 }
 
 TEST(AdaptiveSurface3D, WholeGridInViewEqualsTheFullSurface)
@@ -366,6 +414,77 @@ TEST(AdaptiveSurface3D, CulledSurfaceIsASubsetOfTheFullSurface)
     EXPECT_LT(front.size(), seen.size() + (seen.empty() ? 1 : 0));
   }
   EXPECT_GE(partial, 5) << "most views should cull something";
+}
+
+/// VTK's own side planes of a camera's frustum (for perspective, they meet at the
+/// camera and keep only what is in front of it): an implementation independent
+/// of the filter's separating-axis test.
+std::vector<ClipPlane> frustumPlanes(vtkCamera* camera, double aspect, double slack)
+{
+  const double distance = camera->GetDistance();
+  camera->SetClippingRange(distance / 1e9, distance * 1e9);
+  double planes[24];
+  camera->GetFrustumPlanes(aspect, planes);
+  std::vector<ClipPlane> result;
+  for (int p = 0; p < 4; ++p) // left, right, bottom, top (near and far are far away)
+  {
+    const double* h = planes + 4 * p;
+    const double norm = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    result.push_back({{h[0], h[1], h[2], h[3] + slack * norm}});
+  }
+  return result;
+}
+
+TEST(AdaptiveSurface3D, CulledSurfaceIsExactlyTheFullSurfaceInsideTheView)
+{
+  // A face of a visible node is drawn only if it overlaps the view with positive
+  // area: the culled surface is the full surface's faces that VTK's frustum
+  // planes clip to a positive area (general-position views: the brute force is
+  // given a slack of 1e-9 either way, and no face may fall in between).
+  for (bool withMask : {false, true})
+  {
+    DescriptorForest forest(paperCaseB(withMask));
+    auto htg = buildHyperTreeGrid(forest.description());
+    const auto fullQuads = quadsOf(fullSurface(htg));
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> unit(0, 1);
+    int culled = 0;
+    for (int v = 0; v < 20; ++v)
+    {
+      vtkNew<vtkCamera> camera;
+      camera->SetFocalPoint(4.5 * unit(random), 3 * unit(random), 1.4 * unit(random));
+      camera->SetPosition(10 * unit(random) - 3, 10 * unit(random) - 3, 6 * unit(random) - 2);
+      camera->SetViewUp(0, 0, 1);
+      camera->OrthogonalizeViewUp();
+      camera->SetParallelProjection(v % 2);
+      camera->SetParallelScale(0.2 + unit(random));
+      camera->SetViewAngle(15 + 30 * unit(random));
+      const auto seen = quadKeys(viewSurface(htg, camera, 640, 480, false));
+      const auto inner = frustumPlanes(camera, 640.0 / 480.0, -1e-9);
+      const auto outer = frustumPlanes(camera, 640.0 / 480.0, 1e-9);
+      std::set<QuadKey> surely;
+      std::set<QuadKey> maybe;
+      for (const Quad& q : fullQuads)
+      {
+        const std::vector<ClipPoint> polygon(q.p.begin(), q.p.end());
+        if (clippedArea(polygon, inner) > 0)
+        {
+          surely.insert(quadKey(q));
+        }
+        if (clippedArea(polygon, outer) > 0)
+        {
+          maybe.insert(quadKey(q));
+        }
+      }
+      EXPECT_TRUE(std::includes(seen.begin(), seen.end(), surely.begin(), surely.end()))
+          << "view " << v << ": a face inside the view is missing";
+      EXPECT_TRUE(std::includes(maybe.begin(), maybe.end(), seen.begin(), seen.end()))
+          << "view " << v << ": a face outside the view is drawn";
+      EXPECT_EQ(surely.size(), maybe.size()) << "view " << v << ": not in general position";
+      culled += seen.size() < fullQuads.size();
+    }
+    EXPECT_GE(culled, 10);
+  }
 }
 
 TEST(AdaptiveSurface3D, SkippedBackFacesFaceAwayFromTheCamera)

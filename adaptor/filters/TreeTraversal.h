@@ -1,0 +1,63 @@
+// One explicit, callback-driven depth-first walk over a hypertree (in the spirit
+// of p4est_iterate): the caller says, on entering each node, whether to descend
+// into its children, skip them, or stop the walk. Children are entered in
+// order (0 .. f^d - 1), so the order of what a caller collects is deterministic.
+#pragma once
+
+#include "HyperTreeAccess.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace canopy
+{
+
+/// A node as the walk enters it: its local index, level, integer position at its
+/// level, and one bit the caller may set for the node's subtree (for example
+/// "an ancestor is hidden"), inherited by its children.
+struct WalkNode
+{
+  vtkIdType node;
+  int level;
+  std::array<std::int64_t, 3> ijk;
+  bool inherited = false;
+};
+
+enum class WalkStep
+{
+  Descend, ///< enter the children (ignored at a leaf)
+  Skip,    ///< not the children
+  Stop     ///< end the walk
+};
+
+/// Calls enter(WalkNode&) on every node reached from the root; enter may set
+/// `inherited` for the children. Returns false when enter stopped the walk.
+template <typename Enter>
+bool walkTree(const HyperTreeAccess& grid, const TreeAccess& tree, Enter&& enter)
+{
+  std::vector<WalkNode> stack{{0, 0, {{0, 0, 0}}, false}};
+  while (!stack.empty())
+  {
+    WalkNode n = stack.back();
+    stack.pop_back();
+    const WalkStep step = enter(n);
+    if (step == WalkStep::Stop)
+    {
+      return false;
+    }
+    if (step == WalkStep::Skip || tree.isLeaf(n.node))
+    {
+      continue;
+    }
+    const vtkIdType first = tree.firstChild(n.node);
+    // Pushed in reverse: children are entered in order.
+    for (int c = grid.childrenPerNode(); c-- > 0;)
+    {
+      stack.push_back({first + c, n.level + 1, grid.childPosition(n.ijk, c), n.inherited});
+    }
+  }
+  return true;
+}
+
+} // namespace canopy
