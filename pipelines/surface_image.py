@@ -29,7 +29,10 @@ Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI
   surface.cdb/<prefix>_<step>.pvtp
   surface.cdb/<prefix>_<step>/<prefix>_<step>_<rank>.vtp
 """
+import os
+
 import canopy_catalyst as canopy
+from paraview import simple
 from paraview.simple import CreateExtractor, Show
 
 settings = canopy.settings(image_size="800x600", color_by="", pixel_threshold=1.0,
@@ -38,12 +41,16 @@ settings = canopy.settings(image_size="800x600", color_by="", pixel_threshold=1.
                            show_edges=False,
                            file_prefix="surface")
 options = canopy.catalyst_options(settings, cinema="surface.cdb" if settings.cinema else None)
-canopy.load_canopy_plugin(globals())
+# The plugin's filters go into paraview.simple, which gains only those; loading it
+# into this script's globals (canopy.load_canopy_plugin(globals())) would also make
+# a wrapper for each of ParaView's ~480 proxies: 0.5-1 s of the first step
+# (tests/bench/canopy_bench_image_step --first-step, docs/benchmarks.md).
+simple.LoadPlugin(os.environ["CANOPY_PLUGIN"], remote=False)
 
 grid = canopy.simulation_grid(settings)
 view = canopy.render_view(settings)
-surface = CanopyAdaptiveSurface(Input=grid, PixelThreshold=settings.pixel_threshold,  # noqa: F821
-                                Fields=settings.list("fields"))
+surface = simple.CanopyAdaptiveSurface(Input=grid, PixelThreshold=settings.pixel_threshold,
+                                       Fields=settings.list("fields"))
 display = Show(surface, view)
 if settings.show_edges:
     display.SetRepresentationType("Surface With Edges")
