@@ -9,10 +9,8 @@ and in variables, dashes or underscores in arguments.
 """
 import os
 
-# Filled by the driver at open: script path -> its arguments; whether every
-# rank has an X display.
+# Filled by the driver at open: script path -> its arguments.
 _arguments = {}
-_can_render = True
 
 COMMON_DEFAULTS = {
     "output_directory": "canopy-output",
@@ -188,7 +186,7 @@ def frame_grid(view, grid, values):
             view.CameraParallelProjection = 1
             view.CameraParallelScale = values.parallel_scale
         return
-    local = grid.GetDataInformation().GetBounds()
+    local = _at_step_time(grid).GetDataInformation().GetBounds()
     low = _reduce([local[2 * axis] for axis in range(3)], "MIN_OP")
     high = _reduce([local[2 * axis + 1] for axis in range(3)], "MAX_OP")
     bounds = [value for axis in range(3) for value in (low[axis], high[axis])]
@@ -224,11 +222,13 @@ def frame_grid(view, grid, values):
 
 def color_by(display, view, grid, field):
     """Colors the display by a cell field over its global range this step."""
-    from paraview.simple import ColorBy, GetColorTransferFunction
+    from paraview.simple import GetColorTransferFunction
     if not field:
         return
-    ColorBy(display, ("CELLS", field))
-    info = grid.GetCellDataInformation().GetArray(field)
+    # Not ColorBy(): it rescales to this rank's data, and warns on a rank without any.
+    display.ColorArrayName = ["CELLS", field]
+    display.LookupTable = GetColorTransferFunction(field)
+    info = _at_step_time(grid).GetCellDataInformation().GetArray(field)
     local = (info.GetRange(-1 if info.GetNumberOfComponents() > 1 else 0) if info is not None
              else (float("inf"), float("-inf")))
     # Data information is rank-local in Catalyst: agree on the range, or each
@@ -237,6 +237,24 @@ def color_by(display, view, grid, field):
     high = _reduce([local[1]], "MAX_OP")[0]
     if low <= high:
         GetColorTransferFunction(field).RescaleTransferFunction(low, high if high > low else low + 1)
+
+
+def _step_time():
+    """The simulation time of the step being run (None outside a Catalyst run)."""
+    from paraview.modules.vtkPVPythonCatalyst import vtkCPPythonScriptV2Helper
+    helper = vtkCPPythonScriptV2Helper.GetActiveInstance()
+    description = helper.GetDataDescription() if helper is not None else None
+    return description.GetTime() if description is not None else None
+
+
+def _at_step_time(source):
+    """The source, updated at this step's time. Data information alone updates
+    without a time, so the request would keep the previous step's time and
+    ParaView's producer would warn that it cannot produce it."""
+    time = _step_time()
+    if time is not None:
+        source.UpdatePipeline(time)
+    return source
 
 
 def collective(function):
@@ -252,7 +270,7 @@ def collective(function):
         error = None
         try:
             function(*args, **kwargs)
-        except Exception as exception:  # noqa: BLE001 - re-raised below on every rank
+        except BaseException as exception:  # noqa: B902 - sys.exit() too; re-raised below
             error = exception
         if not _any_rank(error is not None):
             return

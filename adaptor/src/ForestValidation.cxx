@@ -1,5 +1,6 @@
 #include "canopy/ForestValidation.h"
 
+#include "StorageSlots.h"
 #include "ValidatedTrees.h"
 
 #include <algorithm>
@@ -110,6 +111,11 @@ void validateRootGrid(const ForestDescription& forest, ForestLayout& layout, Pro
     problems.add("root grid: a 2D forest needs exactly one flat axis (1 point), got ", points[0],
                  " x ", points[1], " x ", points[2]);
   }
+  if (forest.dimension == 1 && flatAxes != 2)
+  {
+    problems.add("root grid: a 1D forest needs exactly two flat axes (1 point each), got ",
+                 points[0], " x ", points[1], " x ", points[2]);
+  }
   // VTK indexes root cells with vtkIdType and points per axis with unsigned int.
   for (int a = 0; a < 3; ++a)
   {
@@ -182,10 +188,7 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
                        ProblemList& problems)
 {
   const TreeDescription& tree = forest.trees[t];
-  const std::size_t children =
-      forest.dimension == 3 ? static_cast<std::size_t>(forest.branchFactor) * forest.branchFactor *
-                                  forest.branchFactor
-                            : static_cast<std::size_t>(forest.branchFactor) * forest.branchFactor;
+  const std::size_t children = childrenPerNode(forest);
   const std::size_t n = tree.numberOfNodes;
   std::size_t levelStart = 0;
   std::size_t levelSize = 1;
@@ -483,9 +486,9 @@ ForestLayout validateForest(const ForestDescription& forest, const ValidatedTree
 {
   ProblemList problems;
   ForestLayout layout;
-  if (forest.dimension != 2 && forest.dimension != 3)
+  if (forest.dimension < 1 || forest.dimension > 3)
   {
-    problems.add("dimension must be 2 or 3, got ", forest.dimension);
+    problems.add("dimension must be 1, 2 or 3, got ", forest.dimension);
   }
   if (forest.branchFactor != 2 && forest.branchFactor != 3)
   {

@@ -202,6 +202,8 @@ vtkSmartPointer<vtkHyperTreeGrid> newGrid(const ForestDescription& forest)
   auto htg = vtkSmartPointer<vtkHyperTreeGrid>::New();
   const RootGrid& grid = forest.rootGrid;
   // Dimensions before branch factor: the latter derives the number of children from both.
+  // VTK derives the dimension (1, 2 or 3) and a 1D or 2D grid's orientation from the
+  // point counts: a line of roots needs nothing more.
   htg->SetDimensions(static_cast<unsigned int>(grid.pointsX),
                      static_cast<unsigned int>(grid.pointsY),
                      static_cast<unsigned int>(grid.pointsZ));
