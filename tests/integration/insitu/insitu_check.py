@@ -134,6 +134,51 @@ def check_surface_image_case_a(code, log):
            "each quad carries its own cell's Depth")
 
 
+def check_overlays_off(code, log):
+    """The reference for check_overlays: no legend, no time label."""
+    expect(code == 0, "the simulation exits normally")
+    expect(len(glob.glob(path("surface_*.png"))) == 3, "three images")
+
+
+def check_overlays(code, log):
+    """Legend and time label (the defaults) against the same run without them
+    (REFERENCE), both with the first step's colour range kept: the images differ in
+    the upper left corner (time) and the lower right (legend) only; the time label
+    changes with the step, the legend (a fixed range) does not."""
+    expect(code == 0, "the simulation exits normally")
+    # vtkPNGReader's rows go bottom to top: flip them so row 0 is the image's top.
+    images = [image("surface_%06d.png" % step)[::-1] for step in range(3)]
+    height, width, _ = images[0].shape
+    time_box = (slice(0, height // 8), slice(0, width // 4))
+    legend_box = (slice(height // 2, height), slice(3 * width // 4, width))
+    for step, pixels in enumerate(images):
+        bare = image("surface_%06d.png" % step, REFERENCE)[::-1]
+        differs = (pixels.astype(int) != bare.astype(int)).any(axis=2)
+        in_time = int(differs[time_box].sum())
+        in_legend = int(differs[legend_box].sum())
+        elsewhere = int(differs.sum()) - in_time - in_legend
+        expect(in_time > 30, "step %d: a time label in the upper left (%d pixels)" % (step, in_time))
+        expect(in_legend > 300, "step %d: a legend in the lower right (%d pixels)"
+               % (step, in_legend))
+        expect(elsewhere == 0, "step %d: nothing else differs (%d pixels)" % (step, elsewhere))
+    expect(not numpy.array_equal(images[0][time_box], images[2][time_box]),
+           "the time label changes from step 0 to step 2")
+    expect(all(numpy.array_equal(images[0][legend_box], other[legend_box]) for other in images),
+           "color_range=first: the legend (and its range) stays the same over the run")
+
+
+def check_fixed_color_range(code, log):
+    """color_range=100,200 on a density within [1, 4]: every cell below the range,
+    so the grid is drawn in the lookup table's lowest colour only."""
+    expect(code == 0, "the simulation exits normally")
+    for step in range(2):
+        pixels = image("surface_%06d.png" % step)
+        grid = pixels[(pixels != 255).any(axis=2)]
+        colors = numpy.unique(grid.reshape(-1, 3), axis=0)
+        expect(len(grid) > 10000 and len(colors) == 1,
+               "step %d: %d grid pixels, %d colour(s)" % (step, len(grid), len(colors)))
+
+
 def check_surface_zoomed_case_a(code, log):
     """A camera given to the script culls: only quads meeting the view remain,
     and every leaf inside the view is there."""
