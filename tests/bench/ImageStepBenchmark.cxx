@@ -30,6 +30,7 @@
 //   three, plus the mini-app's 2D forest 2,32,9,20); routes: canopy, paraview,
 //   paraview-adaptive (default: all; the adaptive one is skipped on 3D forests,
 //   which ParaView's adaptive representation does not handle).
+//   CANOPY_PIPELINES_DIR=DIR runs the pipelines (scripts and helper modules) in DIR.
 //   --first-step: the mini-app's own first step (its default forest at step 0
 //   and its three default pipelines), broken down.
 #include "ForestSlice.h"
@@ -545,7 +546,10 @@ int main(int argc, char** argv)
     // Scripts: the mini-app's image pipeline; ParaView's routes start one and two
     // steps later, every routes.size() steps.
     const std::string bench = CANOPY_BENCH_DIR;
-    const std::string pipelines = CANOPY_PIPELINES_SOURCE_DIR;
+    // CANOPY_PIPELINES_DIR (which the driver also reads for its helper modules)
+    // runs another copy of the pipelines, e.g. an older one to compare with.
+    const char* pipelinesDir = std::getenv("CANOPY_PIPELINES_DIR");
+    const std::string pipelines = pipelinesDir ? pipelinesDir : CANOPY_PIPELINES_SOURCE_DIR;
     const std::string every = "--frequency=" + std::to_string(routes.size());
     canopy::InSituOptions options;
     options.outputDirectory = (output / "images").string();

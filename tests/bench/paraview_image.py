@@ -18,6 +18,8 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
                       (vtkPVGeometryFilter, which runs vtkHyperTreeGridGeometry);
                       'HTG Surface': its 2D adaptive-decimation representation
                       (vtkAdaptiveDataSetSurfaceFilter in the HTG mapper)
+  png_compression     zlib level of the PNG files (3, as surface_image.py)
+  legend, time_label  the colour legend and the time, as surface_image.py shows them (true)
   file_prefix         the files' names ("paraview")
 
 Writes, in the output directory:
@@ -27,7 +29,8 @@ import canopy_catalyst as canopy
 from paraview.simple import CreateExtractor, Show
 
 settings = canopy.settings(image_size="800x600", color_by="", show_edges=False, start=0,
-                           representation="Surface", camera_position="",
+                           representation="Surface", camera_position="", png_compression=3,
+                           legend=True, time_label=True,
                            camera_focal_point="", camera_view_up="", parallel_scale=0.0,
                            file_prefix="paraview")
 options = canopy.catalyst_options(settings)
@@ -45,6 +48,7 @@ if settings.show_edges:
 image = CreateExtractor("PNG", view, registrationName=settings.file_prefix + "_image")
 image.Writer.FileName = settings.file_prefix + "_{timestep:06d}.png"
 image.Writer.ImageResolution = canopy.image_size(settings)
+image.Writer.Format.CompressionLevel = str(settings.png_compression)
 canopy.set_trigger(image, settings)
 image.Trigger.UseStartTimeStep = 1
 image.Trigger.StartTimeStep = int(settings.start)
@@ -54,7 +58,13 @@ def RequestDataDescription(datadescription):
     canopy.request_fields(datadescription, settings, extra=[settings.color_by])
 
 
+legend = canopy.color_legend(view, settings.color_by) if settings.legend else None
+time_label = canopy.time_label(view) if settings.time_label else None
+
+
 def catalyst_execute(info):
     # The same camera and color range as surface_image.py (collectives: every rank).
     canopy.frame_grid(view, grid, settings)
     canopy.color_by(display, view, grid, settings.color_by)
+    if time_label is not None:
+        time_label.Text = canopy.time_text(info.time)
