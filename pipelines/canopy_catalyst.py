@@ -93,10 +93,19 @@ def catalyst_options(values, cinema=None):
     return options
 
 
-def load_canopy_plugin(namespace):
-    """Loads the Canopy ParaView plugin into the script's namespace (its globals())."""
-    from paraview.simple import LoadPlugin
-    LoadPlugin(os.environ["CANOPY_PLUGIN"], remote=False, ns=namespace)
+def load_canopy_plugin(namespace=None):
+    """Loads the Canopy ParaView plugin: its filters become functions of
+    paraview.simple (simple.CanopyAdaptiveSurface, ...) and, given a namespace (the
+    script's globals()), names in it too. Only the plugin's own functions are added
+    to the namespace: LoadPlugin(..., ns=globals()) would make one there for each of
+    ParaView's ~480 proxies, about 1 s per script on the first step
+    (tests/bench/canopy_bench_image_step --first-step, docs/benchmarks.md)."""
+    from paraview import simple
+    simple.LoadPlugin(os.environ["CANOPY_PLUGIN"], remote=False)
+    if namespace is not None:
+        for name in dir(simple):
+            if name.startswith("Canopy"):
+                namespace[name] = getattr(simple, name)
 
 
 def simulation_grid(values):

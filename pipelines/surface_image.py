@@ -36,8 +36,6 @@ Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI
   surface.cdb/<prefix>_<step>.pvtp
   surface.cdb/<prefix>_<step>/<prefix>_<step>_<rank>.vtp
 """
-import os
-
 import canopy_catalyst as canopy
 from paraview import simple
 from paraview.simple import CreateExtractor, Show
@@ -54,11 +52,8 @@ if fixed_range is not None and (len(fixed_range) != 2 or not fixed_range[0] < fi
     raise ValueError("color_range: 'low,high' with low < high, 'first' or '' (got %r)"
                      % settings.color_range)
 options = canopy.catalyst_options(settings, cinema="surface.cdb" if settings.cinema else None)
-# The plugin's filters go into paraview.simple, which gains only those; loading it
-# into this script's globals (canopy.load_canopy_plugin(globals())) would also make
-# a wrapper for each of ParaView's ~480 proxies: 0.5-1 s of the first step
-# (tests/bench/canopy_bench_image_step --first-step, docs/benchmarks.md).
-simple.LoadPlugin(os.environ["CANOPY_PLUGIN"], remote=False)
+# The plugin's filters go into paraview.simple (see load_canopy_plugin).
+canopy.load_canopy_plugin()
 
 grid = canopy.simulation_grid(settings)
 view = canopy.render_view(settings)
