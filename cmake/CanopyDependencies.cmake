@@ -40,6 +40,19 @@ _canopy_find_dependency(X11)
 _canopy_find_dependency(GLEW)
 _canopy_find_dependency(LibXml2)
 _canopy_find_dependency(Boost)
+# The MPI-IO build of HDF5 (Debian: libhdf5-openmpi-dev), the one ParaView's VTK
+# links; Canopy::IO writes VTKHDF files through it from every rank.
+set(HDF5_PREFER_PARALLEL TRUE)
+# A build directory configured before Canopy wrote HDF5 caches the serial build
+# (h5cc); forget it so that the MPI-IO one is found.
+if(HDF5_C_LIBRARY_hdf5 MATCHES "/serial/")
+  get_cmake_property(_canopy_cache_variables CACHE_VARIABLES)
+  foreach(_canopy_variable IN LISTS _canopy_cache_variables)
+    if(_canopy_variable MATCHES "^HDF5_")
+      unset(${_canopy_variable} CACHE)
+    endif()
+  endforeach()
+endif()
 _canopy_find_dependency(HDF5 COMPONENTS C HL)
 _canopy_find_dependency(NetCDF)
 _canopy_find_dependency(MPI COMPONENTS C CXX)
@@ -54,6 +67,10 @@ _canopy_find_dependency(Python3 3.11 EXACT COMPONENTS Development.Embed)
 set(CMAKE_MODULE_PATH "${_canopy_saved_module_path}")
 unset(_canopy_saved_module_path)
 
+if(NOT CANOPY_FINDING_PACKAGE AND NOT HDF5_IS_PARALLEL)
+  message(FATAL_ERROR "Canopy needs HDF5 built with MPI-IO (found ${HDF5_C_LIBRARIES}); "
+                      "install libhdf5-openmpi-dev")
+endif()
 if(NOT CANOPY_FINDING_PACKAGE AND NOT TARGET VTK::CommonDataModel)
   message(FATAL_ERROR "ParaView was found but VTK::CommonDataModel is missing; "
                       "is paraview-dev installed?")

@@ -294,6 +294,27 @@ def time_text(time):
     return "t = %.6g" % time
 
 
+def report(name, local_value):
+    """Reports a number this step measured (e.g. the quads the surface drew): after
+    the script's extracts are written, `local_value()` is called on every rank and
+    the sum over ranks goes into the step's canopy::StepReport::measures under `name`
+    (and the driver's step summary). Call it in catalyst_execute, on every rank, with
+    the same names; each call covers one step."""
+    try:
+        import _canopy_driver
+    except ImportError:
+        return  # not run by Canopy's driver (e.g. pvbatch): nobody to tell
+    _canopy_driver.report_measure(name, local_value)
+
+
+def output_cells(proxy):
+    """A function giving the number of cells the proxy's filter output on this rank
+    last time it ran (the data rendered or written), for report(). Catalyst runs in a
+    builtin session: the client-side object is the rank's own VTK algorithm."""
+    algorithm = proxy.GetClientSideObject()
+    return lambda: algorithm.GetOutputDataObject(0).GetNumberOfCells()
+
+
 def _step_time():
     """The simulation time of the step being run (None outside a Catalyst run)."""
     from paraview.modules.vtkPVPythonCatalyst import vtkCPPythonScriptV2Helper
@@ -374,3 +395,46 @@ def _reduce(values, operation):
     total = vtkDoubleArray()
     controller.AllReduce(local, total, getattr(vtkCommunicator, operation))
     return [total.GetValue(i) for i in range(total.GetNumberOfTuples())]
+
+
+GRID_FORMATS = ("vtkhdf", "htg", "both")
+
+
+def grid_writers(grid, values):
+    """Writers of the whole grid for a script's catalyst_execute (see write_grid),
+    by the 'format' setting: 'vtkhdf' (every step in <file_prefix>.vtkhdf, read by
+    current VTK/ParaView), 'htg' (the series <file_prefix>.pvd that ParaView 5.11
+    opens: per step a .vtm of .htg pieces) or 'both'. They write the 'fields'
+    setting's fields (all when empty). Needs load_canopy_plugin first."""
+    from paraview import servermanager
+    form = str(values.format).lower()
+    if form not in GRID_FORMATS:
+        raise ValueError("format %r: expected one of %s" % (values.format, ", ".join(GRID_FORMATS)))
+    base = os.path.join(values.output_directory, values.file_prefix)
+    fields = values.list("fields")
+    writers = []
+    if form in ("vtkhdf", "both"):
+        writers.append(servermanager.writers.CanopyHyperTreeGridHDFWriter(
+            Input=grid, FileName=base + ".vtkhdf", CellArrays=fields))
+    if form in ("htg", "both"):
+        writers.append(servermanager.writers.CanopyHyperTreeGridSeriesWriter(
+            Input=grid, FileName=base + ".pvd", CellArrays=fields))
+    return writers
+
+
+def write_grid(writers, info):
+    """Writes this step with every writer of grid_writers. Collective: each writer
+    agrees over ranks, so when any rank fails, every rank raises the same error,
+    naming each rank's problem and the step (the driver then reports the step as
+    failed on all ranks)."""
+    problems = []
+    for writer in writers:
+        writer.TimeStep = info.timestep
+        writer.TimeValue = info.time
+        writer.UpdatePipeline(info.time)
+        writer.UpdatePropertyInformation()
+        problem = writer.GetProperty("LastError").GetData()
+        if problem:
+            problems.append(problem)
+    if problems:
+        raise RuntimeError("; ".join(problems))

@@ -3,8 +3,9 @@
 //
 // Usage: canopy_write_synthetic_forest [--output DIR] [--dimension 2|3]
 //          [--branch-factor 2|3] [--roots N] [--levels L] [--no-cutaway]
-#include "HtgFileWriter.h"
 #include "SyntheticForest.h"
+
+#include <HtgFileWriter.h>
 
 #include <canopy/HtgBuilder.h>
 
@@ -72,7 +73,7 @@ int main(int argc, char** argv)
 
     std::filesystem::create_directories(output);
     const std::filesystem::path file = output / "synthetic_forest.htg";
-    const std::string problem = canopy::tools::writeHtgFile(htg, file.string());
+    const std::string problem = canopy::io::writeHtgFile(htg, file.string());
     if (!problem.empty())
     {
       std::cerr << "canopy_write_synthetic_forest: " << problem << "\n";

@@ -14,8 +14,9 @@ import sys
 import numpy
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from output_checks import (cell_array, expect, finish, read_htg_pieces, read_png,  # noqa: E402
-                           read_polydata, read_unstructured, run_command)
+from output_checks import (cell_array, expect, finish, read_htg_pieces,  # noqa: E402
+                           read_multiblock, read_png, read_polydata, read_unstructured,
+                           run_command, vtkhdf_cells_per_step)
 
 
 def run(command):
@@ -60,6 +61,20 @@ def check_insitu(output, command):
                "%s: the field in %d colors and the mesh's edges (%d dark pixels)"
                % (os.path.basename(name), colors, dark))
 
+    # The zoomed view (a camera on the region the sphere sweeps): culled, so it
+    # draws fewer quads than the grid has leaves; the step line says both.
+    zoomed = sorted(glob.glob(os.path.join(output, "zoom_*.png")))
+    expect(len(zoomed) == len(images), "a zoomed image beside each of the %d images (%d)"
+           % (len(images), len(zoomed)))
+    drawn = re.findall(r"^step\s+(\d+)\s.*leaves\s+(\d+)\s.*quads: surface (\d+), zoom (\d+)$",
+                       log, re.M)
+    expect(len(drawn) == len(images), "%d step lines say the quads drawn, one per image"
+           % len(drawn))
+    for step, step_leaves, surface_quads, zoom_quads in drawn:
+        expect(0 < int(zoom_quads) < int(step_leaves) and 0 < int(surface_quads) <= int(step_leaves),
+               "step %s: %s quads in the image, %s in the zoomed view, %s leaves"
+               % (step, surface_quads, zoom_quads, step_leaves))
+
     # The selection (scalar >= 0.5) at the last step is the dump's leaves >= 0.5.
     selection = read_unstructured(os.path.join(output, "selection_%06d.pvtu" % last))
     want = sum(1 for value in final.values() if value >= 0.5)
@@ -70,10 +85,23 @@ def check_insitu(output, command):
     expect(sorted(values.tolist()) == sorted(v for v in final.values() if v >= 0.5),
            "with the simulation's own values")
 
-    # The .htg pieces hold every node; the full 2D surface one quad per leaf.
-    nodes = sum(grid.GetNumberOfCells() for grid in read_htg_pieces(output, "grid", last))
+    # The grid, in both forms: the .htg pieces (listed by the step's .vtm, in the
+    # .pvd ParaView 5.11 opens) and the VTKHDF file hold every node, with the
+    # leaves' values; the full 2D surface one quad per leaf.
+    pieces = read_htg_pieces(output, "grid", last)
+    nodes = sum(grid.GetNumberOfCells() for grid in pieces)
     expect(nodes == cells, "HTG extract at step %d: %d nodes (the simulation has %d)"
            % (last, nodes, cells))
+    multiblock = read_multiblock(os.path.join(output, "grid_%06d.vtm" % last))
+    expect(multiblock.GetNumberOfBlocks() == len(pieces) and
+           sum(multiblock.GetBlock(b).GetNumberOfLeaves()
+               for b in range(multiblock.GetNumberOfBlocks())) == leaves,
+           "grid_%06d.vtm: one block per rank, %d leaves" % (last, leaves))
+    with open(os.path.join(output, "grid.pvd")) as series:
+        expect("grid_%06d.vtm" % last in series.read(), "grid.pvd lists step %d" % last)
+    hdf_cells = vtkhdf_cells_per_step(os.path.join(output, "grid.vtkhdf"))
+    expect(hdf_cells and hdf_cells[-1] == cells,
+           "grid.vtkhdf: %d steps, the last with %d nodes" % (len(hdf_cells), cells))
     surface = read_polydata(os.path.join(output, "grid_surface_%06d.pvtp" % last))
     expect(surface.GetNumberOfCells() == leaves, "surface extract: %d quads for %d leaves"
            % (surface.GetNumberOfCells(), leaves))

@@ -8,8 +8,8 @@ import sys
 
 from paraview.vtk.util.numpy_support import vtk_to_numpy
 from paraview.vtk.vtkIOImage import vtkPNGReader
-from paraview.vtk.vtkIOXML import (vtkXMLHyperTreeGridReader, vtkXMLPPolyDataReader,
-                                   vtkXMLPUnstructuredGridReader)
+from paraview.vtk.vtkIOXML import (vtkXMLHyperTreeGridReader, vtkXMLMultiBlockDataReader,
+                                   vtkXMLPPolyDataReader, vtkXMLPUnstructuredGridReader)
 
 FAILURES = []
 
@@ -49,9 +49,24 @@ def read_unstructured(path):
     return _read(vtkXMLPUnstructuredGridReader(), path)
 
 
+def read_multiblock(path):
+    """A .vtm; Canopy's grid extract lists one .htg piece per rank in one."""
+    return _read(vtkXMLMultiBlockDataReader(), path)
+
+
+def vtkhdf_cells_per_step(path):
+    """The cells of every step of a VTKHDF hypertree-grid file, all pieces (h5py)."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        steps = f["VTKHDF/Steps"]
+        cells = f["VTKHDF/NumberOfCells"][:]
+        return [int(cells[o:o + n].sum()) for o, n in zip(steps["PartOffsets"][:],
+                                                          steps["NumberOfParts"][:])]
+
+
 def read_htg_pieces(directory, prefix, step):
-    """ParaView 5.11 writes a .phtg summary that its own reader crashes on (VTK
-    9.2), so the pieces (one per rank) are read one by one."""
+    """The .htg pieces of a step (one per rank), read one by one: Canopy's grid
+    extract, or the pieces of ParaView 5.11's .phtg (whose own reader crashes)."""
     pattern = os.path.join(directory, "%s_%06d" % (prefix, step), "%s_%06d_*.htg" % (prefix, step))
     return [_read(vtkXMLHyperTreeGridReader(), piece) for piece in sorted(glob.glob(pattern))]
 

@@ -6,10 +6,14 @@
 // brute-force totals the output checkers compare against (expected.json).
 //
 // Usage: canopy_insitu_run --output DIR --script PATH [--arg ARG]... [options]
-//   --case A|A-masked|B|B-masked|moving-2d|moving-3d   (A)
+//   --case A|A-masked|B|B-masked|moving-2d|moving-2d-masked|moving-3d   (A)
 //   --steps N (1)  --distribute trees|split (trees)  --empty-rank R
 //   --corrupt-rank R --corrupt-step S   (that rank passes a malformed tree then)
+//   --limit-file-at-step S FILE   (from step S on, no file may grow more than
+//                                  16 KiB beyond FILE's size then: writes fail)
 //   --no-close (rely on MPI_Finalize)  --summary
+//   --forest-json   (rank 0 also writes forest_<step>.json: the whole forest, who owns
+//                    each tree, sampled values; for the extract checkers)
 //   --rename-field OLD=NEW   (the simulation calls field OLD by the name NEW)
 //   --time-limit SECONDS     (InSituOptions::stepTimeLimitSeconds)
 //   --expected PATH          (where rank 0 writes the totals; OUTPUT/expected.json)
@@ -18,21 +22,25 @@
 //   --obstruct-step S --obstruct NAME  (before step S, a folder NAME in the output
 //                             directory stands where a pipeline writes a file)
 #include "DescriptorForest.h"
+#include "ForestJson.h"
 #include "PaperCaseDefinitions.h"
 #include "SyntheticForest.h"
 
 #include "canopy/InSitu.h"
 
 #include <mpi.h>
+#include <sys/resource.h>
 
 #include <sys/stat.h>
 #include <sys/statvfs.h>
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -55,8 +63,11 @@ struct Arguments
   int emptyRank = -1;
   int corruptRank = -1;
   int corruptStep = -1;
+  int limitStep = -1;
+  std::string limitFile;
   bool close = true;
   bool summary = false;
+  bool forestJson = false;
   std::map<std::string, std::string> renamedFields;
   double timeLimit = 0.0;
   std::string expected;
@@ -102,10 +113,17 @@ Arguments parse(int argc, char** argv)
       a.corruptRank = std::stoi(value());
     else if (key == "--corrupt-step")
       a.corruptStep = std::stoi(value());
+    else if (key == "--limit-file-at-step")
+    {
+      a.limitStep = std::stoi(value());
+      a.limitFile = value();
+    }
     else if (key == "--no-close")
       a.close = false;
     else if (key == "--summary")
       a.summary = true;
+    else if (key == "--forest-json")
+      a.forestJson = true;
     else if (key == "--time-limit")
       a.timeLimit = std::stod(value());
     else if (key == "--expected")
@@ -161,13 +179,13 @@ private:
 class SyntheticState : public SimulationState
 {
 public:
-  SyntheticState(int dimension, int step)
+  SyntheticState(int dimension, int step, bool masked = false)
   {
     canopy::tools::SyntheticForestOptions o;
     o.dimension = dimension;
     o.rootsPerAxis = dimension == 2 ? 8 : 4;
     o.maxLevels = dimension == 2 ? 7 : 5;
-    o.cutaway = false;
+    o.cutaway = masked;
     o.frontRadius = 0.3 + 0.08 * step; // the front moves outwards every step
     Forest = std::make_unique<canopy::tools::SyntheticForest>(o);
   }
@@ -186,6 +204,8 @@ std::unique_ptr<SimulationState> makeState(const std::string& name, int step)
     return std::make_unique<DescriptorState>(paperCaseB(name == "B-masked"));
   if (name == "moving-2d")
     return std::make_unique<SyntheticState>(2, step);
+  if (name == "moving-2d-masked")
+    return std::make_unique<SyntheticState>(2, step, true);
   if (name == "moving-3d")
     return std::make_unique<SyntheticState>(3, step);
   throw std::invalid_argument("unknown case " + name);
@@ -495,6 +515,20 @@ int main(int argc, char** argv)
       if (rank == 0)
         expected << (step ? ",\n" : "") << totalsJson(whole, step, time);
 
+      if (rank == 0 && args.forestJson)
+      {
+        // Who writes each tree: round robin over the ranks that own any (split: all).
+        std::vector<int> owners(whole.trees.size(), -1);
+        const int count = args.emptyRank >= 0 && size > 1 ? size - 1 : size;
+        for (std::size_t t = 0; t < owners.size() && args.distribute != "split"; ++t)
+        {
+          const int owner = static_cast<int>(t % static_cast<std::size_t>(count));
+          owners[t] =
+              args.emptyRank >= 0 && size > 1 && owner >= args.emptyRank ? owner + 1 : owner;
+        }
+        std::ofstream(args.output + "/forest_" + std::to_string(step) + ".json")
+            << canopy::testing::forestJson(whole, owners, step, time, size);
+      }
       std::unique_ptr<RankForest> byTrees;
       std::unique_ptr<SplitForest> split;
       canopy::ForestDescription* local = nullptr;
@@ -515,6 +549,16 @@ int main(int argc, char** argv)
             own.push_back(t);
         byTrees = std::make_unique<RankForest>(whole, own);
         local = &byTrees->description();
+      }
+      if (step == args.limitStep)
+      {
+        // A file-size limit (RLIMIT_FSIZE) makes writes past it fail with EFBIG, as a
+        // full disk makes them fail with ENOSPC, without a filesystem to fill.
+        std::error_code ignored;
+        const auto size = std::filesystem::file_size(args.limitFile, ignored);
+        std::signal(SIGXFSZ, SIG_IGN);
+        const rlimit limit{static_cast<rlim_t>(size) + 16384, static_cast<rlim_t>(size) + 16384};
+        setrlimit(RLIMIT_FSIZE, &limit);
       }
       for (auto& field : local->fields)
       {

@@ -21,7 +21,8 @@ import numpy
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
 from output_checks import (cell_array, expect, finish, read_htg_pieces,  # noqa: E402
-                           read_png, read_polydata, read_unstructured, run_command)
+                           read_multiblock, read_png, read_polydata, read_unstructured,
+                           run_command, vtkhdf_cells_per_step)
 
 
 SKIP = 77  # CTest's SKIP_RETURN_CODE for these tests
@@ -339,15 +340,29 @@ def check_selection_long_field_name(code, log):
 
 
 def check_data_extracts(code, log):
-    """Every step: the .htg pieces hold every node, the full-resolution surface one
-    quad per leaf (2D) or one face per boundary leaf face (3D, unmasked)."""
+    """Every step: the .htg pieces hold every node, and so do the step's .vtm, the
+    .pvd and the VTKHDF file's pieces; the full-resolution surface one quad per leaf
+    (2D) or one face per boundary leaf face (3D, unmasked)."""
     expect(code == 0, "the simulation exits normally")
-    for entry in expected():
+    entries = expected()
+    with open(path("grid.pvd")) as series:
+        listed = re.findall(r'file="(grid_\d{6}\.vtm)"', series.read())
+    expect(listed == ["grid_%06d.vtm" % entry["step"] for entry in entries],
+           "grid.pvd lists every step's .vtm: %s" % listed)
+    cells_per_step = vtkhdf_cells_per_step(path("grid.vtkhdf"))
+    expect(cells_per_step == [entry["nodes"] for entry in entries],
+           "grid.vtkhdf holds every step, all nodes: %s" % cells_per_step)
+    for entry in entries:
         step = entry["step"]
         grids = htg_pieces("grid", step)
         nodes = sum(g.GetNumberOfCells() for g in grids)
         expect(nodes == entry["nodes"], "step %d: .htg pieces hold %d nodes (expected %d)"
                % (step, nodes, entry["nodes"]))
+        multiblock = read_multiblock(path("grid_%06d.vtm" % step))
+        nodes = sum(multiblock.GetBlock(b).GetNumberOfCells()
+                    for b in range(multiblock.GetNumberOfBlocks()))
+        expect(multiblock.GetNumberOfBlocks() == RANKS and nodes == entry["nodes"],
+               "step %d: the .vtm has a block per rank, %d nodes" % (step, nodes))
         surface = polydata("grid_surface_%06d.pvtp" % step)
         faces = surface.GetNumberOfCells()
         want = entry["boundary_faces"] if entry["boundary_faces"] else entry["leaves"]

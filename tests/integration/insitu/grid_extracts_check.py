@@ -1,0 +1,191 @@
+"""Runs the stand-in simulation with data_extracts.py, then checks the grid
+extracts: the VTKHDF file with h5py (tests/support/vtkhdf_check.py), the
+ParaView 5.11 series by opening it in pvpython (paraview511_open.py), and
+failed writes (reported with rank and step, every rank skipping the step,
+earlier steps intact).
+
+usage: python3 grid_extracts_check.py CHECK OUTPUT_DIR [ARGUMENT] -- COMMAND...
+  vtkhdf                    the VTKHDF file holds every step
+  paraview511 PVPYTHON      ParaView 5.11 opens the .pvd and .vtm files right
+  paraview511_render PVPYTHON (no COMMAND) ParaView 5.11 draws OUTPUT_DIR's series
+  disk_full SIZE            OUTPUT_DIR/tmpfs is a tmpfs of SIZE (mounted here when
+                            possible, else the test is skipped): steps that do not
+                            fit fail, the file keeps the others
+  write_fails STEP          writes fail from STEP on (a file-size limit): same
+  unwritable                the file's folder cannot be created: every step fails
+COMMAND writes into OUTPUT_DIR, with --forest-json. Debian's /usr/bin/python3 (h5py).
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from grid_extract_expectations import failed_steps, load_forests  # noqa: E402
+from output_checks import expect, finish, run_command  # noqa: E402
+from vtkhdf_check import verify  # noqa: E402
+
+SKIP = 77  # the tests' SKIP_RETURN_CODE
+
+
+def steps_run(log):
+    # Not anchored: a line of ParaView's stderr may run into it.
+    return [int(s) for s in re.findall(r"step (\d+) executed", log)]
+
+
+def check_vtkhdf(code, log, output, _):
+    expect(code == 0, "the simulation exits normally")
+    expect(failed_steps(log) == [], "no step failed (%s)" % failed_steps(log))
+    forests = load_forests(output)
+    expect(len(forests) >= 2, "%d steps to check" % len(forests))
+    verify(os.path.join(output, "grid.vtkhdf"), forests, expect)
+
+
+def private_display():
+    """An Xvfb of our own on a display number it picks itself (-displayfd): no race
+    with other X servers on the machine, as xvfb-run -a has. Returns (server, DISPLAY)."""
+    read, write = os.pipe()
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-nolisten", "tcp", "-screen", "0",
+                               "1280x1024x24"], pass_fds=(write,), stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL)
+    os.close(write)
+    number = os.read(read, 64).decode().strip()
+    os.close(read)
+    return server, ":" + number
+
+
+def check_paraview511(code, log, output, pvpython):
+    expect(code == 0, "the simulation exits normally")
+    expect(failed_steps(log) == [], "no step failed (%s)" % failed_steps(log))
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview511_open.py")
+    data = subprocess.run([pvpython, script, output, "data"], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True,
+                          env={k: v for k, v in os.environ.items() if k != "DISPLAY"})
+    print(data.stdout[-6000:])
+    expect(data.returncode == 0, "ParaView 5.11 (pvpython) opens the series and every step "
+           "with the simulation's cells and values (exit code %d)" % data.returncode)
+
+
+def render_paraview511(output, pvpython):
+    """ParaView 5.11 draws the series of an earlier run (OUTPUT_DIR) in a render
+    view. Several tries: X servers of other jobs on a shared machine can take the
+    display away (a lost connection, a crash inside Xlib); if every try loses it,
+    the test is skipped with that reason rather than judged."""
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview511_open.py")
+    lost = 0
+    for attempt in range(5):
+        server, display = private_display()
+        try:
+            result = subprocess.run([pvpython, script, output, "render"], stdout=subprocess.PIPE,
+                                    stderr=subprocess.STDOUT, text=True,
+                                    env=dict(os.environ, DISPLAY=display))
+        finally:
+            server.terminate()
+            server.wait()
+        x_lost = result.returncode < 0 and re.search(
+            r"bad X server connection|XSync|XOpenGLRenderWindow|X Error", result.stdout)
+        if not x_lost:
+            break
+        lost += 1
+        print("attempt %d: the X display was lost while rendering (signal %d)"
+              % (attempt + 1, -result.returncode))
+    print(result.stdout[-3000:])
+    if lost == 5:
+        print("SKIPPED: no X display stayed up long enough to render (other jobs' X servers)")
+        sys.exit(SKIP)
+    expect(result.returncode == 0, "ParaView 5.11 (pvpython) renders the series (exit code %d)"
+           % result.returncode)
+
+
+def check_failed_from(code, log, output, first_failure, message):
+    """Steps from `first_failure` on failed on every rank with `message`; the file
+    holds exactly the earlier ones."""
+    expect(code == 0, "the simulation exits normally, no crash (exit code %d)" % code)
+    forests = load_forests(output)
+    steps = [forest["step"] for forest in forests]
+    want = [step for step in steps if step >= first_failure]
+    expect(failed_steps(log) == want and want, "steps %s failed (%s)" % (want, failed_steps(log)))
+    first = re.search(r"RuntimeError: VTKHDF extract .*: step %d \(time [^)]*\) not written: (.*)"
+                      % first_failure, log)
+    expect(first is not None and re.search(message, first.group(1)) is not None,
+           "step %d's error names the rank and the problem: %s"
+           % (first_failure, first.group(1)[:300] if first else None))
+    ranks = forests[0]["ranks"]
+    reported = set(re.findall(r"failure: rank (\d+), step %d:" % first_failure, log))
+    expect(reported == {str(r) for r in range(ranks)},
+           "every rank skipped step %d (reports from ranks %s)" % (first_failure, sorted(reported)))
+    expect(steps_run(log) == steps, "the simulation went on to its last step")
+    kept = [forest for forest in forests if forest["step"] < first_failure]
+    path = os.path.join(output, "tmpfs", "grid.vtkhdf")
+    if not os.path.exists(path):
+        path = os.path.join(output, "grid.vtkhdf")
+    verify(path, kept, expect)
+
+
+def check_disk_full(code, log, output, _):
+    # The first step that failed is the one that did not fit.
+    failed = failed_steps(log)
+    expect(bool(failed) and failed[0] > 0, "some steps were written before the disk was full, "
+           "then steps failed (%s)" % failed)
+    check_failed_from(code, log, output, failed[0] if failed else -1,
+                      r"rank 0: not enough free space in .*tmpfs")
+
+
+def check_write_fails(code, log, output, step):
+    check_failed_from(code, log, output, int(step), r"rank \d+: cannot write .*")
+
+
+def check_unwritable(code, log, output, _):
+    expect(code == 0, "the simulation exits normally")
+    forests = load_forests(output)
+    steps = [forest["step"] for forest in forests]
+    expect(failed_steps(log) == steps, "every step failed (%s)" % failed_steps(log))
+    for step in steps:
+        expect(re.search(r"VTKHDF extract /proc/canopy/grid.vtkhdf: step %d \(time [^)]*\) not "
+                         r"written: rank 0: cannot create /proc/canopy/grid.vtkhdf" % step, log)
+               is not None, "step %d: reported with rank, step and file" % step)
+
+
+def mount_tmpfs(directory, size):
+    """Mounts a tmpfs of `size` at `directory`; returns why not, or None."""
+    os.makedirs(directory, exist_ok=True)
+    result = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=" + size, "tmpfs", directory],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return None if result.returncode == 0 else result.stdout.strip() or "mount failed"
+
+
+def main():
+    check, output = sys.argv[1], sys.argv[2]
+    if check == "paraview511_render":
+        render_paraview511(output, sys.argv[3])
+        finish()
+    separator = sys.argv.index("--")
+    argument = sys.argv[3] if separator > 3 else None
+    command = sys.argv[separator + 1:]
+    tmpfs = os.path.join(output, "tmpfs")
+    if os.path.ismount(tmpfs):
+        subprocess.run(["umount", tmpfs])
+    shutil.rmtree(output, ignore_errors=True)
+    os.makedirs(output)
+    mounted = False
+    if check == "disk_full":
+        problem = mount_tmpfs(tmpfs, argument)
+        if problem:
+            print("SKIPPED: cannot mount a %s tmpfs to fill (%s); run as root or with "
+                  "CAP_SYS_ADMIN to test a full disk" % (argument, problem))
+            sys.exit(SKIP)
+        mounted = True
+    try:
+        code, log = run_command(command, tail=6000)
+        with open(os.path.join(output, "run.log"), "w") as out:
+            out.write(log)
+        globals()["check_" + check](code, log, output, argument)
+    finally:
+        if mounted:
+            subprocess.run(["umount", tmpfs])
+    finish()
+
+
+if __name__ == "__main__":
+    main()
