@@ -93,10 +93,19 @@ def catalyst_options(values, cinema=None):
     return options
 
 
-def load_canopy_plugin(namespace):
-    """Loads the Canopy ParaView plugin into the script's namespace (its globals())."""
-    from paraview.simple import LoadPlugin
-    LoadPlugin(os.environ["CANOPY_PLUGIN"], remote=False, ns=namespace)
+def load_canopy_plugin(namespace=None):
+    """Loads the Canopy ParaView plugin: its filters become functions of
+    paraview.simple (simple.CanopyAdaptiveSurface, ...) and, given a namespace (the
+    script's globals()), names in it too. Only the plugin's own functions are added
+    to the namespace: LoadPlugin(..., ns=globals()) would make one there for each of
+    ParaView's ~480 proxies, about 1 s per script on the first step
+    (tests/bench/canopy_bench_image_step --first-step, docs/benchmarks.md)."""
+    from paraview import simple
+    simple.LoadPlugin(os.environ["CANOPY_PLUGIN"], remote=False)
+    if namespace is not None:
+        for name in dir(simple):
+            if name.startswith("Canopy"):
+                namespace[name] = getattr(simple, name)
 
 
 def simulation_grid(values):
@@ -186,7 +195,7 @@ def frame_grid(view, grid, values):
             view.CameraParallelProjection = 1
             view.CameraParallelScale = values.parallel_scale
         return
-    local = _at_step_time(grid).GetDataInformation().GetBounds()
+    local = _local_bounds(_local_data(grid))
     low = _reduce([local[2 * axis] for axis in range(3)], "MIN_OP")
     high = _reduce([local[2 * axis + 1] for axis in range(3)], "MAX_OP")
     bounds = [value for axis in range(3) for value in (low[axis], high[axis])]
@@ -229,15 +238,22 @@ def color_by(display, view, grid, field, fixed_range=None):
         return None
     # Not ColorBy(): it rescales to this rank's data, and warns on a rank without any.
     display.ColorArrayName = ["CELLS", field]
-    display.LookupTable = GetColorTransferFunction(field)
+    lut = GetColorTransferFunction(field)
+    # The range is set below, every step; left to ParaView ("Grow and update on
+    # 'Apply'"), each render would also gather the shown data's information
+    # (every array's range over every cell) to see whether it should grow.
+    lut.AutomaticRescaleRangeMode = "Never"
+    display.LookupTable = lut
     if fixed_range is not None:
         low, high = fixed_range
     else:
-        info = _at_step_time(grid).GetCellDataInformation().GetArray(field)
-        local = (info.GetRange(-1 if info.GetNumberOfComponents() > 1 else 0)
-                 if info is not None else (float("inf"), float("-inf")))
-        # Data information is rank-local in Catalyst: agree on the range, or each
-        # rank would color with its own.
+        data = _local_data(grid)
+        array = data.GetCellData().GetArray(field) if data is not None else None
+        local = (array.GetRange(-1 if array.GetNumberOfComponents() > 1 else 0)
+                 if array is not None and array.GetNumberOfTuples() > 0
+                 else (float("inf"), float("-inf")))
+        # Each rank has its own part: agree on the range, or each rank would color
+        # with its own.
         low = _reduce([local[0]], "MIN_OP")[0]
         high = _reduce([local[1]], "MAX_OP")[0]
     if not low <= high:
@@ -305,6 +321,26 @@ def _step_time():
     helper = vtkCPPythonScriptV2Helper.GetActiveInstance()
     description = helper.GetDataDescription() if helper is not None else None
     return description.GetTime() if description is not None else None
+
+
+def _local_data(source):
+    """This rank's data object of `source`, updated at this step's time, or None.
+    Catalyst runs in a builtin session: the client-side object is this rank's own
+    algorithm, so bounds and ranges are read from the data itself. ParaView's data
+    information (GetDataInformation) would gather much more (every array's range,
+    leaf counts, memory size): 0.06 s per 1e5 leaves here, per call
+    (tests/bench/canopy_bench_image_step, docs/benchmarks.md)."""
+    _at_step_time(source)
+    algorithm = source.GetClientSideObject()
+    return algorithm.GetOutputDataObject(0) if algorithm is not None else None
+
+
+def _local_bounds(data):
+    """(xmin, xmax, ymin, ymax, zmin, zmax) of this rank's data; empty (min > max)
+    when it has none, so that it does not count in the reduction over ranks."""
+    if data is None or data.GetNumberOfCells() == 0:
+        return [float("inf"), float("-inf")] * 3
+    return list(data.GetBounds())
 
 
 def _at_step_time(source):

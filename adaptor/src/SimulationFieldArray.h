@@ -20,8 +20,10 @@
 
 #include <vtkGenericDataArray.h>
 #include <vtkObjectFactory.h>
+#include <vtkTypeTraits.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -180,6 +182,50 @@ public:
     return this->Owned.data() + valueIdx;
   }
 
+  // Ranges. VTK 9.2's vtkDataArray computes the range of an array class it does
+  // not know through one virtual GetComponent per value (about 0.4 us per value in
+  // Debian's build: ParaView's data information and the pipelines' colour ranges
+  // spent 0.5 s per image step on a 1e6-leaf grid, docs/benchmarks.md). This array
+  // reads itself, with VTK's rules: NaN skipped, the finite variants also skip
+  // infinities, vector ranges are of the Euclidean norm, tuples whose ghost flags
+  // meet ghostsToSkip are skipped, false for an empty array.
+  bool ComputeScalarRange(double* ranges) override
+  {
+    return this->componentRanges(ranges, nullptr, 0, false);
+  }
+  bool ComputeScalarRange(double* ranges, const unsigned char* ghosts,
+                          unsigned char ghostsToSkip) override
+  {
+    return this->componentRanges(ranges, ghosts, ghostsToSkip, false);
+  }
+  bool ComputeFiniteScalarRange(double* ranges) override
+  {
+    return this->componentRanges(ranges, nullptr, 0, true);
+  }
+  bool ComputeFiniteScalarRange(double* ranges, const unsigned char* ghosts,
+                                unsigned char ghostsToSkip) override
+  {
+    return this->componentRanges(ranges, ghosts, ghostsToSkip, true);
+  }
+  bool ComputeVectorRange(double range[2]) override
+  {
+    return this->normRange(range, nullptr, 0, false);
+  }
+  bool ComputeVectorRange(double range[2], const unsigned char* ghosts,
+                          unsigned char ghostsToSkip) override
+  {
+    return this->normRange(range, ghosts, ghostsToSkip, false);
+  }
+  bool ComputeFiniteVectorRange(double range[2]) override
+  {
+    return this->normRange(range, nullptr, 0, true);
+  }
+  bool ComputeFiniteVectorRange(double range[2], const unsigned char* ghosts,
+                                unsigned char ghostsToSkip) override
+  {
+    return this->normRange(range, ghosts, ghostsToSkip, true);
+  }
+
 protected:
   SimulationFieldArray() = default;
   ~SimulationFieldArray() override = default;
@@ -210,6 +256,80 @@ private:
     this->View = FieldView();
     this->Map.reset();
     this->Computed.clear();
+  }
+
+  static bool skipped(double value, bool finiteOnly)
+  {
+    return finiteOnly ? !std::isfinite(value) : std::isnan(value);
+  }
+
+  bool componentRanges(double* ranges, const unsigned char* ghosts, unsigned char ghostsToSkip,
+                       bool finiteOnly) const
+  {
+    const vtkIdType tuples = this->GetNumberOfTuples();
+    const int components = this->NumberOfComponents;
+    if (tuples <= 0)
+    {
+      return false;
+    }
+    for (int c = 0; c < components; ++c)
+    {
+      ranges[2 * c] = vtkTypeTraits<double>::Max();
+      ranges[2 * c + 1] = vtkTypeTraits<double>::Min();
+    }
+    for (vtkIdType t = 0; t < tuples; ++t)
+    {
+      if (ghosts && (ghosts[t] & ghostsToSkip))
+      {
+        continue;
+      }
+      for (int c = 0; c < components; ++c)
+      {
+        const double value = static_cast<double>(this->GetTypedComponent(t, c));
+        if (skipped(value, finiteOnly))
+        {
+          continue;
+        }
+        ranges[2 * c] = std::min(ranges[2 * c], value);
+        ranges[2 * c + 1] = std::max(ranges[2 * c + 1], value);
+      }
+    }
+    return true;
+  }
+
+  bool normRange(double range[2], const unsigned char* ghosts, unsigned char ghostsToSkip,
+                 bool finiteOnly) const
+  {
+    const vtkIdType tuples = this->GetNumberOfTuples();
+    const int components = this->NumberOfComponents;
+    if (tuples <= 0)
+    {
+      return false;
+    }
+    double low = vtkTypeTraits<double>::Max();
+    double high = vtkTypeTraits<double>::Min();
+    for (vtkIdType t = 0; t < tuples; ++t)
+    {
+      if (ghosts && (ghosts[t] & ghostsToSkip))
+      {
+        continue;
+      }
+      double squared = 0.0;
+      for (int c = 0; c < components; ++c)
+      {
+        const double value = static_cast<double>(this->GetTypedComponent(t, c));
+        squared += value * value;
+      }
+      if (skipped(squared, finiteOnly))
+      {
+        continue;
+      }
+      low = std::min(low, squared);
+      high = std::max(high, squared);
+    }
+    range[0] = low <= high ? std::sqrt(low) : low;
+    range[1] = low <= high ? std::sqrt(high) : high;
+    return true;
   }
 
   /// Copies the borrowed view into owned memory so a write never reaches the simulation.

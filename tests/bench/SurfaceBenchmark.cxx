@@ -5,11 +5,16 @@
 //   surface3d.csv   3D surface vs both upstream filters
 //   tradeoff.csv    run time against image error, sweeping the pixel threshold
 //                   (Canopy) and Scale (upstream)
-// and PNG images of the sweep's extremes.
+// and PNG images of the sweep's extremes. Besides the synthetic forest, the
+// mini-app's own forests at a late step (real data) add rows to the first three
+// tables (2D forests to the 2D tables, 3D to the 3D one).
 //
 // Usage: canopy_bench_surface [--output DIR] [--max-level L] [--quick] [--canopy-only]
-//                             [--repetitions N] (median of N steady-state executions)
-// (--canopy-only: skip the upstream filters, to profile Canopy under callgrind)
+//          [--repetitions N] [--data synthetic|miniapp|all]
+//          [--miniapp DIM,ROOTS,MAX_LEVEL,STEPS]...
+// (--repetitions: median of N steady-state executions; --canopy-only: skip the
+// upstream filters, to profile Canopy under callgrind)
+#include "MiniAppForest.h"
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
 
@@ -32,6 +37,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,6 +60,8 @@ double secondsSince(Clock::time_point start)
 
 /// Re-executions timed per measurement (--repetitions): the median is reported.
 int repetitions = 1;
+/// Whether the synthetic forests' rows run (--data).
+bool Synthetic = true;
 
 /// Steady state: times the second Update() of an algorithm (re-executed after
 /// Modified()), as when a camera moves; with --repetitions N, the median of N
@@ -86,7 +94,35 @@ struct Forest2D
   std::unique_ptr<canopy::tools::SyntheticForest> simulation;
   vtkSmartPointer<vtkHyperTreeGrid> htg;
   std::size_t leaves = 0;
+  std::string label;              ///< after the leaf count in tables ("" for synthetic)
+  std::string field = "pressure"; ///< the leaves-only field shown
+  double low = 1, high = 7;       ///< its color range
 };
+
+/// The mini-app's forests (real data), simulated once, in this process.
+std::vector<std::unique_ptr<canopy::tools::MiniAppForest>> MiniAppForests;
+
+/// A mini-app forest's grid, shown by its leaves-only scalar (in [0, 1]).
+Forest2D miniAppForest(const canopy::tools::MiniAppForest& simulation)
+{
+  Forest2D f;
+  f.htg = canopy::buildHyperTreeGrid(simulation.description());
+  f.leaves = static_cast<std::size_t>(simulation.globalLeaves());
+  f.label = " (" + simulation.label() + ")";
+  f.field = "scalar";
+  f.low = 0;
+  f.high = 1;
+  return f;
+}
+
+std::vector<Forest2D> miniAppForests(int dimension)
+{
+  std::vector<Forest2D> forests;
+  for (const auto& simulation : MiniAppForests)
+    if (simulation->description().dimension == dimension)
+      forests.push_back(miniAppForest(*simulation));
+  return forests;
+}
 
 Forest2D makeForest(int dimension, int roots, int levels, bool cutaway = false)
 {
@@ -120,13 +156,20 @@ void full2d(const std::filesystem::path& out, int maxLevel)
   std::cout << "\n## Full-resolution 2D surface vs vtkHyperTreeGridGeometry\n\n"
             << "| leaves | Canopy s | Canopy first run s | vtkHyperTreeGridGeometry s | speedup "
                "| Canopy ns/quad | write floor ns/quad |\n|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (int levels = 7; levels <= maxLevel; ++levels)
+  // Synthetic forests are made one at a time (the largest holds 2.3e7 leaves).
+  std::vector<int> levelsOf;
+  for (int levels = 7; Synthetic && levels <= maxLevel; ++levels)
+    levelsOf.push_back(levels);
+  const std::size_t synthetic = levelsOf.size();
+  std::vector<Forest2D> real = miniAppForests(2);
+  for (std::size_t row = 0; row < synthetic + real.size(); ++row)
   {
-    Forest2D f = makeForest(2, 16, levels);
+    Forest2D f =
+        row < synthetic ? makeForest(2, 16, levelsOf[row]) : std::move(real[row - synthetic]);
     vtkNew<vtkCanopyAdaptiveSurface> canopy;
     canopy->SetInputData(f.htg);
     canopy->ViewDependentOff();
-    canopy->AddField("pressure");
+    canopy->AddField(f.field.c_str());
     double canopyFirst = 0;
     const double canopySeconds = timeUpdate(canopy.Get(), &canopyFirst);
     vtkNew<vtkHyperTreeGridGeometry> geometry;
@@ -139,12 +182,13 @@ void full2d(const std::filesystem::path& out, int maxLevel)
     const double floor =
         writeFloorSeconds(static_cast<std::size_t>(quads) * bytesPerQuad) / quads * 1e9;
     const double ns = canopySeconds / quads * 1e9;
-    csv << f.leaves << "," << canopySeconds << "," << canopyFirst << "," << vtkSeconds << ","
-        << vtkSeconds / canopySeconds << "," << ns << "," << floor << "," << quads << ","
+    csv << f.leaves << f.label << "," << canopySeconds << "," << canopyFirst << "," << vtkSeconds
+        << "," << vtkSeconds / canopySeconds << "," << ns << "," << floor << "," << quads << ","
         << vtkPolyData::SafeDownCast(geometry->GetOutput())->GetNumberOfCells() << "\n";
-    std::cout << std::fixed << std::setprecision(3) << "| " << f.leaves << " | " << canopySeconds
-              << " | " << canopyFirst << " | " << vtkSeconds << " | " << std::setprecision(1)
-              << vtkSeconds / canopySeconds << "x | " << ns << " | " << floor << " |" << std::endl;
+    std::cout << std::fixed << std::setprecision(3) << "| " << f.leaves << f.label << " | "
+              << canopySeconds << " | " << canopyFirst << " | " << vtkSeconds << " | "
+              << std::setprecision(1) << vtkSeconds / canopySeconds << "x | " << ns << " | "
+              << floor << " |" << std::endl;
   }
 }
 
@@ -167,15 +211,26 @@ void adaptive2d(const std::filesystem::path& out, int maxLevel)
                "quads | VTK quads | RMSE Canopy / VTK (vs full resolution) |\n"
             << "|---:|---:|---:|---:|---:|---:|---:|\n";
   OffscreenRenderer r(1024, 1024);
-  for (int levels = 9; levels <= maxLevel; ++levels)
+  std::vector<int> levelsOf;
+  for (int levels = 9; Synthetic && levels <= maxLevel; ++levels)
+    levelsOf.push_back(levels);
+  const std::size_t synthetic = levelsOf.size();
+  std::vector<Forest2D> real = miniAppForests(2);
+  for (std::size_t row = 0; row < synthetic + real.size(); ++row)
   {
-    Forest2D f = makeForest(2, 16, levels);
-    // A fixed view on part of the front.
-    setTopView(r.camera(), 0.44, 0.44, 0.3);
+    Forest2D f =
+        row < synthetic ? makeForest(2, 16, levelsOf[row]) : std::move(real[row - synthetic]);
+    // A fixed view on part of the front; on the mini-app's unit square the same
+    // share of the domain (30% across), at its centre.
+    if (row < synthetic)
+      setTopView(r.camera(), 0.44, 0.44, 0.3);
+    else
+      setTopView(r.camera(), 0.5, 0.5, 0.15);
+    const char* field = f.field.c_str();
     vtkNew<vtkCanopyAdaptiveSurface> canopy;
     canopy->SetInputData(f.htg);
     canopy->SetRenderer(r.renderer());
-    canopy->AddField("pressure");
+    canopy->AddField(field);
     const double canopySeconds = timeUpdate(canopy.Get());
     vtkNew<vtkAdaptiveDataSetSurfaceFilter> upstream;
     upstream->SetInputData(f.htg);
@@ -186,21 +241,22 @@ void adaptive2d(const std::filesystem::path& out, int maxLevel)
     full->SetInputData(f.htg);
     full->SetRenderer(r.renderer());
     full->LevelOfDetailOff();
-    full->AddField("pressure");
+    full->AddField(field);
     full->Update();
-    const Image reference = r.render(full->GetPolyDataOutput(), "pressure", 1, 7);
+    const Image reference = r.render(full->GetPolyDataOutput(), field, f.low, f.high);
     const ImageError ce =
-        compare(r.render(canopy->GetPolyDataOutput(), "pressure", 1, 7), reference, 8);
-    const ImageError ve = compare(r.render(upstream->GetOutput(), "pressure", 1, 7), reference, 8);
+        compare(r.render(canopy->GetPolyDataOutput(), field, f.low, f.high), reference, 8);
+    const ImageError ve =
+        compare(r.render(upstream->GetOutput(), field, f.low, f.high), reference, 8);
     const auto cq = canopy->GetPolyDataOutput()->GetNumberOfCells();
     const auto vq = upstream->GetOutput()->GetNumberOfCells();
-    csv << f.leaves << "," << canopySeconds << "," << vtkSeconds << ","
+    csv << f.leaves << f.label << "," << canopySeconds << "," << vtkSeconds << ","
         << vtkSeconds / canopySeconds << "," << cq << "," << vq << "," << ce.rmse << "," << ve.rmse
         << "," << ce.shareOff << "," << ve.shareOff << "\n";
-    std::cout << std::fixed << std::setprecision(4) << "| " << f.leaves << " | " << canopySeconds
-              << " | " << vtkSeconds << " | " << std::setprecision(1) << vtkSeconds / canopySeconds
-              << "x | " << cq << " | " << vq << " | " << std::setprecision(2) << ce.rmse << " / "
-              << ve.rmse << " |" << std::endl;
+    std::cout << std::fixed << std::setprecision(4) << "| " << f.leaves << f.label << " | "
+              << canopySeconds << " | " << vtkSeconds << " | " << std::setprecision(1)
+              << vtkSeconds / canopySeconds << "x | " << cq << " | " << vq << " | "
+              << std::setprecision(2) << ce.rmse << " / " << ve.rmse << " |" << std::endl;
   }
 }
 
@@ -214,21 +270,42 @@ void surface3d(const std::filesystem::path& out, int maxLevel)
                "vtkAdaptiveDataSetSurfaceFilter s | Canopy quads | Geometry quads | Adaptive "
                "quads |\n|---:|---|---:|---:|---:|---:|---:|---:|\n";
   OffscreenRenderer r(1024, 768);
-  for (int levels = 5; levels <= std::min(maxLevel - 4, 7); ++levels)
+  struct Row
   {
+    int levels;
+    bool cutaway;
+  };
+  std::vector<Row> rows;
+  for (int levels = 5; Synthetic && levels <= std::min(maxLevel - 4, 7); ++levels)
     for (bool cutaway : {false, true})
+      rows.push_back({levels, cutaway});
+  const std::size_t synthetic = rows.size();
+  std::vector<Forest2D> real = miniAppForests(3);
+  for (std::size_t row = 0; row < synthetic + real.size(); ++row)
+  {
     {
-      Forest2D f = makeForest(3, 6, levels, cutaway);
+      const bool cutaway = row < synthetic && rows[row].cutaway;
+      Forest2D f = row < synthetic ? makeForest(3, 6, rows[row].levels, cutaway)
+                                   : std::move(real[row - synthetic]);
       vtkCamera* c = r.camera();
-      c->SetFocalPoint(0, 0, 0);
-      c->SetPosition(2.2, 2.6, 1.8); // looking into the cut-away octant
+      if (row < synthetic)
+      {
+        c->SetFocalPoint(0, 0, 0);
+        c->SetPosition(2.2, 2.6, 1.8); // looking into the cut-away octant
+      }
+      else
+      {
+        // The same view of the mini-app's unit cube (half the synthetic's [-1, 1]^3).
+        c->SetFocalPoint(0.5, 0.5, 0.5);
+        c->SetPosition(0.5 + 1.1, 0.5 + 1.3, 0.5 + 0.9);
+      }
       c->SetViewUp(0, 0, 1);
       c->ParallelProjectionOff();
       c->SetViewAngle(30);
       vtkNew<vtkCanopyAdaptiveSurface> canopy;
       canopy->SetInputData(f.htg);
       canopy->SetRenderer(r.renderer());
-      canopy->AddField("density");
+      canopy->AddField(row < synthetic ? "density" : "scalar");
       const double canopySeconds = timeUpdate(canopy.Get());
       vtkNew<vtkHyperTreeGridGeometry> geometry;
       geometry->SetInputData(f.htg);
@@ -248,9 +325,9 @@ void surface3d(const std::filesystem::path& out, int maxLevel)
         aq = upstream->GetOutput()->GetNumberOfCells();
       }
       const auto cq = canopy->GetPolyDataOutput()->GetNumberOfCells();
-      csv << f.leaves << "," << cutaway << "," << canopySeconds << "," << geometrySeconds << ","
-          << adaptiveSeconds << "," << cq << "," << gq << "," << aq << "\n";
-      std::cout << std::fixed << std::setprecision(4) << "| " << f.leaves << " | "
+      csv << f.leaves << f.label << "," << cutaway << "," << canopySeconds << "," << geometrySeconds
+          << "," << adaptiveSeconds << "," << cq << "," << gq << "," << aq << "\n";
+      std::cout << std::fixed << std::setprecision(4) << "| " << f.leaves << f.label << " | "
                 << (cutaway ? "yes" : "no") << " | " << canopySeconds << " | " << geometrySeconds
                 << " | " << (cutaway ? std::string("aborts") : std::to_string(adaptiveSeconds))
                 << " | " << cq << " | " << gq << " | "
@@ -338,6 +415,8 @@ int main(int argc, char** argv)
 {
   std::filesystem::path out = "surface-benchmark";
   int maxLevel = 11;
+  std::string data = "all";
+  std::vector<std::string> miniAppSpecs;
   for (int i = 1; i < argc; ++i)
   {
     const std::string arg = argv[i];
@@ -351,11 +430,37 @@ int main(int argc, char** argv)
       canopyOnly = true;
     else if (arg == "--repetitions" && i + 1 < argc)
       repetitions = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--data" && i + 1 < argc)
+      data = argv[++i];
+    else if (arg == "--miniapp" && i + 1 < argc)
+      miniAppSpecs.push_back(argv[++i]);
     else
     {
-      std::cerr << "usage: canopy_bench_surface [--output DIR] [--max-level L] [--quick] "
-                   "[--canopy-only] [--repetitions N]\n";
+      std::cerr << "usage: canopy_bench_surface [--output DIR] [--max-level L] [--quick]\n"
+                   "         [--canopy-only] [--repetitions N] [--data synthetic|miniapp|all]\n"
+                   "         [--miniapp DIM,ROOTS,MAX_LEVEL,STEPS]...\n";
       return 2;
+    }
+  }
+  if (data != "all" && data != "synthetic" && data != "miniapp")
+  {
+    std::cerr << "canopy_bench_surface: --data is synthetic, miniapp or all\n";
+    return 2;
+  }
+  Synthetic = data != "miniapp";
+  // The mini-app's forests: 2D and 3D at a late step (its library needs MPI).
+  const bool mpiStarted = data != "synthetic" && canopy::tools::initializeMpiIfNeeded(&argc, &argv);
+  if (data != "synthetic")
+  {
+    if (miniAppSpecs.empty())
+      miniAppSpecs = {"2,32,9,20", "3,8,4,20"};
+    for (const auto& spec : miniAppSpecs)
+    {
+      MiniAppForests.push_back(
+          std::make_unique<canopy::tools::MiniAppForest>(canopy::tools::parseMiniAppForest(spec)));
+      std::cerr << "bench: " << MiniAppForests.back()->label() << ": "
+                << MiniAppForests.back()->globalLeaves() << " leaves ("
+                << MiniAppForests.back()->commandLine() << ")\n";
     }
   }
   std::filesystem::create_directories(out);
@@ -367,7 +472,10 @@ int main(int argc, char** argv)
     adaptive2d(out, maxLevel);
   if (only.empty() || only == "surface3d")
     surface3d(out, maxLevel);
-  if (only.empty() || only == "tradeoff")
+  if (Synthetic && (only.empty() || only == "tradeoff"))
     tradeoff(out, std::min(maxLevel, 10));
+  MiniAppForests.clear();
+  if (mpiStarted)
+    MPI_Finalize();
   return 0;
 }

@@ -1,11 +1,17 @@
 // Wrap cost per cell: Canopy's zero-copy build against the obvious alternative
 // (walk each tree with a vtkHyperTreeGrid cursor, SubdivideLeaf where the
 // simulation refined, copy every field value into new VTK arrays), in one run,
-// on the same forests, 1e5 to 1e7 cells.
+// on the same forests, 1e5 to 1e7 cells: the synthetic forest and the mini-app's
+// own forests at a late step (real data: leaves-only fields, which both builds
+// complete with coarse averages).
 //
 // Usage: canopy_bench_wrap [--max-levels L] [--csv FILE] [--repetitions R]
+//          [--data synthetic|miniapp|all] [--miniapp DIM,ROOTS,MAX_LEVEL,STEPS]...
 // Prints a Markdown table: ns per cell for both, their ratio, heap bytes each
-// build adds per cell while its grid is alive, and field bytes copied per cell.
+// build adds per cell while its grid is alive, and field bytes copied per cell;
+// then GridBuilder's step-to-step table.
+#include "ForestSlice.h"
+#include "MiniAppForest.h"
 #include "SyntheticForest.h"
 
 #include "canopy/GridBuilder.h"
@@ -29,7 +35,9 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace
@@ -46,12 +54,14 @@ std::size_t heapInUse()
 }
 
 const std::vector<std::string> Fields{"density", "velocity", "refinementLevel"};
+/// The mini-app's fields of the same kinds (a scalar, a vector, the level).
+const std::vector<std::string> MiniAppFields{"scalar", "velocity", "level"};
+/// Mini-app forests measured by default: 2D and 3D, a late step.
+const std::vector<std::string> DefaultMiniAppForests{"2,32,9,20", "3,8,4,20"};
 
-/// The obvious adaptor: cursor build plus field copies. Values land at the
-/// global index VTK gives each node.
-vtkSmartPointer<vtkHyperTreeGrid> buildByCursorAndCopy(const SyntheticForest& forest)
+/// An empty grid with the forest's root grid (coordinates copied).
+vtkSmartPointer<vtkHyperTreeGrid> emptyGridLike(const canopy::ForestDescription& d)
 {
-  const canopy::ForestDescription& d = forest.description();
   auto htg = vtkSmartPointer<vtkHyperTreeGrid>::New();
   const auto& g = d.rootGrid;
   htg->SetDimensions(static_cast<unsigned>(g.pointsX), static_cast<unsigned>(g.pointsY),
@@ -68,6 +78,15 @@ vtkSmartPointer<vtkHyperTreeGrid> buildByCursorAndCopy(const SyntheticForest& fo
     : a == 1 ? htg->SetYCoordinates(coords)
              : htg->SetZCoordinates(coords);
   }
+  return htg;
+}
+
+/// The obvious adaptor: cursor build plus field copies. Values land at the
+/// global index VTK gives each node.
+vtkSmartPointer<vtkHyperTreeGrid> buildByCursorAndCopy(const SyntheticForest& forest)
+{
+  const canopy::ForestDescription& d = forest.description();
+  auto htg = emptyGridLike(d);
   const auto total = static_cast<vtkIdType>(forest.numberOfNodes());
   vtkNew<vtkDoubleArray> density;
   density->SetName("density");
@@ -129,11 +148,112 @@ vtkSmartPointer<vtkHyperTreeGrid> buildByCursorAndCopy(const SyntheticForest& fo
   return htg;
 }
 
-/// Bytes of cell-field values the grid holds outside the simulation's records.
-std::size_t copiedFieldBytes(vtkHyperTreeGrid* htg, const SyntheticForest& forest)
+/// The obvious adaptor for leaves-only fields (the mini-app's layout: per leaf,
+/// tree after tree, breadth-first within a tree; AoS doubles): cursor build, leaf
+/// values copied to their nodes, and each coarse node given the mean of its
+/// children on the way back up, summed in child order as Canopy does, so that
+/// both grids hold the same values to the bit.
+vtkSmartPointer<vtkHyperTreeGrid>
+buildLeavesOnlyByCursorAndCopy(const canopy::ForestDescription& d,
+                               const std::vector<std::string>& names)
 {
-  const auto* begin = reinterpret_cast<const char*>(forest.cells().data());
-  const auto* end = begin + forest.cells().size() * sizeof(SyntheticForest::CellRecord);
+  auto htg = emptyGridLike(d);
+  const auto total = static_cast<vtkIdType>(canopy::tools::countNodes(d));
+  std::vector<const double*> sources;
+  std::vector<int> components;
+  std::vector<vtkSmartPointer<vtkDoubleArray>> arrays;
+  for (const auto& name : names)
+  {
+    const auto field =
+        std::find_if(d.fields.begin(), d.fields.end(),
+                     [&](const canopy::FieldDescription& f) { return f.name == name; });
+    if (field == d.fields.end() || field->centering != canopy::Centering::LeavesOnly ||
+        field->layout != canopy::Layout::AoS || field->type != canopy::ValueType::Float64)
+    {
+      std::cerr << "bench: '" << name << "' is not a leaves-only AoS double field\n";
+      std::exit(1);
+    }
+    sources.push_back(static_cast<const double*>(field->data));
+    components.push_back(field->components);
+    auto array = vtkSmartPointer<vtkDoubleArray>::New();
+    array->SetName(name.c_str());
+    array->SetNumberOfComponents(field->components);
+    array->SetNumberOfTuples(total);
+    arrays.push_back(array);
+  }
+
+  vtkIdType offset = 0;
+  std::size_t leafOffset = 0;
+  vtkNew<vtkHyperTreeGridNonOrientedCursor> cursor;
+  std::vector<std::size_t> firstChild;
+  std::vector<std::size_t> leafOf;
+  const unsigned perNode = htg->GetNumberOfChildren();
+  std::vector<vtkIdType> childGlobal(perNode);
+  for (const canopy::TreeDescription& tree : d.trees)
+  {
+    firstChild.assign(tree.numberOfNodes, 0);
+    leafOf.assign(tree.numberOfNodes, 0);
+    std::size_t next = 1;
+    std::size_t leaves = 0;
+    for (std::size_t n = 0; n < tree.numberOfNodes; ++n)
+    {
+      if (tree.refinement[n])
+      {
+        firstChild[n] = next;
+        next += perNode;
+      }
+      else
+      {
+        leafOf[n] = leaves++;
+      }
+    }
+    htg->InitializeNonOrientedCursor(cursor, tree.rootIndex, /*create=*/true);
+    cursor->SetGlobalIndexStart(offset);
+    auto visit = [&](auto& self, std::size_t n) -> void
+    {
+      const vtkIdType global = cursor->GetGlobalNodeIndex();
+      if (!tree.refinement[n])
+      {
+        for (std::size_t f = 0; f < arrays.size(); ++f)
+        {
+          arrays[f]->SetTypedTuple(global, sources[f] + (leafOffset + leafOf[n]) * components[f]);
+        }
+        return;
+      }
+      cursor->SubdivideLeaf();
+      std::vector<vtkIdType> children(perNode);
+      for (unsigned c = 0; c < perNode; ++c)
+      {
+        cursor->ToChild(static_cast<unsigned char>(c));
+        children[c] = cursor->GetGlobalNodeIndex();
+        self(self, firstChild[n] + c);
+        cursor->ToParent();
+      }
+      for (std::size_t f = 0; f < arrays.size(); ++f)
+      {
+        double* values = arrays[f]->GetPointer(0);
+        const int nc = components[f];
+        for (int k = 0; k < nc; ++k)
+        {
+          double sum = 0.0;
+          for (unsigned c = 0; c < perNode; ++c)
+            sum += values[children[c] * nc + k];
+          values[global * nc + k] = sum / static_cast<double>(perNode);
+        }
+      }
+    };
+    visit(visit, 0);
+    offset += static_cast<vtkIdType>(tree.numberOfNodes);
+    leafOffset += leaves;
+  }
+  for (auto& array : arrays)
+    htg->GetCellData()->AddArray(array);
+  return htg;
+}
+
+/// Bytes of cell-field values the grid holds outside the simulation's records.
+std::size_t copiedFieldBytes(vtkHyperTreeGrid* htg, const char* begin, const char* end)
+{
   std::size_t copied = 0;
   for (int a = 0; a < htg->GetCellData()->GetNumberOfArrays(); ++a)
   {
@@ -162,12 +282,22 @@ struct Measurement
   double fieldBytesPerCell = 0;
 };
 
+/// Bytes of the synthetic forest's records.
+std::pair<const char*, const char*> recordBytes(const SyntheticForest& forest)
+{
+  const auto* begin = reinterpret_cast<const char*>(forest.cells().data());
+  return {begin, begin + forest.cells().size() * sizeof(SyntheticForest::CellRecord)};
+}
+
+/// Median ns per cell of `build` over the repetitions; heap growth and copied field
+/// bytes (outside [begin, end), the simulation's memory) per cell.
 template <typename Build>
-Measurement measure(const SyntheticForest& forest, int repetitions, Build&& build)
+Measurement measure(std::size_t numberOfCells, std::pair<const char*, const char*> simulation,
+                    int repetitions, Build&& build)
 {
   std::vector<double> times;
   Measurement m;
-  const double cells = static_cast<double>(forest.numberOfNodes());
+  const double cells = static_cast<double>(numberOfCells);
   for (int r = 0; r < repetitions; ++r)
   {
     malloc_trim(0);
@@ -178,8 +308,9 @@ Measurement measure(const SyntheticForest& forest, int repetitions, Build&& buil
     times.push_back(ns / cells);
     const std::size_t after = heapInUse();
     m.bytesPerCell = static_cast<double>(after > before ? after - before : 0) / cells;
-    m.fieldBytesPerCell = static_cast<double>(copiedFieldBytes(htg, forest)) / cells;
-    if (htg->GetNumberOfCells() != static_cast<vtkIdType>(forest.numberOfNodes()))
+    m.fieldBytesPerCell =
+        static_cast<double>(copiedFieldBytes(htg, simulation.first, simulation.second)) / cells;
+    if (htg->GetNumberOfCells() != static_cast<vtkIdType>(numberOfCells))
     {
       std::cerr << "bench: wrong number of cells\n";
       std::exit(1);
@@ -191,7 +322,7 @@ Measurement measure(const SyntheticForest& forest, int repetitions, Build&& buil
 }
 
 /// Both grids must hold the same values at the same nodes, or the timing means nothing.
-bool sameContent(vtkHyperTreeGrid* a, vtkHyperTreeGrid* b)
+bool sameContent(vtkHyperTreeGrid* a, vtkHyperTreeGrid* b, const std::vector<std::string>& names)
 {
   vtkHyperTreeGrid::vtkHyperTreeGridIterator trees;
   a->InitializeTreeIterator(trees);
@@ -206,7 +337,7 @@ bool sameContent(vtkHyperTreeGrid* a, vtkHyperTreeGrid* b)
     b->InitializeNonOrientedCursor(cb, index);
     auto walk = [&](auto& self) -> void
     {
-      for (const auto& name : Fields)
+      for (const auto& name : names)
       {
         vtkDataArray* fa = a->GetCellData()->GetArray(name.c_str());
         vtkDataArray* fb = b->GetCellData()->GetArray(name.c_str());
@@ -307,11 +438,12 @@ double medianNsPerCell(double cells, int repetitions, Call&& call)
 /// Steps after the first with canopy::GridBuilder: nothing changed, one mask byte
 /// changed (trees kept, mask and tables redone), two trees changed (two trees of
 /// the same size swap their refinement, so the fields still fit).
-void printStepRow(const SyntheticForest& forest, const char* storage, int repetitions)
+void printStepRow(canopy::ForestDescription d, const std::string& storage,
+                  const std::vector<std::string>& names, int repetitions)
 {
-  const auto request = canopy::FieldRequest::only(Fields);
-  const double cells = static_cast<double>(forest.numberOfNodes());
-  canopy::ForestDescription d = forest.description();
+  const auto request = canopy::FieldRequest::only(names);
+  const std::size_t numberOfCells = canopy::tools::countNodes(d);
+  const double cells = static_cast<double>(numberOfCells);
   canopy::GridBuilder builder;
   const double full = medianNsPerCell(cells, repetitions,
                                       [&]
@@ -366,10 +498,10 @@ void printStepRow(const SyntheticForest& forest, const char* storage, int repeti
                                    builder.build(d, request);
                                  });
   }
-  std::cout << std::fixed << std::setprecision(2) << "| " << storage << " | "
-            << forest.numberOfNodes() << " | " << full << " | " << unchanged << " ("
-            << std::setprecision(1) << 100 * unchanged / full << "%) | " << std::setprecision(2)
-            << maskChanged << " (" << std::setprecision(1) << 100 * maskChanged / full << "%) | ";
+  std::cout << std::fixed << std::setprecision(2) << "| " << storage << " | " << numberOfCells
+            << " | " << full << " | " << unchanged << " (" << std::setprecision(1)
+            << 100 * unchanged / full << "%) | " << std::setprecision(2) << maskChanged << " ("
+            << std::setprecision(1) << 100 * maskChanged / full << "%) | ";
   if (twoChanged >= 0)
     std::cout << std::setprecision(2) << twoChanged << " (" << std::setprecision(1)
               << 100 * twoChanged / full << "%) |\n";
@@ -379,11 +511,50 @@ void printStepRow(const SyntheticForest& forest, const char* storage, int repeti
 
 } // namespace
 
+/// Real step-to-step change: GridBuilder on the mini-app's next steps (trees
+/// refined and coarsened by the simulation), against a full build of the same step.
+void printNextStepRow(canopy::tools::MiniAppForest& forest, int repetitions)
+{
+  const auto request = canopy::FieldRequest::only(MiniAppFields);
+  canopy::GridBuilder builder;
+  builder.build(forest.description(), request);
+  std::vector<double> next;
+  std::vector<double> full;
+  std::size_t rebuilt = 0;
+  std::size_t kept = 0;
+  double cells = 0;
+  for (int r = 0; r < repetitions; ++r)
+  {
+    forest.advance();
+    const canopy::ForestDescription d = forest.description();
+    cells = static_cast<double>(canopy::tools::countNodes(d));
+    auto start = Clock::now();
+    builder.build(d, request);
+    next.push_back(std::chrono::duration<double, std::nano>(Clock::now() - start).count() / cells);
+    rebuilt += builder.lastBuild().treesRebuilt;
+    kept += builder.lastBuild().treesKept;
+    canopy::GridBuilder fresh;
+    start = Clock::now();
+    fresh.build(d, request);
+    full.push_back(std::chrono::duration<double, std::nano>(Clock::now() - start).count() / cells);
+  }
+  std::sort(next.begin(), next.end());
+  std::sort(full.begin(), full.end());
+  const double n = next[next.size() / 2];
+  const double f = full[full.size() / 2];
+  std::cout << std::fixed << std::setprecision(2) << "| " << forest.label() << " | "
+            << static_cast<std::size_t>(cells) << " | " << f << " | " << n << " ("
+            << std::setprecision(1) << 100 * n / f << "%) | " << rebuilt / repetitions << " / "
+            << kept / repetitions << " |\n";
+}
+
 int main(int argc, char** argv)
 {
   int maxLevels = 8;
   int repetitions = 5;
   std::string csvPath;
+  std::string data = "all";
+  std::vector<std::string> miniAppSpecs;
   for (int i = 1; i < argc; ++i)
   {
     const std::string arg = argv[i];
@@ -393,10 +564,40 @@ int main(int argc, char** argv)
       repetitions = std::max(1, std::atoi(argv[++i]));
     else if (arg == "--csv" && i + 1 < argc)
       csvPath = argv[++i];
+    else if (arg == "--data" && i + 1 < argc)
+      data = argv[++i];
+    else if (arg == "--miniapp" && i + 1 < argc)
+      miniAppSpecs.push_back(argv[++i]);
     else
     {
-      std::cerr << "usage: canopy_bench_wrap [--max-levels L] [--repetitions R] [--csv FILE]\n";
+      std::cerr
+          << "usage: canopy_bench_wrap [--max-levels L] [--repetitions R] [--csv FILE]\n"
+             "         [--data synthetic|miniapp|all] [--miniapp DIM,ROOTS,MAX_LEVEL,STEPS]...\n";
       return 2;
+    }
+  }
+  const bool synthetic = data == "all" || data == "synthetic";
+  const bool miniApp = data == "all" || data == "miniapp";
+  if (!synthetic && !miniApp)
+  {
+    std::cerr << "canopy_bench_wrap: --data is synthetic, miniapp or all\n";
+    return 2;
+  }
+  if (miniAppSpecs.empty())
+    miniAppSpecs = DefaultMiniAppForests;
+
+  // The mini-app's forests first (the simulation needs MPI; one process is enough).
+  const bool mpiStarted = miniApp && canopy::tools::initializeMpiIfNeeded(&argc, &argv);
+  std::vector<std::unique_ptr<canopy::tools::MiniAppForest>> miniAppForests;
+  if (miniApp)
+  {
+    for (const auto& spec : miniAppSpecs)
+    {
+      const auto options = canopy::tools::parseMiniAppForest(spec);
+      miniAppForests.push_back(std::make_unique<canopy::tools::MiniAppForest>(options));
+      std::cerr << "bench: " << miniAppForests.back()->label() << ": "
+                << miniAppForests.back()->globalLeaves() << " leaves ("
+                << miniAppForests.back()->commandLine() << ")\n";
     }
   }
 
@@ -412,9 +613,31 @@ int main(int argc, char** argv)
                "bytes/cell | cursor+copy bytes/cell | field bytes copied/cell (Canopy / "
                "cursor+copy) |\n"
             << "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  auto printRow = [&](const std::string& storage, int levels, std::size_t cells,
+                      const Measurement& canopyBuild, const Measurement& cursorBuild,
+                      double computedBytesPerCell)
+  {
+    const double speedup = cursorBuild.nsPerCell / canopyBuild.nsPerCell;
+    std::cout << std::fixed << "| " << storage << " | " << cells << " | " << std::setprecision(2)
+              << canopyBuild.nsPerCell << " | " << cursorBuild.nsPerCell << " | "
+              << std::setprecision(1) << speedup << "x | " << std::setprecision(2)
+              << canopyBuild.bytesPerCell << " | " << cursorBuild.bytesPerCell << " | "
+              << std::setprecision(0) << canopyBuild.fieldBytesPerCell;
+    if (computedBytesPerCell > 0)
+      std::cout << std::setprecision(1) << " (+" << computedBytesPerCell << " computed)";
+    std::cout << std::setprecision(0) << " / " << cursorBuild.fieldBytesPerCell << " |"
+              << std::endl;
+    if (csv)
+    {
+      csv << storage << "," << levels << "," << cells << "," << canopyBuild.nsPerCell << ","
+          << cursorBuild.nsPerCell << "," << speedup << "," << canopyBuild.bytesPerCell << ","
+          << cursorBuild.bytesPerCell << "," << canopyBuild.fieldBytesPerCell << ","
+          << cursorBuild.fieldBytesPerCell << "\n";
+    }
+  };
   for (bool depthFirst : {false, true})
   {
-    for (int levels = 5; levels <= maxLevels; ++levels)
+    for (int levels = 5; synthetic && levels <= maxLevels; ++levels)
     {
       canopy::tools::SyntheticForestOptions options;
       options.dimension = 3;
@@ -427,35 +650,55 @@ int main(int argc, char** argv)
       const int reps = forest.numberOfNodes() > 5'000'000 ? std::min(repetitions, 3) : repetitions;
 
       const auto request = canopy::FieldRequest::only(Fields);
-      const Measurement canopyBuild = measure(
-          forest, reps, [&] { return canopy::buildHyperTreeGrid(forest.description(), request); });
-      const Measurement cursorBuild =
-          measure(forest, reps, [&] { return buildByCursorAndCopy(forest); });
+      const Measurement canopyBuild =
+          measure(forest.numberOfNodes(), recordBytes(forest), reps,
+                  [&] { return canopy::buildHyperTreeGrid(forest.description(), request); });
+      const Measurement cursorBuild = measure(forest.numberOfNodes(), recordBytes(forest), reps,
+                                              [&] { return buildByCursorAndCopy(forest); });
       auto a = canopy::buildHyperTreeGrid(forest.description(), request);
       auto b = buildByCursorAndCopy(forest);
-      if (!sameContent(a, b))
+      if (!sameContent(a, b, Fields))
       {
         std::cerr << "bench: the two builds disagree; timings are meaningless\n";
         return 1;
       }
-      const double speedup = cursorBuild.nsPerCell / canopyBuild.nsPerCell;
-      const char* storage = depthFirst ? "depth-first + slot map" : "breadth-first";
-      std::cout << std::fixed << "| " << storage << " | " << forest.numberOfNodes() << " | "
-                << std::setprecision(2) << canopyBuild.nsPerCell << " | " << cursorBuild.nsPerCell
-                << " | " << std::setprecision(1) << speedup << "x | " << std::setprecision(2)
-                << canopyBuild.bytesPerCell << " | " << cursorBuild.bytesPerCell << " | "
-                << std::setprecision(0) << canopyBuild.fieldBytesPerCell << " / "
-                << cursorBuild.fieldBytesPerCell << " |" << std::endl;
-      if (csv)
-      {
-        csv << (depthFirst ? "depth-first" : "breadth-first") << "," << levels << ","
-            << forest.numberOfNodes() << "," << canopyBuild.nsPerCell << ","
-            << cursorBuild.nsPerCell << "," << speedup << "," << canopyBuild.bytesPerCell << ","
-            << cursorBuild.bytesPerCell << "," << canopyBuild.fieldBytesPerCell << ","
-            << cursorBuild.fieldBytesPerCell << "\n";
-      }
+      printRow(depthFirst ? "depth-first + slot map" : "breadth-first", levels,
+               forest.numberOfNodes(), canopyBuild, cursorBuild, 0);
     }
   }
+  for (const auto& forest : miniAppForests)
+  {
+    // Leaves-only fields: the simulation's memory is its leaf arrays; the coarse
+    // averages both builds compute are counted apart.
+    const canopy::ForestDescription d = forest->description();
+    const std::size_t cells = canopy::tools::countNodes(d);
+    const std::size_t leaves = canopy::tools::countLeaves(d);
+    const int reps = cells > 5'000'000 ? std::min(repetitions, 3) : repetitions;
+    const auto request = canopy::FieldRequest::only(MiniAppFields);
+    int components = 0;
+    for (const auto& field : d.fields)
+      if (std::find(MiniAppFields.begin(), MiniAppFields.end(), field.name) != MiniAppFields.end())
+        components += field.components;
+    const Measurement canopyBuild = measure(cells, {nullptr, nullptr}, reps,
+                                            [&] { return canopy::buildHyperTreeGrid(d, request); });
+    Measurement cursorBuild =
+        measure(cells, {nullptr, nullptr}, reps,
+                [&] { return buildLeavesOnlyByCursorAndCopy(d, MiniAppFields); });
+    // The baseline's arrays hold every value: leaves copied, coarse computed.
+    const double computed = static_cast<double>((cells - leaves) * components * 8) / cells;
+    cursorBuild.fieldBytesPerCell -= computed;
+    auto a = canopy::buildHyperTreeGrid(d, request);
+    auto b = buildLeavesOnlyByCursorAndCopy(d, MiniAppFields);
+    if (!sameContent(a, b, MiniAppFields))
+    {
+      std::cerr << "bench: the two builds of " << forest->label()
+                << " disagree; timings are meaningless\n";
+      return 1;
+    }
+    printRow(forest->label() + " (breadth-first, leaves-only)", -1, cells, canopyBuild, cursorBuild,
+             computed);
+  }
+
   std::cout << "\nSteps after the first with canopy::GridBuilder (ns per cell, median; % of a "
                "full build):\n\n"
             << "| storage | cells | full build | nothing changed | one mask byte changed | "
@@ -463,7 +706,7 @@ int main(int argc, char** argv)
             << "|---|---:|---:|---:|---:|---:|\n";
   for (bool depthFirst : {false, true})
   {
-    for (int levels = 5; levels <= maxLevels; ++levels)
+    for (int levels = 5; synthetic && levels <= maxLevels; ++levels)
     {
       canopy::tools::SyntheticForestOptions options;
       options.dimension = 3;
@@ -474,9 +717,26 @@ int main(int argc, char** argv)
       options.depthFirstStorage = depthFirst;
       SyntheticForest forest(options);
       const int reps = forest.numberOfNodes() > 5'000'000 ? std::min(repetitions, 3) : repetitions;
-      printStepRow(forest, depthFirst ? "depth-first + slot map" : "breadth-first", reps);
+      printStepRow(forest.description(), depthFirst ? "depth-first + slot map" : "breadth-first",
+                   Fields, reps);
     }
   }
+  for (const auto& forest : miniAppForests)
+    printStepRow(forest->description(), forest->label() + " (breadth-first, leaves-only)",
+                 MiniAppFields, repetitions);
+  if (!miniAppForests.empty())
+  {
+    std::cout << "\nThe mini-app's next steps (real refinement and coarsening) with "
+                 "canopy::GridBuilder (ns per cell, median over "
+              << std::min(repetitions, 3) << " steps):\n\n"
+              << "| forest | cells | full build | next step with GridBuilder | trees rebuilt / "
+                 "kept |\n|---|---:|---:|---:|---:|\n";
+    for (const auto& forest : miniAppForests)
+      printNextStepRow(*forest, std::min(repetitions, 3));
+  }
   printVtkFloor();
+  miniAppForests.clear();
+  if (mpiStarted)
+    MPI_Finalize();
   return 0;
 }

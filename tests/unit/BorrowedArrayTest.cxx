@@ -12,7 +12,10 @@
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdList.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <vector>
 
 namespace canopy::testing
 {
@@ -180,6 +183,63 @@ TEST_F(BorrowedArray, SixtyFourBitIntegersReportOneVtkTypeInEveryLayout)
     EXPECT_EQ(htg->GetCellData()->GetArray(name)->GetDataType(), VTK_LONG_LONG) << name;
   }
   EXPECT_EQ(htg->GetCellData()->GetArray("strided")->GetComponent(1, 0), 3.0);
+}
+
+TEST_F(BorrowedArray, RangesEqualThoseOfAnOrdinaryCopy)
+{
+  // Canopy's arrays compute their ranges themselves (VTK's generic path is slow):
+  // the same values as VTK gives an ordinary array, with NaN, infinities and ghosts.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  Records[1].u[1] = nan;
+  Records[2].u[0] = inf;
+  Records[3].u[2] = -inf;
+  Leaves[4] = nan;
+  Leaves[5] = -inf;
+  Before = checksum(Records.data(), Records.size() * sizeof(Record)) ^
+           checksum(Leaves.data(), Leaves.size() * sizeof(double));
+  for (const char* name : {"u", "leafPair"})
+  {
+    SCOPED_TRACE(name);
+    vtkDataArray* borrowed = array(name);
+    ASSERT_NE(borrowed, nullptr);
+    borrowed->Modified(); // the simulation's values changed after the build
+    vtkNew<vtkDoubleArray> copy;
+    copy->DeepCopy(borrowed);
+    const int components = borrowed->GetNumberOfComponents();
+    std::vector<unsigned char> ghosts(static_cast<std::size_t>(borrowed->GetNumberOfTuples()), 0);
+    for (std::size_t t = 0; t < ghosts.size(); t += 3)
+    {
+      ghosts[t] = 1;
+    }
+    for (int c = -1; c < components; ++c)
+    {
+      SCOPED_TRACE(c);
+      double expected[2], actual[2];
+      copy->GetRange(expected, c);
+      borrowed->GetRange(actual, c);
+      EXPECT_EQ(actual[0], expected[0]);
+      EXPECT_EQ(actual[1], expected[1]);
+      copy->GetFiniteRange(expected, c);
+      borrowed->GetFiniteRange(actual, c);
+      EXPECT_EQ(actual[0], expected[0]);
+      EXPECT_EQ(actual[1], expected[1]);
+    }
+    for (int c = -1; c < components; ++c)
+    {
+      SCOPED_TRACE(c);
+      double expected[2], actual[2];
+      copy->GetRange(expected, c, ghosts.data(), 1);
+      borrowed->GetRange(actual, c, ghosts.data(), 1);
+      EXPECT_DOUBLE_EQ(actual[0], expected[0]);
+      EXPECT_DOUBLE_EQ(actual[1], expected[1]);
+      copy->GetFiniteRange(expected, c, ghosts.data(), 1);
+      borrowed->GetFiniteRange(actual, c, ghosts.data(), 1);
+      EXPECT_DOUBLE_EQ(actual[0], expected[0]);
+      EXPECT_DOUBLE_EQ(actual[1], expected[1]);
+    }
+  }
+  expectSimulationUntouched();
 }
 
 } // namespace

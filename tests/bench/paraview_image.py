@@ -1,0 +1,70 @@
+# script-version: 2
+# canopy-renders: yes
+"""Benchmark baseline (canopy_bench_image_step): ParaView's own route to the
+image surface_image.py makes, on the same grid, in the same run.
+
+No Canopy filter and no plugin: the hypertree grid goes straight into a render
+view with ParaView 5.11's own representation for hypertree grids, colored by the
+same field, with the same camera (canopy_catalyst.frame_grid), image size,
+background, edges and PNG extractor as surface_image.py.
+
+Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
+  frequency, start    run at steps start, start + frequency, ... (1, 0)
+  image_size          WIDTHxHEIGHT (800x600)
+  color_by            cell field to color by ('' : solid color)
+  fields              fields Canopy wraps for this script ('' : every field)
+  show_edges          draw the cells' edges (false)
+  representation      'Surface': ParaView's default for a hypertree grid
+                      (vtkPVGeometryFilter, which runs vtkHyperTreeGridGeometry);
+                      'HTG Surface': its 2D adaptive-decimation representation
+                      (vtkAdaptiveDataSetSurfaceFilter in the HTG mapper)
+  png_compression     zlib level of the PNG files (3, as surface_image.py)
+  legend, time_label  the colour legend and the time, as surface_image.py shows them (true)
+  file_prefix         the files' names ("paraview")
+
+Writes, in the output directory:
+  <prefix>_<step>.png   the image
+"""
+import canopy_catalyst as canopy
+from paraview.simple import CreateExtractor, Show
+
+settings = canopy.settings(image_size="800x600", color_by="", show_edges=False, start=0,
+                           representation="Surface", camera_position="", png_compression=3,
+                           legend=True, time_label=True,
+                           camera_focal_point="", camera_view_up="", parallel_scale=0.0,
+                           file_prefix="paraview")
+options = canopy.catalyst_options(settings)
+options.GlobalTrigger.UseStartTimeStep = 1
+options.GlobalTrigger.StartTimeStep = int(settings.start)
+
+grid = canopy.simulation_grid(settings)
+view = canopy.render_view(settings)
+display = Show(grid, view)
+display.SetRepresentationType(settings.representation +
+                              (" With Edges" if settings.show_edges else ""))
+if settings.show_edges:
+    display.EdgeColor = [0.15, 0.15, 0.15]
+
+image = CreateExtractor("PNG", view, registrationName=settings.file_prefix + "_image")
+image.Writer.FileName = settings.file_prefix + "_{timestep:06d}.png"
+image.Writer.ImageResolution = canopy.image_size(settings)
+image.Writer.Format.CompressionLevel = str(settings.png_compression)
+canopy.set_trigger(image, settings)
+image.Trigger.UseStartTimeStep = 1
+image.Trigger.StartTimeStep = int(settings.start)
+
+
+def RequestDataDescription(datadescription):
+    canopy.request_fields(datadescription, settings, extra=[settings.color_by])
+
+
+legend = canopy.color_legend(view, settings.color_by) if settings.legend else None
+time_label = canopy.time_label(view) if settings.time_label else None
+
+
+def catalyst_execute(info):
+    # The same camera and color range as surface_image.py (collectives: every rank).
+    canopy.frame_grid(view, grid, settings)
+    canopy.color_by(display, view, grid, settings.color_by)
+    if time_label is not None:
+        time_label.Text = canopy.time_text(info.time)
