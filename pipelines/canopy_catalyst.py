@@ -9,10 +9,8 @@ and in variables, dashes or underscores in arguments.
 """
 import os
 
-# Filled by the driver at open: script path -> its arguments; whether every
-# rank has an X display.
+# Filled by the driver at open: script path -> its arguments.
 _arguments = {}
-_can_render = True
 
 COMMON_DEFAULTS = {
     "output_directory": "canopy-output",
@@ -188,7 +186,7 @@ def frame_grid(view, grid, values):
             view.CameraParallelProjection = 1
             view.CameraParallelScale = values.parallel_scale
         return
-    local = grid.GetDataInformation().GetBounds()
+    local = _at_step_time(grid).GetDataInformation().GetBounds()
     low = _reduce([local[2 * axis] for axis in range(3)], "MIN_OP")
     high = _reduce([local[2 * axis + 1] for axis in range(3)], "MAX_OP")
     bounds = [value for axis in range(3) for value in (low[axis], high[axis])]
@@ -222,21 +220,80 @@ def frame_grid(view, grid, values):
         view.CameraViewAngle = 30.0
 
 
-def color_by(display, view, grid, field):
-    """Colors the display by a cell field over its global range this step."""
-    from paraview.simple import ColorBy, GetColorTransferFunction
+def color_by(display, view, grid, field, fixed_range=None):
+    """Colors the display by a cell field over its global range this step, or over
+    `fixed_range` ((low, high)) when given. Returns the range used (None without a
+    field or any value)."""
+    from paraview.simple import GetColorTransferFunction
     if not field:
-        return
-    ColorBy(display, ("CELLS", field))
-    info = grid.GetCellDataInformation().GetArray(field)
-    local = (info.GetRange(-1 if info.GetNumberOfComponents() > 1 else 0) if info is not None
-             else (float("inf"), float("-inf")))
-    # Data information is rank-local in Catalyst: agree on the range, or each
-    # rank would color with its own.
-    low = _reduce([local[0]], "MIN_OP")[0]
-    high = _reduce([local[1]], "MAX_OP")[0]
-    if low <= high:
-        GetColorTransferFunction(field).RescaleTransferFunction(low, high if high > low else low + 1)
+        return None
+    # Not ColorBy(): it rescales to this rank's data, and warns on a rank without any.
+    display.ColorArrayName = ["CELLS", field]
+    display.LookupTable = GetColorTransferFunction(field)
+    if fixed_range is not None:
+        low, high = fixed_range
+    else:
+        info = _at_step_time(grid).GetCellDataInformation().GetArray(field)
+        local = (info.GetRange(-1 if info.GetNumberOfComponents() > 1 else 0)
+                 if info is not None else (float("inf"), float("-inf")))
+        # Data information is rank-local in Catalyst: agree on the range, or each
+        # rank would color with its own.
+        low = _reduce([local[0]], "MIN_OP")[0]
+        high = _reduce([local[1]], "MAX_OP")[0]
+    if not low <= high:
+        return None
+    high = high if high > low else low + 1
+    GetColorTransferFunction(field).RescaleTransferFunction(low, high)
+    return (low, high)
+
+
+def color_legend(view, field):
+    """A colour legend for `field` (title: the field's name; labels: its range as
+    color_by sets it), dark on the view's white background. None without a field."""
+    from paraview.simple import GetColorTransferFunction, GetScalarBar
+    if not field:
+        return None
+    bar = GetScalarBar(GetColorTransferFunction(field), view)
+    bar.Title = field
+    bar.ComponentTitle = ""
+    bar.TitleColor = [0.1, 0.1, 0.1]
+    bar.LabelColor = [0.1, 0.1, 0.1]
+    bar.WindowLocation = "Lower Right Corner"
+    bar.Visibility = 1
+    return bar
+
+
+def time_label(view):
+    """A text in the view's upper left corner; set its Text each step (time_text)."""
+    from paraview.simple import Show, Text
+    label = Text(registrationName="canopy_time_label", Text="")
+    shown = Show(label, view)
+    shown.WindowLocation = "Upper Left Corner"
+    shown.Color = [0.1, 0.1, 0.1]
+    shown.FontSize = 18
+    return label
+
+
+def time_text(time):
+    return "t = %.6g" % time
+
+
+def _step_time():
+    """The simulation time of the step being run (None outside a Catalyst run)."""
+    from paraview.modules.vtkPVPythonCatalyst import vtkCPPythonScriptV2Helper
+    helper = vtkCPPythonScriptV2Helper.GetActiveInstance()
+    description = helper.GetDataDescription() if helper is not None else None
+    return description.GetTime() if description is not None else None
+
+
+def _at_step_time(source):
+    """The source, updated at this step's time. Data information alone updates
+    without a time, so the request would keep the previous step's time and
+    ParaView's producer would warn that it cannot produce it."""
+    time = _step_time()
+    if time is not None:
+        source.UpdatePipeline(time)
+    return source
 
 
 def collective(function):
@@ -252,7 +309,7 @@ def collective(function):
         error = None
         try:
             function(*args, **kwargs)
-        except Exception as exception:  # noqa: BLE001 - re-raised below on every rank
+        except BaseException as exception:  # noqa: B902 - sys.exit() too; re-raised below
             error = exception
         if not _any_rank(error is not None):
             return

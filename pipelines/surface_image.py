@@ -19,6 +19,11 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   cinema            write into a Cinema database instead: surface.cdb/ in the output
                     directory, indexed by data.csv at the end (false)
   file_prefix       the files' names: <prefix>_<step>.png, ... ("surface")
+  legend            a colour legend (the field's name and range) when color_by is set (true)
+  time_label        the simulation time in the upper left corner (true)
+  color_range       '' : each step's range over all ranks; 'low,high': that range for the
+                    whole run; 'first': the first image's range, kept for the run (a time
+                    series then does not flicker)
 
 Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI rank):
   <prefix>_<step>.png                           the image
@@ -35,8 +40,13 @@ from paraview.simple import CreateExtractor, Show
 settings = canopy.settings(image_size="800x600", color_by="", pixel_threshold=1.0,
                            camera_position="", camera_focal_point="", camera_view_up="",
                            parallel_scale=0.0, surface_extract=False, cinema=False,
-                           show_edges=False,
+                           show_edges=False, legend=True, time_label=True, color_range="",
                            file_prefix="surface")
+fixed_range = settings.list("color_range", float) if settings.color_range not in ("", "first") \
+    else None
+if fixed_range is not None and (len(fixed_range) != 2 or not fixed_range[0] < fixed_range[1]):
+    raise ValueError("color_range: 'low,high' with low < high, 'first' or '' (got %r)"
+                     % settings.color_range)
 options = canopy.catalyst_options(settings, cinema="surface.cdb" if settings.cinema else None)
 canopy.load_canopy_plugin(globals())
 
@@ -63,8 +73,17 @@ def RequestDataDescription(datadescription):
     canopy.request_fields(datadescription, settings, extra=[settings.color_by])
 
 
+legend = canopy.color_legend(view, settings.color_by) if settings.legend else None
+time_label = canopy.time_label(view) if settings.time_label else None
+
+
 def catalyst_execute(info):
+    global fixed_range
     # frame_grid and color_by agree over ranks (collectives): every rank calls them.
     canopy.frame_grid(view, grid, settings)
     canopy.follow_view(surface, view)
-    canopy.color_by(display, view, grid, settings.color_by)
+    used = canopy.color_by(display, view, grid, settings.color_by, fixed_range)
+    if settings.color_range == "first" and fixed_range is None and used is not None:
+        fixed_range = used
+    if time_label is not None:
+        time_label.Text = canopy.time_text(info.time)

@@ -1,5 +1,7 @@
 #include "AdaptiveSurfaceBuilder.h"
 
+#include "GridSection.h"
+
 #include <vtkSMPTools.h>
 
 #include <algorithm>
@@ -47,160 +49,26 @@ Index3 childIndex(const NodeFrame& parent, int child, const HyperTreeAccess& gri
 
 } // namespace
 
-/// The view restricted to the plane of a 2D grid, clipped to the grid's bounds:
-/// a convex polygon in (u, v) = (first active axis, second active axis).
-class PlaneRegion
-{
-public:
-  PlaneRegion(const HyperTreeAccess& grid, const ViewVolume& view)
-  {
-    U = grid.activeAxes()[0];
-    V = grid.activeAxes()[1];
-    const int w = grid.flatAxis();
-    const auto& b = grid.bounds();
-    // Plane coordinates relative to the view's anchor keep far-away domains and
-    // tiny views precise.
-    const Vec3& o = view.anchor();
-    AnchorU = o[U];
-    AnchorV = o[V];
-    std::vector<std::array<double, 2>> polygon{{{b[2 * U] - AnchorU, b[2 * V] - AnchorV}},
-                                               {{b[2 * U + 1] - AnchorU, b[2 * V] - AnchorV}},
-                                               {{b[2 * U + 1] - AnchorU, b[2 * V + 1] - AnchorV}},
-                                               {{b[2 * U] - AnchorU, b[2 * V + 1] - AnchorV}}};
-    for (const HalfSpace& h : view.halfSpaces())
-    {
-      // n . (p - o) <= c with p = (u, v, flat): nu u' + nv v' <= c - nw * (flat - o_w)
-      const double nu = h.normal[U];
-      const double nv = h.normal[V];
-      const double c = h.offset - h.normal[w] * (grid.flatCoordinate() - o[w]);
-      polygon = clip(polygon, nu, nv, c);
-      if (polygon.empty())
-      {
-        break;
-      }
-    }
-    Polygon = polygon;
-    double area = 0;
-    for (std::size_t i = 1; i + 1 < Polygon.size(); ++i)
-    {
-      // Fan from vertex 0: no cancellation between large terms.
-      const auto& p0 = Polygon[0];
-      const auto& p = Polygon[i];
-      const auto& q = Polygon[i + 1];
-      area += (p[0] - p0[0]) * (q[1] - p0[1]) - (q[0] - p0[0]) * (p[1] - p0[1]);
-    }
-    Empty = Polygon.size() < 3 || !(std::abs(area) > 0);
-    // Separating axes: u, v and the polygon's edge normals.
-    Axes.push_back({{1, 0}});
-    Axes.push_back({{0, 1}});
-    for (std::size_t i = 0; i < Polygon.size() && !Empty; ++i)
-    {
-      const auto& p = Polygon[i];
-      const auto& q = Polygon[(i + 1) % Polygon.size()];
-      const double du = q[0] - p[0];
-      const double dv = q[1] - p[1];
-      if (du != 0 || dv != 0)
-      {
-        Axes.push_back({{-dv, du}});
-      }
-    }
-    for (const auto& a : Axes)
-    {
-      double lo = 1e300;
-      double hi = -1e300;
-      for (const auto& p : Polygon)
-      {
-        const double x = a[0] * p[0] + a[1] * p[1];
-        lo = std::min(lo, x);
-        hi = std::max(hi, x);
-      }
-      Intervals.push_back({{lo, hi}});
-    }
-  }
-
-  /// Positive-area overlap of [u0, u1] x [v0, v1] with the region.
-  bool overlaps(double u0, double u1, double v0, double v1) const
-  {
-    if (Empty)
-    {
-      return false;
-    }
-    u0 -= AnchorU;
-    u1 -= AnchorU;
-    v0 -= AnchorV;
-    v1 -= AnchorV;
-    for (std::size_t i = 0; i < Axes.size(); ++i)
-    {
-      const auto& a = Axes[i];
-      const double rmin = a[0] * (a[0] >= 0 ? u0 : u1) + a[1] * (a[1] >= 0 ? v0 : v1);
-      const double rmax = a[0] * (a[0] >= 0 ? u1 : u0) + a[1] * (a[1] >= 0 ? v1 : v0);
-      if (std::max(rmin, Intervals[i][0]) >= std::min(rmax, Intervals[i][1]))
-      {
-        return false;
-      }
-    }
-    return true;
-  }
-
-  int u() const { return U; }
-  int v() const { return V; }
-
-  /// Sutherland-Hodgman against nu u + nv v <= c.
-  static std::vector<std::array<double, 2>> clip(const std::vector<std::array<double, 2>>& in,
-                                                 double nu, double nv, double c)
-  {
-    std::vector<std::array<double, 2>> out;
-    if (nu == 0 && nv == 0)
-    {
-      return c >= 0 ? in : out;
-    }
-    for (std::size_t i = 0; i < in.size(); ++i)
-    {
-      const auto& p = in[i];
-      const auto& q = in[(i + 1) % in.size()];
-      const double fp = nu * p[0] + nv * p[1] - c;
-      const double fq = nu * q[0] + nv * q[1] - c;
-      if (fp <= 0)
-      {
-        out.push_back(p);
-      }
-      if ((fp < 0 && fq > 0) || (fp > 0 && fq < 0))
-      {
-        const double t = fp / (fp - fq);
-        out.push_back({{p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])}});
-      }
-    }
-    return out;
-  }
-
-private:
-  int U = 0;
-  int V = 1;
-  double AnchorU = 0;
-  double AnchorV = 0;
-  bool Empty = true;
-  std::vector<std::array<double, 2>> Polygon;
-  std::vector<std::array<double, 2>> Axes;
-  std::vector<std::array<double, 2>> Intervals;
-};
-
 namespace
 {
 
-/// Where quads go: counted in the first pass, written in place in the second,
+/// Where cells go: counted in the first pass, written in place in the second,
 /// so the output is allocated once and never grown or copied.
-struct QuadSink
+struct CellSink
 {
   SurfaceArrays arrays{nullptr, nullptr, nullptr};
   std::size_t next = 0;
   bool counting = true;
 };
 
-void emitQuad(QuadSink& out, const std::array<Vec3, 4>& corners, vtkIdType cellId, int level)
+/// A cell of N points (4: a quad; 2: a segment of a 1D grid). One grid's cells
+/// all have the same N, so cell i's points start at 3 N i.
+template <std::size_t N>
+void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level)
 {
   if (!out.counting)
   {
-    double* p = out.arrays.points + 12 * out.next;
+    double* p = out.arrays.points + 3 * N * out.next;
     for (const Vec3& c : corners)
     {
       *p++ = c[0];
@@ -219,8 +87,8 @@ struct TreeWalk
   const HyperTreeAccess& grid;
   const TreeAccess& tree;
   const SurfaceOptions& options;
-  const PlaneRegion* region; ///< 2D culling, when a view is given
-  QuadSink& out;
+  const GridSection* region; ///< 1D and 2D culling, when a view is given
+  CellSink& out;
 
   bool lodStops(const Vec3& lo, const Vec3& hi) const
   {
@@ -239,7 +107,7 @@ struct TreeWalk
     }
     if (region)
     {
-      return region->overlaps(lo[region->u()], hi[region->u()], lo[region->v()], hi[region->v()]);
+      return region->overlaps(lo, hi);
     }
     return options.view->overlapsBox(lo, hi);
   }
@@ -295,7 +163,14 @@ struct TreeWalk
             nodeBox(grid, tree, n, lo, hi);
           }
         }
-        if (grid.dimension() == 2)
+        if (grid.dimension() == 1)
+        {
+          const int u = grid.activeAxes()[0];
+          std::array<Vec3, 2> segment{{lo, lo}};
+          segment[1][u] = hi[u];
+          emitCell(out, segment, global, n.level);
+        }
+        else if (grid.dimension() == 2)
         {
           emitPlaneQuad(lo, hi, global, n.level);
         }
@@ -324,7 +199,7 @@ struct TreeWalk
     c[2][u] = hi[u];
     c[2][v] = hi[v];
     c[3][v] = hi[v];
-    emitQuad(out, c, global, level);
+    emitCell(out, c, global, level);
   }
 
   /// Face of [lo, hi] normal to `axis` on side `side` (0 low, 1 high), restricted
@@ -372,7 +247,7 @@ struct TreeWalk
     {
       std::swap(q[1], q[3]);
     }
-    emitQuad(out, q, global, level);
+    emitCell(out, q, global, level);
   }
 
   /// The tree holding the same-level position across a face of n (nullptr when
@@ -580,9 +455,10 @@ AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
                                                const SurfaceOptions& options)
     : Grid(grid), Options(options)
 {
-  if (Grid.dimension() == 2 && Options.view && Options.cullOutsideView)
+  if (Grid.dimension() < 3 && Options.view && Options.cullOutsideView)
   {
-    Region = std::make_unique<PlaneRegion>(Grid, *Options.view);
+    Region =
+        std::make_unique<GridSection>(Grid, Options.view->halfSpaces(), Options.view->anchor());
   }
 }
 
@@ -598,7 +474,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
       {
         for (vtkIdType t = begin; t < end; ++t)
         {
-          QuadSink sink;
+          CellSink sink;
           TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
           walk.walk();
           counts[static_cast<std::size_t>(t)] = sink.next;
@@ -624,9 +500,10 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
         for (vtkIdType t = begin; t < end; ++t)
         {
           const std::size_t first = Offsets[static_cast<std::size_t>(t)];
-          QuadSink sink;
+          CellSink sink;
           sink.counting = false;
-          sink.arrays = {arrays.points + 12 * first, arrays.cellIds + first, arrays.levels + first};
+          sink.arrays = {arrays.points + 3 * pointsPerCell() * first, arrays.cellIds + first,
+                         arrays.levels + first};
           TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
           walk.walk();
         }

@@ -1,10 +1,12 @@
 // The geometry of Canopy's adaptive surface, independent of VTK's pipeline.
 //
-// 2D: one quad per visible node where descent stops. 3D: the exposed faces
-// (and exposed parts of faces) of the union of unmasked nodes where descent
-// stops. Descent into a subtree happens only if its box overlaps the view with
-// positive area (2D) or volume (3D), and stops at leaves or, with level of
-// detail on, at nodes whose projection is at most `pixelThreshold` pixels.
+// 1D: one segment per visible node where descent stops; 2D: one quad. 3D: the
+// exposed faces (and exposed parts of faces) of the union of unmasked nodes
+// where descent stops. Descent into a subtree happens only if its box overlaps
+// the view with positive length (1D: the view's section by the grid's line),
+// area (2D: its section by the plane) or volume (3D), and stops at leaves or,
+// with level of detail on, at nodes whose projection is at most
+// `pixelThreshold` pixels.
 //
 // Level of detail with parallel projection. Let the domain be 1 wide with s
 // root cells across, shown zoomed by z (the view is 1/z wide) in w pixels: a
@@ -15,7 +17,9 @@
 // corners and compares the screen extent with the threshold t, which for
 // parallel projection gives l = ceil(log(S / (t p)) / log f) with S the root
 // cell's largest side and p the pixel size (checked by
-// AdaptiveSurface2D.LevelOfDetailMatchesTheClosedForm).
+// AdaptiveSurface2D.LevelOfDetailMatchesTheClosedForm). A 1D grid's segments
+// follow the same rule with S the root cell's length along the line (for a line
+// across the screen; AdaptiveSurface1D.LevelOfDetailMatchesTheClosedForm).
 #pragma once
 
 #include "HyperTreeAccess.h"
@@ -40,7 +44,8 @@ struct SurfaceOptions
   bool skipBackFaces = false; ///< 3D only
 };
 
-/// Output buffers: 12 doubles (4 points) per quad, one cell id and one level.
+/// Output buffers: 3 doubles per point, pointsPerCell() points per cell (4 for a
+/// quad, 2 for a segment), one cell id and one level per cell.
 struct SurfaceArrays
 {
   double* points;
@@ -49,9 +54,9 @@ struct SurfaceArrays
 };
 
 /// Two passes over the trees (in parallel with vtkSMPTools): count, then write
-/// each tree's quads at its offset. The output is allocated once, in its final
+/// each tree's cells at its offset. The output is allocated once, in its final
 /// place; its order is the tree order for any number of threads.
-class PlaneRegion;
+class GridSection;
 
 class AdaptiveSurfaceBuilder
 {
@@ -60,15 +65,17 @@ public:
   ~AdaptiveSurfaceBuilder();
   AdaptiveSurfaceBuilder(const AdaptiveSurfaceBuilder&) = delete;
   AdaptiveSurfaceBuilder& operator=(const AdaptiveSurfaceBuilder&) = delete;
-  /// Number of quads; call before write().
+  /// Number of cells (quads, or segments in 1D); call before write().
   std::size_t count();
-  /// Fills arrays sized for count() quads.
+  /// Points per output cell: 2 (segments) for 1D grids, 4 (quads) otherwise.
+  std::size_t pointsPerCell() const { return Grid.dimension() == 1 ? 2 : 4; }
+  /// Fills arrays sized for count() cells.
   void write(const SurfaceArrays& arrays) const;
 
 private:
   const HyperTreeAccess& Grid;
   SurfaceOptions Options;
-  std::unique_ptr<PlaneRegion> Region; ///< 2D culling region, built once for both passes
+  std::unique_ptr<GridSection> Region; ///< 1D/2D culling region, built once for both passes
   std::vector<std::size_t> Offsets;
 };
 

@@ -1,5 +1,8 @@
 #include "CellSelection.h"
 
+#include "ClippedPolytope.h"
+#include "GridSection.h"
+
 #include <vtkDataArray.h>
 
 #include <algorithm>
@@ -241,6 +244,96 @@ std::vector<SelectedNode> CellSelection::byValue(vtkDataArray* values, int compo
     }
   }
   return selected;
+}
+
+template <typename Overlaps>
+std::vector<SelectedNode> CellSelection::byRegion(const Overlaps& overlaps,
+                                                  SelectionReport& report) const
+{
+  std::vector<SelectedNode> selected;
+  Vec3 lo;
+  Vec3 hi;
+  for (const TreeAccess& tree : Grid.trees())
+  {
+    struct Frame
+    {
+      vtkIdType node;
+      int level;
+      std::array<std::int64_t, 3> ijk;
+    };
+    std::vector<Frame> stack{{0, 0, {{0, 0, 0}}}};
+    while (!stack.empty())
+    {
+      const Frame n = stack.back();
+      stack.pop_back();
+      ++report.visited;
+      if (hidden(tree, n.node))
+      {
+        continue;
+      }
+      Grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
+      if (!overlaps(lo, hi))
+      {
+        continue; // nothing below can overlap: children lie inside their parent
+      }
+      if (tree.isLeaf(n.node))
+      {
+        selected.push_back({&tree, n.node, tree.globalIndex(n.node), n.level, n.ijk});
+        continue;
+      }
+      const vtkIdType first = tree.firstChild(n.node);
+      for (int c = Grid.childrenPerNode(); c-- > 0;)
+      {
+        stack.push_back({first + c, n.level + 1, Grid.childPosition(n.ijk, c)});
+      }
+    }
+  }
+  return selected;
+}
+
+std::vector<SelectedNode> CellSelection::byBox(const std::array<double, 6>& box,
+                                               SelectionReport& report) const
+{
+  // Exact comparisons of the cells' own bounds: touching is not overlapping.
+  const std::vector<int>& axes = Grid.activeAxes();
+  return byRegion(
+      [&](const Vec3& lo, const Vec3& hi)
+      {
+        for (int a : axes)
+        {
+          if (!(std::max(lo[a], box[2 * a]) < std::min(hi[a], box[2 * a + 1])))
+          {
+            return false;
+          }
+        }
+        return true;
+      },
+      report);
+}
+
+std::vector<SelectedNode> CellSelection::byFrustum(const Frustum& frustum,
+                                                   SelectionReport& report) const
+{
+  // Relative to the grid's centre: planes far from the origin keep their precision.
+  const auto& b = Grid.bounds();
+  const Vec3 anchor{{0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])}};
+  const std::vector<HalfSpace> halfSpaces = frustum.halfSpaces(anchor);
+  if (Grid.dimension() == 3)
+  {
+    const ClippedPolytope region(halfSpaces, anchor, {{b[0], b[2], b[4]}}, {{b[1], b[3], b[5]}});
+    if (region.empty())
+    {
+      return {};
+    }
+    return byRegion([&](const Vec3& lo, const Vec3& hi) { return region.overlaps(lo, hi); },
+                    report);
+  }
+  const GridSection section(Grid, halfSpaces, anchor);
+  if (section.empty())
+  {
+    return {};
+  }
+  return byRegion([&](const Vec3& lo, const Vec3& hi) { return section.overlaps(lo, hi); }, report);
 }
 
 } // namespace canopy

@@ -1,5 +1,5 @@
 // Which nodes of a hypertree grid a selection picks, independent of VTK's
-// pipeline: by location, by global id, or by value range.
+// pipeline: by location, by global id, by value range, by box or by frustum.
 //
 // Location rule (documented in docs/filters.md): cells are half-open
 // [lo, hi) along each axis, except that the last cell of the grid along an axis
@@ -9,10 +9,18 @@
 // (or in a root cell without a tree) selects nothing. In 2D the coordinate
 // along the flat axis is ignored. Location and id lookups cost O(depth) per
 // point and one traversal for all ids.
+//
+// Box and frustum rule (docs/filters.md): the visible leaves whose closed box
+// shares a part of positive measure in the grid's own dimension with the closed
+// region: volume in 3D, area in 2D, length in 1D. Touching along a face, edge or
+// corner is not overlapping. A box ignores the flat axes of 2D and 1D grids (like
+// locations); a frustum is cut by a 2D grid's plane or a 1D grid's line. Only
+// subtrees that overlap are descended.
 #pragma once
 
+#include "Frustum.h"
+#include "HalfSpace.h"
 #include "HyperTreeAccess.h"
-#include "ViewVolume.h"
 
 #include <vtkType.h>
 
@@ -41,6 +49,7 @@ struct SelectionReport
   std::size_t masked = 0;     ///< points or ids that hit masked cells (not selected)
   std::size_t outOfRange = 0; ///< ids that are not global indices of the grid
   std::size_t duplicates = 0; ///< points or ids selecting an already selected cell
+  std::size_t visited = 0;    ///< nodes a box or frustum selection examined (its cost)
 };
 
 class CellSelection
@@ -58,11 +67,24 @@ public:
   std::vector<SelectedNode> byValue(vtkDataArray* values, int component, double low,
                                     double high) const;
 
+  /// Visible leaves overlapping the box [xmin, xmax, ymin, ymax, zmin, zmax]
+  /// with positive measure along the grid's active axes (flat axes ignored).
+  /// Precondition: min <= max on every axis, no NaN.
+  std::vector<SelectedNode> byBox(const std::array<double, 6>& box, SelectionReport& report) const;
+  /// Visible leaves overlapping the frustum with positive volume (3D), or its
+  /// section by the grid's plane (2D) or line (1D) with positive area or length.
+  /// Precondition: frustum.problem() is empty.
+  std::vector<SelectedNode> byFrustum(const Frustum& frustum, SelectionReport& report) const;
+
   /// Lower and upper corners of a selected node.
   void bounds(const SelectedNode& n, Vec3& lo, Vec3& hi) const;
 
 private:
   bool hidden(const TreeAccess& tree, vtkIdType node) const;
+  /// Visible leaves for which overlaps(lo, hi) holds, descending only into
+  /// nodes for which it holds.
+  template <typename Overlaps>
+  std::vector<SelectedNode> byRegion(const Overlaps& overlaps, SelectionReport& report) const;
   const HyperTreeAccess& Grid;
   bool AllowMasked;
 };

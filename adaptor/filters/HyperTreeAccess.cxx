@@ -94,8 +94,7 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg)
   }
   if (static_cast<int>(ActiveAxes.size()) != Dimension)
   {
-    throw std::invalid_argument("only 2D and 3D grids with one point on each unused axis are "
-                                "supported");
+    throw std::invalid_argument("only grids with one point on each unused axis are supported");
   }
   TreeAtRoot.assign(static_cast<std::size_t>(RootCells[0]) * RootCells[1] * RootCells[2], -1);
   vtkHyperTreeGrid::vtkHyperTreeGridIterator it;

@@ -27,7 +27,7 @@ struct TreeAccess
   bool implicitGlobalIndex = true;
   vtkIdType globalIndexStart = 0;
   std::array<double, 3> origin{{0, 0, 0}}; ///< lower corner of the root cell
-  std::array<double, 3> size{{0, 0, 0}};   ///< root cell size (0 on the flat axis of 2D)
+  std::array<double, 3> size{{0, 0, 0}};   ///< root cell size (0 on flat axes)
   std::array<unsigned int, 3> rootIJK{{0, 0, 0}};
   /// Per local node: 1 when a strict descendant is masked (filled only for
   /// grids with a mask; empty otherwise, meaning "never").
@@ -87,9 +87,10 @@ public:
   int dimension() const { return Dimension; }
   int branchFactor() const { return BranchFactor; }
   int childrenPerNode() const { return Children; }
-  /// Axes along which cells have extent (2 in 2D, 3 in 3D), increasing.
+  /// Axes along which cells have extent (1 in 1D, 2 in 2D, 3 in 3D), increasing.
   const std::vector<int>& activeAxes() const { return ActiveAxes; }
-  /// 2D only: the axis with a single point, and its coordinate.
+  /// 2D only: the axis with a single point, and its coordinate (1D grids have
+  /// two: bounds() gives their coordinates).
   int flatAxis() const { return FlatAxis; }
   double flatCoordinate() const { return FlatCoordinate; }
   /// Root cells per axis (1 on the flat axis).

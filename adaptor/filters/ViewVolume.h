@@ -6,14 +6,14 @@
 // to the data, so nothing in front of the camera is clipped in depth).
 #pragma once
 
+#include "HalfSpace.h"
+
 #include <array>
 #include <string>
 #include <vector>
 
 namespace canopy
 {
-
-using Vec3 = std::array<double, 3>;
 
 struct CameraParameters
 {
@@ -27,15 +27,6 @@ struct CameraParameters
   int viewportHeight = 512;   ///< pixels
 };
 
-/// A half-space n . (p - anchor) <= offset, anchor being ViewVolume::anchor().
-/// Relative to an anchor near the view so that far-from-origin domains (1e9)
-/// and tiny views (1e-9) keep their precision.
-struct HalfSpace
-{
-  Vec3 normal;
-  double offset;
-};
-
 class ViewVolume
 {
 public:
@@ -46,8 +37,8 @@ public:
   /// Precondition: validate(camera) is empty.
   explicit ViewVolume(const CameraParameters& camera);
 
-  /// The half-spaces bounding the view: 4 for parallel projection, 5 for
-  /// perspective (the fifth keeps what is in front of the camera).
+  /// The half-spaces bounding the view, relative to anchor(): 4 for parallel
+  /// projection, 5 for perspective (the fifth keeps what is in front of the camera).
   const std::vector<HalfSpace>& halfSpaces() const { return HalfSpaces; }
   /// The point half-spaces are relative to: the focal point (parallel) or the
   /// camera position (perspective).

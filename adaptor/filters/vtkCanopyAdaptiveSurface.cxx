@@ -181,9 +181,9 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
                   << this->PixelThreshold);
     return 0;
   }
-  if (input->GetDimension() != 2 && input->GetDimension() != 3)
+  if (input->GetDimension() < 1 || input->GetDimension() > 3)
   {
-    vtkErrorMacro("only 2D and 3D hypertree grids are supported, got dimension "
+    vtkErrorMacro("only 1D, 2D and 3D hypertree grids are supported, got dimension "
                   << input->GetDimension());
     return 0;
   }
@@ -234,7 +234,8 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   ids->SetName("OriginalCellId");
   auto levels = this->ReusableArray<vtkUnsignedCharArray>("Level", VTK_UNSIGNED_CHAR);
   levels->SetName("Level");
-  vtkIdType quads = 0;
+  vtkIdType quads = 0; // cells: quads, or segments of a 1D grid
+  vtkIdType perCell = 4;
   try
   {
     const canopy::HyperTreeAccess grid(input);
@@ -251,8 +252,9 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     options.skipBackFaces = this->SkipBackFaces;
     canopy::AdaptiveSurfaceBuilder builder(grid, options);
     quads = static_cast<vtkIdType>(builder.count());
+    perCell = static_cast<vtkIdType>(builder.pointsPerCell());
     // Allocated once, written in place by the trees in parallel.
-    coordinates->SetNumberOfTuples(4 * quads);
+    coordinates->SetNumberOfTuples(perCell * quads);
     ids->SetNumberOfTuples(quads);
     levels->SetNumberOfTuples(quads);
     builder.write({coordinates->GetPointer(0), ids->GetPointer(0), levels->GetPointer(0)});
@@ -269,7 +271,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   auto offsets = this->ReusableArray<vtkIdTypeArray>("offsets", VTK_ID_TYPE);
   offsets->SetNumberOfTuples(quads + 1);
   auto connectivity = this->ReusableArray<vtkIdTypeArray>("connectivity", VTK_ID_TYPE);
-  connectivity->SetNumberOfTuples(4 * quads);
+  connectivity->SetNumberOfTuples(perCell * quads);
   vtkIdType* offset = offsets->GetPointer(0);
   vtkIdType* connection = connectivity->GetPointer(0);
   vtkSMPTools::For(0, quads + 1,
@@ -277,10 +279,10 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
                    {
                      for (vtkIdType q = begin; q < end; ++q)
                      {
-                       offset[q] = 4 * q;
+                       offset[q] = perCell * q;
                      }
                    });
-  vtkSMPTools::For(0, 4 * quads,
+  vtkSMPTools::For(0, perCell * quads,
                    [&](vtkIdType begin, vtkIdType end)
                    {
                      for (vtkIdType p = begin; p < end; ++p)
@@ -288,11 +290,18 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
                        connection[p] = p;
                      }
                    });
-  vtkNew<vtkCellArray> polys;
-  polys->SetData(offsets, connectivity);
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, connectivity);
 
   output->SetPoints(points);
-  output->SetPolys(polys);
+  if (perCell == 2)
+  {
+    output->SetLines(cells); // two-point lines: VTK_LINE cells
+  }
+  else
+  {
+    output->SetPolys(cells);
+  }
 
   vtkCellData* in = input->GetCellData();
   vtkCellData* out = output->GetCellData();

@@ -1,8 +1,10 @@
 /**
  * @class vtkCanopyAdaptiveSurface
  * @brief View-dependent surface of a vtkHyperTreeGrid: exact view culling and
- * sub-pixel level of detail, 2D and 3D.
+ * sub-pixel level of detail, 1D, 2D and 3D.
  *
+ * 1D grids (a line of roots along any axis): one segment (a VTK_LINE cell) per
+ * node where descent stops; the view culls by its section with the line.
  * 2D grids (in any axis-aligned plane): one quad per node where descent stops.
  * 3D grids: the exposed part of the boundary of the union of unmasked nodes
  * where descent stops, with no interior face, gap or duplicate. A subtree is
@@ -15,7 +17,7 @@
  * size follow it), a camera plus ViewportSize, or the explicit Camera*
  * properties. With ViewDependent off the output is the full surface.
  *
- * Output: vtkPolyData of quads with double-precision points, the selected input
+ * Output: vtkPolyData of quads (lines in 1D) with double-precision points, the selected input
  * cell fields (all by default), "OriginalCellId" (the input's global cell index)
  * and "Level". Re-executes only when the input, the camera, the viewport size
  * or a property changed.

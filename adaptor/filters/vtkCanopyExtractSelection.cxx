@@ -1,6 +1,7 @@
 #include "vtkCanopyExtractSelection.h"
 
 #include "CellSelection.h"
+#include "Frustum.h"
 #include "GatherTuples.h"
 #include "HyperTreeAccess.h"
 
@@ -21,6 +22,7 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -56,6 +58,27 @@ void vtkCanopyExtractSelection::AddId(vtkIdType id)
 void vtkCanopyExtractSelection::ClearIds()
 {
   this->Ids.clear();
+  this->Modified();
+}
+
+void vtkCanopyExtractSelection::SetFrustumPlanes(const double planes[24])
+{
+  if (!std::equal(planes, planes + 24, this->FrustumPlanes))
+  {
+    std::copy(planes, planes + 24, this->FrustumPlanes);
+    this->Modified();
+  }
+}
+
+void vtkCanopyExtractSelection::AddFrustumCorner(double x, double y, double z)
+{
+  this->FrustumCorners.insert(this->FrustumCorners.end(), {x, y, z});
+  this->Modified();
+}
+
+void vtkCanopyExtractSelection::ClearFrustumCorners()
+{
+  this->FrustumCorners.clear();
   this->Modified();
 }
 
@@ -136,7 +159,8 @@ void maskAllBut(const canopy::HyperTreeAccess& grid, const std::vector<canopy::S
   output->SetMask(mask);
 }
 
-/// Quads or hexahedra with merged points, the input's fields, ids and levels.
+/// Lines (1D), quads (2D) or hexahedra (3D) with merged points, the input's
+/// fields, ids and levels.
 void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelection& selection,
                     const std::vector<canopy::SelectedNode>& nodes, vtkHyperTreeGrid* input,
                     vtkUnstructuredGrid* output)
@@ -155,14 +179,21 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
     pointIds.emplace(p, id);
     return id;
   };
-  const bool is3D = grid.dimension() == 3;
+  const int dimension = grid.dimension();
   vtkNew<vtkCellArray> cells;
   for (const canopy::SelectedNode& n : nodes)
   {
     canopy::Vec3 lo;
     canopy::Vec3 hi;
     selection.bounds(n, lo, hi);
-    if (is3D)
+    if (dimension == 1)
+    {
+      canopy::Vec3 end = lo;
+      end[static_cast<std::size_t>(grid.activeAxes()[0])] = hi[grid.activeAxes()[0]];
+      const vtkIdType ids[2] = {pointId(lo), pointId(end)};
+      cells->InsertNextCell(2, ids);
+    }
+    else if (dimension == 3)
     {
       vtkIdType ids[8];
       for (int k = 0; k < 2; ++k)
@@ -194,7 +225,7 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
     }
   }
   output->SetPoints(points);
-  output->SetCells(is3D ? VTK_HEXAHEDRON : VTK_QUAD, cells);
+  output->SetCells(dimension == 1 ? VTK_LINE : dimension == 2 ? VTK_QUAD : VTK_HEXAHEDRON, cells);
   const auto count = static_cast<vtkIdType>(nodes.size());
   std::vector<vtkIdType> globals(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i)
@@ -235,6 +266,7 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
       this->GetNumberOfInputConnections(1) > 0 ? vtkSelection::GetData(inputVector[1], 0) : nullptr;
   vtkDataObject* outputObject = vtkDataObject::GetData(outputVector, 0);
   this->LastOutside = this->LastMasked = this->LastOutOfRange = this->LastDuplicates = 0;
+  this->LastVisited = 0;
   if (!input)
   {
     vtkErrorMacro("input 0 must be a vtkHyperTreeGrid");
@@ -248,6 +280,8 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
   std::string field = this->ValueArrayName;
   int component = this->ValueComponent;
   double range[2] = {this->ValueRange[0], this->ValueRange[1]};
+  canopy::Frustum frustum;
+  std::string frustumProblem;
   if (selectionInput)
   {
     vtkSelectionNode* node =
@@ -302,11 +336,35 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
                       ? node->GetProperties()->Get(vtkSelectionNode::COMPONENT_NUMBER())
                       : 0;
     }
+    else if (node->GetContentType() == vtkSelectionNode::FRUSTUM)
+    {
+      mode = FRUSTUM;
+      // As vtkFrustumSelector reads it: 32 values, x y z w per corner, w ignored.
+      if (list->GetNumberOfValues() != 32)
+      {
+        vtkErrorMacro("a FRUSTUM selection needs 8 corners (x, y, z, w: 32 values), got "
+                      << list->GetNumberOfValues() << " values");
+        return 0;
+      }
+      std::array<canopy::Vec3, 8> corners;
+      for (vtkIdType c = 0; c < 8; ++c)
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          const vtkIdType v = 4 * c + a;
+          corners[static_cast<std::size_t>(c)][static_cast<std::size_t>(a)] =
+              list->GetComponent(v / list->GetNumberOfComponents(),
+                                 static_cast<int>(v % list->GetNumberOfComponents()));
+        }
+      }
+      frustumProblem = canopy::Frustum::fromCorners(corners, frustum);
+    }
     else
     {
-      vtkErrorMacro("selection content type "
-                    << vtkSelectionNode::GetContentTypeAsString(node->GetContentType())
-                    << " is not supported (LOCATIONS, GLOBALIDS, INDICES, THRESHOLDS are)");
+      vtkErrorMacro(
+          "selection content type "
+          << vtkSelectionNode::GetContentTypeAsString(node->GetContentType())
+          << " is not supported (LOCATIONS, GLOBALIDS, INDICES, THRESHOLDS, FRUSTUM are)");
       return 0;
     }
   }
@@ -320,6 +378,47 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
   else if (mode == IDS)
   {
     ids = this->Ids;
+  }
+  else if (mode == FRUSTUM && this->FrustumCorners.empty())
+  {
+    for (std::size_t p = 0; p < 6; ++p)
+    {
+      std::copy(this->FrustumPlanes + 4 * p, this->FrustumPlanes + 4 * p + 4,
+                frustum.planes[p].begin());
+    }
+    frustumProblem = frustum.problem();
+  }
+  else if (mode == FRUSTUM && this->FrustumCorners.size() == 24)
+  {
+    std::array<canopy::Vec3, 8> corners;
+    for (std::size_t c = 0; c < 8; ++c)
+    {
+      std::copy(this->FrustumCorners.begin() + static_cast<std::ptrdiff_t>(3 * c),
+                this->FrustumCorners.begin() + static_cast<std::ptrdiff_t>(3 * c + 3),
+                corners[c].begin());
+    }
+    frustumProblem = canopy::Frustum::fromCorners(corners, frustum);
+  }
+  else if (mode == FRUSTUM)
+  {
+    frustumProblem = "a frustum needs 8 corners or none (then its 6 planes), got " +
+                     std::to_string(this->FrustumCorners.size() / 3) + " corners";
+  }
+  if (!frustumProblem.empty())
+  {
+    vtkErrorMacro("invalid frustum: " << frustumProblem);
+    return 0;
+  }
+  const std::array<double, 6> box{
+      {this->Box[0], this->Box[1], this->Box[2], this->Box[3], this->Box[4], this->Box[5]}};
+  for (int a = 0; mode == BOX && a < 3; ++a)
+  {
+    if (!(box[2 * a] <= box[2 * a + 1]))
+    {
+      vtkErrorMacro("box [" << box[2 * a] << ", " << box[2 * a + 1] << "] along axis "
+                            << "xyz"[a] << " needs min <= max (and no NaN)");
+      return 0;
+    }
   }
 
   for (std::size_t i = 0; i < points.size(); ++i)
@@ -363,14 +462,23 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     {
       nodes = selection.byId(ids, report);
     }
-    else
+    else if (mode == VALUE_RANGE)
     {
       nodes = selection.byValue(values, component, range[0], range[1]);
+    }
+    else if (mode == BOX)
+    {
+      nodes = selection.byBox(box, report);
+    }
+    else
+    {
+      nodes = selection.byFrustum(frustum, report);
     }
     this->LastOutside = static_cast<vtkIdType>(report.outside);
     this->LastMasked = static_cast<vtkIdType>(report.masked);
     this->LastOutOfRange = static_cast<vtkIdType>(report.outOfRange);
     this->LastDuplicates = static_cast<vtkIdType>(report.duplicates);
+    this->LastVisited = static_cast<vtkIdType>(report.visited);
     if (this->PreserveTopology)
     {
       auto* output = vtkHyperTreeGrid::SafeDownCast(outputObject);
@@ -401,6 +509,20 @@ void vtkCanopyExtractSelection::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "ValueArrayName: " << this->ValueArrayName << "\n"
      << indent << "ValueComponent: " << this->ValueComponent << "\n"
      << indent << "ValueRange: " << this->ValueRange[0] << " " << this->ValueRange[1] << "\n"
+     << indent << "Box: " << this->Box[0] << " " << this->Box[1] << " " << this->Box[2] << " "
+     << this->Box[3] << " " << this->Box[4] << " " << this->Box[5] << "\n"
+     << indent << "FrustumPlanes:";
+  for (double v : this->FrustumPlanes)
+  {
+    os << " " << v;
+  }
+  os << "\n"
+     << indent << "FrustumCorners: " << this->FrustumCorners.size() / 3 << "\n"
      << indent << "AllowMasked: " << this->AllowMasked << "\n"
-     << indent << "PreserveTopology: " << this->PreserveTopology << "\n";
+     << indent << "PreserveTopology: " << this->PreserveTopology << "\n"
+     << indent << "LastOutside: " << this->LastOutside << "\n"
+     << indent << "LastMasked: " << this->LastMasked << "\n"
+     << indent << "LastOutOfRange: " << this->LastOutOfRange << "\n"
+     << indent << "LastDuplicates: " << this->LastDuplicates << "\n"
+     << indent << "LastVisited: " << this->LastVisited << "\n";
 }

@@ -1,13 +1,16 @@
 /**
  * @class vtkCanopyExtractSelection
- * @brief Extracts cells of a vtkHyperTreeGrid by location, by global id or by
- * value range, as a masked hypertree grid or as an unstructured grid.
+ * @brief Extracts cells of a vtkHyperTreeGrid by location, by global id, by
+ * value range, by box or by frustum, as a masked hypertree grid or as an
+ * unstructured grid.
  *
  * Input 0: the vtkHyperTreeGrid. Input 1 (optional): a vtkSelection whose first
- * node is LOCATIONS (3-component points), GLOBALIDS or INDICES (cell ids) or
+ * node is LOCATIONS (3-component points), GLOBALIDS or INDICES (cell ids),
  * THRESHOLDS (one [low, high] pair; the selection list's name is the field, the
- * COMPONENT_NUMBER key the component, -1 for the magnitude). Without input 1 the
- * convenience properties below say what to select.
+ * COMPONENT_NUMBER key the component, -1 for the magnitude) or FRUSTUM (eight
+ * corners x, y, z, w, 32 values, as ParaView's "select cells on" and
+ * vtkExtractSelectedFrustum give them; w is ignored, as VTK does). Without input 1
+ * the convenience properties below say what to select.
  *
  * Location rule: cells are half-open [lo, hi) along each axis, the grid's last
  * cell along an axis also owning the upper boundary; a point on a shared face,
@@ -15,13 +18,28 @@
  * domain select nothing. Ids: each global index selects its node, coarse ones
  * included; out-of-range ids and duplicates are ignored and counted. Values:
  * visible leaves with a value within [low, high] (inclusive, never NaN).
- * Masked cells are selectable only with AllowMasked on.
+ *
+ * Box and frustum: the visible leaves whose closed box shares a part of positive
+ * measure with the closed region, measured in the grid's own dimension: volume
+ * in 3D, area in 2D, length in 1D. A leaf touching the region only along a face,
+ * edge or corner is not selected, nor is anything by a region without volume. A
+ * box ignores its extent along the flat axes of a 2D or 1D grid (as locations
+ * do); a frustum is cut by the plane of a 2D grid or the line of a 1D grid, and a
+ * leaf is selected when it overlaps that section with positive area or length.
+ * Box bounds are compared exactly with the cells' bounds; frustum overlap is an
+ * exact separating-axis test in floating point. Subtrees that do not overlap the
+ * region are never descended: the cost is proportional to what overlaps it
+ * (GetLastVisited).
+ *
+ * Masked cells are selectable only with AllowMasked on. Absent cells (parts of
+ * split trees other ranks own: masked and marked DUPLICATECELL) never are.
  *
  * PreserveTopology on: a vtkHyperTreeGrid sharing the input's trees and arrays
  * with a new mask leaving visible the selected cells, their ancestors (needed to
  * reach them) and the subtrees of selected coarse cells. Off: a
- * vtkUnstructuredGrid of VTK_QUAD (2D) or VTK_HEXAHEDRON (3D) cells with merged
- * points, the input's cell fields, "OriginalCellId" and "Level".
+ * vtkUnstructuredGrid of VTK_LINE (1D), VTK_QUAD (2D) or VTK_HEXAHEDRON (3D)
+ * cells with merged points, the input's cell fields, "OriginalCellId" and
+ * "Level". Grids of any dimension (1, 2, 3) and any axis-aligned orientation.
  */
 #pragma once
 
@@ -43,12 +61,14 @@ public:
   {
     LOCATIONS = 0,
     IDS = 1,
-    VALUE_RANGE = 2
+    VALUE_RANGE = 2,
+    BOX = 3,
+    FRUSTUM = 4
   };
 
   ///@{
   /// What the convenience properties select (ignored when input 1 is connected).
-  vtkSetClampMacro(SelectionMode, int, LOCATIONS, VALUE_RANGE);
+  vtkSetClampMacro(SelectionMode, int, LOCATIONS, FRUSTUM);
   vtkGetMacro(SelectionMode, int);
   ///@}
 
@@ -70,6 +90,31 @@ public:
   ///@}
 
   ///@{
+  /// BOX: [xmin, xmax, ymin, ymax, zmin, zmax], closed; min <= max on every axis,
+  /// infinite bounds allowed, NaN not.
+  vtkSetVector6Macro(Box, double);
+  vtkGetVector6Macro(Box, double);
+  ///@}
+
+  ///@{
+  /// FRUSTUM from six planes: (a, b, c, d) each, inside where a x + b y + c z + d
+  /// >= 0, as vtkCamera::GetFrustumPlanes returns them and vtkPlanes::SetFrustumPlanes
+  /// takes them. Used unless eight corners are given.
+  void SetFrustumPlanes(const double planes[24]);
+  const double* GetFrustumPlanes() const VTK_SIZEHINT(24) { return this->FrustumPlanes; }
+  ///@}
+
+  ///@{
+  /// FRUSTUM from eight corners in vtkSelectionNode::FRUSTUM's order (near lower
+  /// left, far lower left, near upper left, far upper left, near lower right, far
+  /// lower right, near upper right, far upper right). With exactly eight corners
+  /// they define the frustum (FrustumPlanes is then ignored); with none,
+  /// FrustumPlanes does; any other count is an error.
+  void AddFrustumCorner(double x, double y, double z);
+  void ClearFrustumCorners();
+  ///@}
+
+  ///@{
   vtkSetMacro(AllowMasked, bool);
   vtkGetMacro(AllowMasked, bool);
   vtkBooleanMacro(AllowMasked, bool);
@@ -84,6 +129,9 @@ public:
   vtkGetMacro(LastMasked, vtkIdType);
   vtkGetMacro(LastOutOfRange, vtkIdType);
   vtkGetMacro(LastDuplicates, vtkIdType);
+  /// Nodes the last BOX or FRUSTUM selection examined: the roots and the children
+  /// of the coarse nodes that overlap the region (what the selection cost).
+  vtkGetMacro(LastVisited, vtkIdType);
 
 protected:
   vtkCanopyExtractSelection();
@@ -93,20 +141,24 @@ protected:
   int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-private:
-  vtkCanopyExtractSelection(const vtkCanopyExtractSelection&) = delete;
-  void operator=(const vtkCanopyExtractSelection&) = delete;
-
   int SelectionMode = LOCATIONS;
   std::vector<double> Locations;
   std::vector<vtkIdType> Ids;
   std::string ValueArrayName;
   int ValueComponent = 0;
   double ValueRange[2] = {0, 0};
+  double Box[6] = {0, 0, 0, 0, 0, 0};
+  double FrustumPlanes[24] = {};
+  std::vector<double> FrustumCorners;
   bool AllowMasked = false;
   bool PreserveTopology = false;
   vtkIdType LastOutside = 0;
   vtkIdType LastMasked = 0;
   vtkIdType LastOutOfRange = 0;
   vtkIdType LastDuplicates = 0;
+  vtkIdType LastVisited = 0;
+
+private:
+  vtkCanopyExtractSelection(const vtkCanopyExtractSelection&) = delete;
+  void operator=(const vtkCanopyExtractSelection&) = delete;
 };

@@ -7,6 +7,7 @@
 #include "canopy/ForestValidation.h"
 #include "canopy/InSitu.h"
 
+#include <cmath>
 #include <cstdarg>
 #include <cstdint>
 #include <cstdio>
@@ -430,6 +431,27 @@ extern "C"
                    });
   }
 
+  int canopy_options_set_step_time_limit(canopy_options* options, double seconds)
+  {
+    static const char* const function = "canopy_options_set_step_time_limit";
+    return guarded(function, CANOPY_INVALID_ARGUMENT,
+                   [&]
+                   {
+                     if (options == nullptr)
+                     {
+                       return nullHandle(function, "options");
+                     }
+                     if (!(seconds >= 0.0) || seconds == HUGE_VAL)
+                     {
+                       return fail(CANOPY_INVALID_ARGUMENT,
+                                   "%s: seconds must be a finite number >= 0, got %g", function,
+                                   seconds);
+                     }
+                     options->options.stepTimeLimitSeconds = seconds;
+                     return succeed();
+                   });
+  }
+
   int canopy_forest_create(int dimension, int branch_factor, int max_levels, const double* x,
                            size_t points_x, const double* y, size_t points_y, const double* z,
                            size_t points_z, canopy_forest** forest)
@@ -444,10 +466,10 @@ extern "C"
             return fail(CANOPY_INVALID_ARGUMENT, "%s: the result pointer is NULL", function);
           }
           *forest = nullptr;
-          if (dimension != 2 && dimension != 3)
+          if (dimension < 1 || dimension > 3)
           {
-            return fail(CANOPY_INVALID_ARGUMENT, "%s: dimension must be 2 or 3, got %d", function,
-                        dimension);
+            return fail(CANOPY_INVALID_ARGUMENT, "%s: dimension must be 1, 2 or 3, got %d",
+                        function, dimension);
           }
           if (branch_factor != 2 && branch_factor != 3)
           {

@@ -1,17 +1,23 @@
 #include "CatalystScript.h"
 
+#include "DriverPython.h"
+#include "StepWatchdog.h"
+#include "VtkMessageCapture.h"
+
 #include <vtkCPDataDescription.h>
 #include <vtkCPInputDataDescription.h>
 #include <vtkCPPythonScriptV2Helper.h>
 #include <vtkDataObject.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace canopy
 {
 
-CatalystScript::CatalystScript(std::string path, const std::string& channel)
-    : Path(std::move(path)), Channel(channel)
+CatalystScript::CatalystScript(std::string path, const std::string& channel, StepWatchdog& watchdog)
+    : Path(std::move(path)), Channel(channel), Watchdog(watchdog)
 {
   this->Description->AddInput(channel.c_str());
   if (!this->Helper->PrepareFromScript(this->Path))
@@ -23,35 +29,75 @@ CatalystScript::CatalystScript(std::string path, const std::string& channel)
 
 CatalystScript::~CatalystScript() = default;
 
-CatalystScript::Request CatalystScript::request(std::int64_t step, double time, std::string& error)
+double CatalystScript::extraSeconds() const
+{
+  return this->Imported && !this->FirstRun ? 0.0 : StepWatchdog::firstStepExtraSeconds;
+}
+
+std::string CatalystScript::when() const
+{
+  return "step " + std::to_string(this->Description->GetTimeStep());
+}
+
+std::string CatalystScript::failure(bool exceeded)
+{
+  auto python = takeScriptFailure();
+  this->LastTraceback = std::move(python.traceback);
+  if (!python.summary.empty())
+  {
+    return python.summary;
+  }
+  return exceeded ? "exceeded " + this->Watchdog.limitText()
+                  : "raised an error (Python message above)";
+}
+
+template <typename Call>
+bool CatalystScript::watched(const char* call, bool& exceeded, Call&& body)
+{
+  // The watch ends before the failure is read: reading it runs Python, which
+  // the watchdog must not interrupt.
+  const bool closing = std::string(call) == "catalyst_finalize";
+  const auto watch = this->Watchdog.watch(this->Path, call, closing ? "close" : this->when(),
+                                          this->extraSeconds());
+  const bool ok = body();
+  exceeded = watch.exceeded();
+  return ok && !exceeded;
+}
+
+ScriptState CatalystScript::request(std::int64_t step, double time, std::string& error)
 {
   this->Description->SetTimeData(time, static_cast<vtkIdType>(step));
   this->Description->ResetInputDescriptions();
   if (this->Disabled)
   {
-    return Request::NotDue;
+    return ScriptState::NotDue;
   }
   if (!this->Imported)
   {
     auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
     input->AllFieldsOn();
     input->GenerateMeshOn();
-    return Request::Due;
+    return ScriptState::Due;
   }
   return this->requestAfterImport(error);
 }
 
-CatalystScript::Request CatalystScript::requestAfterImport(std::string& error)
+ScriptState CatalystScript::requestAfterImport(std::string& error)
 {
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
   input->GenerateMeshOff();
   input->AllFieldsOff();
-  if (!this->Helper->RequestDataDescription(this->Description))
+  bool exceeded = false;
+  const bool ok =
+      this->watched("RequestDataDescription", exceeded,
+                    [&] { return this->Helper->RequestDataDescription(this->Description); });
+  if (!ok)
   {
-    error = "Python error in RequestDataDescription of '" + this->Path + "'";
-    return Request::Failed;
+    error = "the script '" + this->Path +
+            "' failed in RequestDataDescription: " + this->failure(exceeded);
+    return ScriptState::Failed;
   }
-  return this->Description->GetIfAnyGridNecessary() ? Request::Due : Request::NotDue;
+  return this->Description->GetIfAnyGridNecessary() ? ScriptState::Due : ScriptState::NotDue;
 }
 
 bool CatalystScript::needsAllFields() const
@@ -60,15 +106,24 @@ bool CatalystScript::needsAllFields() const
   return input->GetAllFields();
 }
 
-std::vector<std::string> CatalystScript::neededFields() const
+bool CatalystScript::needsField(const std::string& name) const
 {
+  // Asked by name: ParaView 5.11's GetFieldName(i) returns the c_str() of a copy
+  // destroyed before it returns (names over 15 characters come back as garbage).
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
-  std::vector<std::string> names;
-  for (unsigned int i = 0; i < input->GetNumberOfFields(); ++i)
+  for (int association : {vtkDataObject::CELL, vtkDataObject::POINT, vtkDataObject::FIELD})
   {
-    names.emplace_back(input->GetFieldName(i));
+    if (input->IsFieldNeeded(name.c_str(), association))
+    {
+      return true;
+    }
   }
-  return names;
+  return false;
+}
+
+unsigned int CatalystScript::numberOfNeededFields() const
+{
+  return this->Description->GetInputDescriptionByName(this->Channel.c_str())->GetNumberOfFields();
 }
 
 bool CatalystScript::import(vtkDataObject* grid, std::string& error)
@@ -77,14 +132,27 @@ bool CatalystScript::import(vtkDataObject* grid, std::string& error)
   // script's module-level code can build its pipeline on real data.
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
   input->SetGrid(grid);
-  const bool ok = this->Helper->Import(this->Description) &&
-                  this->Helper->CatalystInitialize(this->Description);
-  input->SetGrid(nullptr);
-  this->Imported = ok;
+  // ParaView's producer is created at import with the description's time, and
+  // the run of the same step sets it again: a time not after the last one makes
+  // it warn. Import just before the step's time (one ulp) so the run's is later.
+  const double time = this->Description->GetTime();
+  const vtkIdType step = this->Description->GetTimeStep();
+  this->Description->SetTimeData(std::nextafter(time, -HUGE_VAL), step);
+  bool exceeded = false;
+  const bool ok = this->watched("import", exceeded,
+                                [&]
+                                {
+                                  return this->Helper->Import(this->Description) &&
+                                         this->Helper->CatalystInitialize(this->Description);
+                                });
   if (!ok)
   {
-    error = "the script '" + this->Path + "' failed to import (Python message above)";
+    error = "the script '" + this->Path + "' failed to import (" + this->failure(exceeded) + ")";
   }
+  this->Description->SetTimeData(time, step);
+  input->SetGrid(nullptr);
+  this->Imported = ok;
+  this->FirstRun = ok;
   return ok;
 }
 
@@ -92,22 +160,53 @@ bool CatalystScript::run(vtkDataObject* grid, std::string& error)
 {
   auto* input = this->Description->GetInputDescriptionByName(this->Channel.c_str());
   input->SetGrid(grid);
-  const bool ok = this->Helper->CatalystExecute(this->Description);
-  // Do not keep the simulation's memory referenced from the description.
-  input->SetGrid(nullptr);
+  bool exceeded = false;
+  VtkMessageCapture logged;
+  bool ok = this->watched("catalyst_execute", exceeded,
+                          [&] { return this->Helper->CatalystExecute(this->Description); });
+  this->FirstRun = false;
+  const auto messages = logged.messages();
   if (!ok)
   {
-    error = "the script '" + this->Path + "' raised an error (Python message above)";
+    error = "the script '" + this->Path + "' " + this->failure(exceeded);
   }
+  else if (!messages.empty())
+  {
+    // A writer's error (full disk, a file it cannot open) or any warning: the
+    // step's extracts cannot be trusted.
+    this->LastTraceback.clear();
+    std::string first = messages.front();
+    std::replace(first.begin(), first.end(), '\n', ' ');
+    error = "the script '" + this->Path + "' logged an error: " + first +
+            (messages.size() > 1 ? " (and " + std::to_string(messages.size() - 1) + " more)"
+                                 : std::string());
+    ok = false;
+  }
+  // Do not keep the simulation's memory referenced from the description.
+  input->SetGrid(nullptr);
   return ok;
 }
 
-void CatalystScript::finalize()
+void CatalystScript::discardOutputs()
 {
-  if (this->Imported && !this->Disabled)
+  discardStepOutputs(this->Path);
+}
+
+bool CatalystScript::finalize(std::string& error)
+{
+  if (!this->Imported || this->Disabled)
   {
-    this->Helper->CatalystFinalize();
+    return true;
   }
+  bool exceeded = false;
+  if (!this->watched("catalyst_finalize", exceeded,
+                     [&] { return this->Helper->CatalystFinalize(); }))
+  {
+    error =
+        "the script '" + this->Path + "' failed in catalyst_finalize: " + this->failure(exceeded);
+    return false;
+  }
+  return true;
 }
 
 } // namespace canopy

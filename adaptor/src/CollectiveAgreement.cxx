@@ -1,29 +1,96 @@
 #include "CollectiveAgreement.h"
 
 #include <numeric>
+#include <sstream>
+#include <thread>
 
 namespace canopy
 {
 
-std::vector<std::string> gatherFailures(MPI_Comm communicator, const std::string& localFailure)
+RankAgreement::RankAgreement(MPI_Comm communicator, const JobOutput& output, double limitSeconds,
+                             double graceSeconds)
+    : Communicator(communicator), Output(output), LimitSeconds(limitSeconds),
+      GraceSeconds(graceSeconds)
 {
-  int localFailed = localFailure.empty() ? 0 : 1;
-  int anyFailed = 0;
-  MPI_Allreduce(&localFailed, &anyFailed, 1, MPI_INT, MPI_MAX, communicator);
-  if (!anyFailed)
+  MPI_Comm_rank(communicator, &this->Rank);
+}
+
+void RankAgreement::maxReduce(std::vector<int>& values, const After* after,
+                              const std::string& localFailure) const
+{
+  std::vector<int> local = values;
+  const int count = static_cast<int>(values.size());
+  if (after == nullptr || this->LimitSeconds <= 0.0)
+  {
+    MPI_Allreduce(local.data(), values.data(), count, MPI_INT, MPI_MAX, this->Communicator);
+    return;
+  }
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](double s)
+  { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); };
+  // The watchdog of a rank stuck in the script ends the job at limit + grace
+  // with the better message (it knows where it is stuck); this rank says what
+  // it knows before that, and ends the job itself only if nobody did.
+  const double allowed = this->LimitSeconds + after->extraSeconds;
+  const auto noticeAt = after->since + seconds(allowed + 0.5 * this->GraceSeconds);
+  const auto endAt = after->since + seconds(allowed + 2.0 * this->GraceSeconds);
+  MPI_Request request;
+  MPI_Iallreduce(local.data(), values.data(), count, MPI_INT, MPI_MAX, this->Communicator,
+                 &request);
+  bool noticed = false;
+  std::ostringstream limit;
+  limit << "the step time limit (" << this->LimitSeconds << " s)";
+  const std::string rankText = "rank " + std::to_string(this->Rank) + ", ";
+  for (int polls = 0;; ++polls)
+  {
+    int done = 0;
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done)
+    {
+      return;
+    }
+    const auto now = Clock::now();
+    if (!noticed && now >= noticeAt)
+    {
+      noticed = true;
+      this->Output.write(rankText + "waiting for other ranks to finish " + after->what + ": " +
+                         limit.str() + " has passed" +
+                         (localFailure.empty() ? "" : "; on this rank: " + localFailure));
+    }
+    if (now >= endAt)
+    {
+      this->Output.endJob(this->Communicator,
+                          rankText + "other ranks did not finish " + after->what + " within " +
+                              limit.str() + " and the grace after it. Ending the job (MPI_Abort).");
+    }
+    if (polls > 1000)
+    {
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+  }
+}
+
+std::vector<std::string> RankAgreement::gatherFailures(const std::string& localFailure,
+                                                       const After* after,
+                                                       const std::string& localDetail) const
+{
+  std::vector<int> anyFailed{localFailure.empty() ? 0 : 1};
+  this->maxReduce(anyFailed, after,
+                  localDetail.empty() ? localFailure : localFailure + "\n" + localDetail);
+  if (!anyFailed[0])
   {
     return {};
   }
   int size = 1;
-  MPI_Comm_size(communicator, &size);
+  MPI_Comm_size(this->Communicator, &size);
   int localLength = static_cast<int>(localFailure.size());
   std::vector<int> lengths(size, 0);
-  MPI_Allgather(&localLength, 1, MPI_INT, lengths.data(), 1, MPI_INT, communicator);
+  MPI_Allgather(&localLength, 1, MPI_INT, lengths.data(), 1, MPI_INT, this->Communicator);
   std::vector<int> offsets(size, 0);
   std::exclusive_scan(lengths.begin(), lengths.end(), offsets.begin(), 0);
   std::string all(static_cast<std::size_t>(offsets.back() + lengths.back()), '\0');
   MPI_Allgatherv(localFailure.data(), localLength, MPI_CHAR, all.data(), lengths.data(),
-                 offsets.data(), MPI_CHAR, communicator);
+                 offsets.data(), MPI_CHAR, this->Communicator);
   std::vector<std::string> failures;
   for (int rank = 0; rank < size; ++rank)
   {
@@ -37,23 +104,61 @@ std::vector<std::string> gatherFailures(MPI_Comm communicator, const std::string
   return failures;
 }
 
-AgreedStates agreeOnStates(MPI_Comm communicator, const std::vector<int>& localStates)
+bool RankAgreement::allOf(bool local) const
 {
-  const int count = static_cast<int>(localStates.size());
-  AgreedStates agreed{std::vector<int>(localStates.size()), std::vector<int>(localStates.size())};
-  // One reduction for both: the minimum is the negated maximum of the negations.
-  std::vector<int> both(2 * localStates.size());
-  for (std::size_t i = 0; i < localStates.size(); ++i)
+  int value = local ? 1 : 0;
+  int every = 0;
+  MPI_Allreduce(&value, &every, 1, MPI_INT, MPI_MIN, this->Communicator);
+  return every == 1;
+}
+
+std::vector<double> RankAgreement::reduce(std::vector<double> values, MPI_Op operation) const
+{
+  std::vector<double> reduced(values.size());
+  MPI_Allreduce(values.data(), reduced.data(), static_cast<int>(values.size()), MPI_DOUBLE,
+                operation, this->Communicator);
+  return reduced;
+}
+
+std::vector<std::string> RankAgreement::gatherOnRoot(const std::string& local) const
+{
+  int size = 1;
+  MPI_Comm_size(this->Communicator, &size);
+  int localLength = static_cast<int>(local.size());
+  std::vector<int> lengths(this->Rank == 0 ? size : 0, 0);
+  MPI_Gather(&localLength, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, this->Communicator);
+  std::vector<int> offsets(lengths.size(), 0);
+  std::exclusive_scan(lengths.begin(), lengths.end(), offsets.begin(), 0);
+  std::string all(lengths.empty() ? 0 : static_cast<std::size_t>(offsets.back() + lengths.back()),
+                  '\0');
+  MPI_Gatherv(local.data(), localLength, MPI_CHAR, all.data(), lengths.data(), offsets.data(),
+              MPI_CHAR, 0, this->Communicator);
+  std::vector<std::string> texts;
+  for (std::size_t rank = 0; rank < lengths.size(); ++rank)
   {
-    both[i] = localStates[i];
-    both[localStates.size() + i] = -localStates[i];
+    texts.push_back(all.substr(static_cast<std::size_t>(offsets[rank]),
+                               static_cast<std::size_t>(lengths[rank])));
   }
-  std::vector<int> reduced(both.size());
-  MPI_Allreduce(both.data(), reduced.data(), 2 * count, MPI_INT, MPI_MAX, communicator);
-  for (std::size_t i = 0; i < localStates.size(); ++i)
+  return texts;
+}
+
+RankAgreement::States RankAgreement::agree(const std::vector<ScriptState>& local,
+                                           const After* after) const
+{
+  // One reduction for both: the minimum is the negated maximum of the negations.
+  const std::size_t count = local.size();
+  std::vector<int> both(2 * count);
+  for (std::size_t i = 0; i < count; ++i)
   {
-    agreed.maximum[i] = reduced[i];
-    agreed.minimum[i] = -reduced[localStates.size() + i];
+    both[i] = static_cast<int>(local[i]);
+    both[count + i] = -static_cast<int>(local[i]);
+  }
+  this->maxReduce(both, after, {});
+  States agreed{std::vector<ScriptState>(count), std::vector<ScriptState>(count)};
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    agreed.maximum[i] = static_cast<ScriptState>(both[i]);
+    agreed.minimum[i] = static_cast<ScriptState>(-both[count + i]);
   }
   return agreed;
 }

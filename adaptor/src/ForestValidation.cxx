@@ -1,5 +1,8 @@
 #include "canopy/ForestValidation.h"
 
+#include "StorageSlots.h"
+#include "ValidatedTrees.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -108,6 +111,11 @@ void validateRootGrid(const ForestDescription& forest, ForestLayout& layout, Pro
     problems.add("root grid: a 2D forest needs exactly one flat axis (1 point), got ", points[0],
                  " x ", points[1], " x ", points[2]);
   }
+  if (forest.dimension == 1 && flatAxes != 2)
+  {
+    problems.add("root grid: a 1D forest needs exactly two flat axes (1 point each), got ",
+                 points[0], " x ", points[1], " x ", points[2]);
+  }
   // VTK indexes root cells with vtkIdType and points per axis with unsigned int.
   for (int a = 0; a < 3; ++a)
   {
@@ -180,10 +188,7 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
                        ProblemList& problems)
 {
   const TreeDescription& tree = forest.trees[t];
-  const std::size_t children =
-      forest.dimension == 3 ? static_cast<std::size_t>(forest.branchFactor) * forest.branchFactor *
-                                  forest.branchFactor
-                            : static_cast<std::size_t>(forest.branchFactor) * forest.branchFactor;
+  const std::size_t children = childrenPerNode(forest);
   const std::size_t n = tree.numberOfNodes;
   std::size_t levelStart = 0;
   std::size_t levelSize = 1;
@@ -230,7 +235,8 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
   return tree.absent == nullptr || validateAbsentNodes(t, tree, shape, problems);
 }
 
-void validateTrees(const ForestDescription& forest, ForestLayout& layout, ProblemList& problems)
+void validateTrees(const ForestDescription& forest, ForestLayout& layout, ProblemList& problems,
+                   const ValidatedTrees* known)
 {
   // Sorted roots find duplicates without a table as large as the root grid.
   std::vector<std::pair<std::int64_t, std::size_t>> roots;
@@ -267,7 +273,11 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
       shapesValid = false;
       continue;
     }
-    if (!validateTreeShape(forest, t, shape, problems))
+    if (known && known->unchanged[t])
+    {
+      shape = known->previous->trees[t]; // same bytes as a tree validated before
+    }
+    else if (!validateTreeShape(forest, t, shape, problems))
     {
       shapesValid = false;
       continue;
@@ -298,7 +308,7 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
                  " trees have a storageSlots map; either every tree has one or none does");
     return;
   }
-  if (!layout.explicitSlots || !shapesValid)
+  if (!layout.explicitSlots || !shapesValid || (known && known->slotsKnownValid()))
   {
     return;
   }
@@ -469,11 +479,16 @@ InvalidForest::InvalidForest(std::vector<std::string> problems)
 
 ForestLayout validateForest(const ForestDescription& forest)
 {
+  return validateForest(forest, nullptr);
+}
+
+ForestLayout validateForest(const ForestDescription& forest, const ValidatedTrees* known)
+{
   ProblemList problems;
   ForestLayout layout;
-  if (forest.dimension != 2 && forest.dimension != 3)
+  if (forest.dimension < 1 || forest.dimension > 3)
   {
-    problems.add("dimension must be 2 or 3, got ", forest.dimension);
+    problems.add("dimension must be 1, 2 or 3, got ", forest.dimension);
   }
   if (forest.branchFactor != 2 && forest.branchFactor != 3)
   {
@@ -492,7 +507,7 @@ ForestLayout validateForest(const ForestDescription& forest)
   validateRootGrid(forest, layout, problems);
   if (problems.empty())
   {
-    validateTrees(forest, layout, problems);
+    validateTrees(forest, layout, problems, known);
   }
   if (problems.empty())
   {

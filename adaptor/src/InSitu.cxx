@@ -1,95 +1,32 @@
 #include "canopy/InSitu.h"
 
 #include "CatalystScript.h"
+#include "CatalystSession.h"
 #include "CollectiveAgreement.h"
 #include "DisplayProbe.h"
+#include "DriverChecks.h"
+#include "DriverPython.h"
+#include "FailureLog.h"
 #include "FinalizeGuard.h"
+#include "JobOutput.h"
+#include "OwnCommunicator.h"
+#include "RenderDecision.h"
 #include "RuntimePaths.h"
-#include "ScriptInspection.h"
-#include "ScriptSearch.h"
+#include "StepRequests.h"
+#include "StepWatchdog.h"
 
+#include "canopy/GridBuilder.h"
 #include "canopy/HtgBuilder.h"
 
-#include <vtkCPProcessor.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkLogger.h>
-#include <vtkMPI.h>
-#include <vtkPythonInterpreter.h>
 #include <vtkSmartPointer.h>
 
-#include <unistd.h>
-
-#include <algorithm>
 #include <chrono>
-#include <cstdlib>
-#include <filesystem>
-#include <set>
-#include <sstream>
+#include <optional>
 
 namespace canopy
 {
-namespace
-{
-
-/// A Python expression for any text (paths, arguments): a bytes literal decoded
-/// as UTF-8, so non-ASCII text arrives intact.
-std::string pythonLiteral(const std::string& text)
-{
-  std::ostringstream out;
-  out << "b\"";
-  for (unsigned char c : text)
-  {
-    if (c == '\\' || c == '"')
-    {
-      out << '\\' << c;
-    }
-    else if (c < 0x20 || c >= 0x7f)
-    {
-      static const char* hex = "0123456789abcdef";
-      out << "\\x" << hex[c >> 4] << hex[c & 15];
-    }
-    else
-    {
-      out << c;
-    }
-  }
-  out << "\".decode(\"utf-8\", \"surrogateescape\")";
-  return out.str();
-}
-
-std::string joined(const std::vector<std::string>& items, const char* separator)
-{
-  std::string text;
-  for (const auto& item : items)
-  {
-    text += (text.empty() ? "" : separator) + item;
-  }
-  return text;
-}
-
-/// Empty when `directory` exists (or can be created) and is writable.
-std::string outputDirectoryProblem(const std::string& directory)
-{
-  std::error_code error;
-  std::filesystem::create_directories(directory, error);
-  if (!std::filesystem::is_directory(directory, error))
-  {
-    return "the output directory '" + directory + "' does not exist and cannot be created";
-  }
-  if (access(directory.c_str(), W_OK | X_OK) != 0)
-  {
-    return "the output directory '" + directory + "' is not writable";
-  }
-  return {};
-}
-
-/// Only one driver may be open per process: ParaView's Catalyst state is global.
-bool driverOpen = false;
-/// ParaView 5.11's Catalyst cannot be initialized again once finalized (the
-/// second vtkCPProcessor::Initialize aborts the process).
-bool catalystStarted = false;
-
-} // namespace
 
 class InSitu::Driver
 {
@@ -104,201 +41,99 @@ public:
   bool canRender() const { return this->CanRender; }
 
 private:
-  struct Requests
-  {
-    std::int64_t step = 0;
-    double time = 0.0;
-    std::vector<bool> due;
-    std::vector<std::string> failures;
-    bool valid = false;
-  };
-  const Requests& requestAll(std::int64_t step, double time);
-  void logFailures(const std::vector<std::string>& failures) const;
-  FieldRequest fieldsFor(const std::vector<bool>& due, const ForestDescription& forest) const;
+  void startScripts(const std::vector<PipelineScript>& scripts);
+  /// The requests willExecute made for this step, or new ones.
+  StepRequests takeRequests(std::int64_t step, double time);
+  /// The grid with the fields the due scripts need; null (and the failures in
+  /// `report`) if some rank cannot build it or write its output.
+  vtkSmartPointer<vtkHyperTreeGrid> buildGrid(const ForestDescription& forest,
+                                              const StepRequests& requests, StepReport& report);
+  /// A due script at this step: its import on its first step (then its own
+  /// request), then its run. Each phase ends in an agreement.
+  void runScript(CatalystScript& script, vtkHyperTreeGrid* grid, std::int64_t step,
+                 StepReport& report);
+  void finalizeScripts();
+  StepReport& finish(StepReport& report, std::int64_t step, double time,
+                     std::chrono::steady_clock::time_point start) const;
 
-  MPI_Comm Communicator = MPI_COMM_NULL;
-  int Rank = 0;
+  // Destroyed in reverse: scripts before Catalyst, Catalyst before the X
+  // connection, the watchdog's thread before what it reports with.
   InSituOptions Options;
-  vtkSmartPointer<vtkCPProcessor> Processor;
-  std::vector<std::unique_ptr<CatalystScript>> Scripts;
+  std::unique_ptr<OwnCommunicator> Communicator; ///< Canopy's agreements only
+  int Rank = 0;
+  std::unique_ptr<JobOutput> Output;
+  std::unique_ptr<StepWatchdog> Watchdog;
+  std::unique_ptr<RankAgreement> Agreement;
+  std::unique_ptr<FailureLog> Failures;
+  /// Held while scripts may render: xvfb-run's server resets when its last client leaves.
+  std::unique_ptr<XDisplayConnection> Display;
+  std::unique_ptr<CatalystSession> Session;
+  ScriptList Scripts;
+  /// Keeps the grid from step to step, rebuilding only what changed.
+  GridBuilder Builder;
+  std::optional<StepRequests> Requested;
   bool CanRender = false;
   bool Open = false;
-  Requests LastRequests;
-  std::unique_ptr<XDisplayConnection> Display;
   std::unique_ptr<FinalizeGuard> Guard;
 };
 
 InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(std::move(options))
 {
-  int initialized = 0;
-  MPI_Initialized(&initialized);
-  int finalized = 0;
-  MPI_Finalized(&finalized);
-  if (!initialized || finalized)
-  {
-    throw InSituError("canopy::InSitu: MPI must be initialized (and not finalized) before open");
-  }
-  if (communicator == MPI_COMM_NULL)
-  {
-    throw InSituError("canopy::InSitu: the communicator is MPI_COMM_NULL");
-  }
-  MPI_Comm_dup(communicator, &this->Communicator);
-  MPI_Comm_rank(this->Communicator, &this->Rank);
-  auto fail = [this](const std::string& message)
-  {
-    MPI_Comm_free(&this->Communicator);
-    throw InSituError("canopy::InSitu: " + message);
-  };
+  requireUsableMpi(communicator);
+  this->Communicator = std::make_unique<OwnCommunicator>(communicator);
+  const MPI_Comm comm = this->Communicator->get();
+  MPI_Comm_rank(comm, &this->Rank);
+  this->Output = std::make_unique<JobOutput>();
 
   // Every rank checks its options; all ranks throw together, naming each rank's problem.
-  std::vector<std::string> problems;
-  if (driverOpen)
+  const auto problems = RankAgreement(comm, *this->Output, 0.0, 0.0)
+                            .gatherFailures(joined(optionProblems(this->Options), "; "));
+  if (!problems.empty())
   {
-    problems.push_back("another canopy::InSitu is open in this process");
+    throw InSituError("canopy::InSitu: " + joined(problems, "\n"));
   }
-  else if (catalystStarted)
-  {
-    problems.push_back("Catalyst was already started and finalized in this process; ParaView "
-                       "5.11 cannot start it again (open one canopy::InSitu per run)");
-  }
-  if (this->Options.scripts.empty())
-  {
-    problems.push_back("no pipeline script given");
-  }
-  if (this->Options.channel.empty())
-  {
-    problems.push_back("the channel name is empty");
-  }
-  if (this->Options.outputDirectory.empty())
-  {
-    problems.push_back("the output directory is empty");
-  }
-  // Absolute paths: ParaView imports scripts lazily, and the simulation may
-  // change its working directory after open.
-  std::error_code ignoredError;
-  this->Options.outputDirectory =
-      std::filesystem::absolute(this->Options.outputDirectory, ignoredError).string();
-  std::set<std::string> seen;
-  for (auto& script : this->Options.scripts)
-  {
-    // A relative path is also looked for among the pipelines (ScriptSearch.h).
-    const ScriptLocation location = findScript(script.path);
-    if (!location.found())
-    {
-      problems.push_back("pipeline script '" + script.path + "': " + location.notFoundReason());
-      continue;
-    }
-    script.path = location.path;
-    std::string why;
-    if (!scriptReadable(script.path, why))
-    {
-      problems.push_back("pipeline script '" + script.path + "': " + why);
-    }
-    if (!seen.insert(script.path).second)
-    {
-      problems.push_back("pipeline script '" + script.path +
-                         "' is given twice (copy it to run it with other arguments)");
-    }
-  }
-  const auto optionFailures = gatherFailures(this->Communicator, joined(problems, "; "));
-  if (!optionFailures.empty())
-  {
-    fail(joined(optionFailures, "\n"));
-  }
-
+  const double limit = this->Options.stepTimeLimitSeconds;
+  this->Watchdog = std::make_unique<StepWatchdog>(limit, this->Rank, comm, *this->Output);
+  this->Agreement =
+      std::make_unique<RankAgreement>(comm, *this->Output, limit, this->Watchdog->graceSeconds());
+  this->Failures = std::make_unique<FailureLog>(*this->Agreement);
   if (this->Options.verbosity >= vtkLogger::VERBOSITY_TRACE - 18)
   {
     vtkLogger::SetStderrVerbosity(static_cast<vtkLogger::Verbosity>(this->Options.verbosity));
   }
 
-  // Images need an X display on every rank (IceT composites across all of them).
   this->Display = std::make_unique<XDisplayConnection>();
-  const std::string noDisplay = this->Display->why();
-  int localDisplay = this->Display->connected() ? 1 : 0;
-  int everyDisplay = 0;
-  MPI_Allreduce(&localDisplay, &everyDisplay, 1, MPI_INT, MPI_MIN, this->Communicator);
-  this->CanRender = everyDisplay == 1;
-  // Rank 0 decides which scripts render, so that every rank keeps the same list.
-  std::vector<int> renders(this->Options.scripts.size(), 0);
-  if (this->Rank == 0)
-  {
-    for (std::size_t i = 0; i < renders.size(); ++i)
-    {
-      renders[i] = scriptRenders(this->Options.scripts[i].path) ? 1 : 0;
-    }
-  }
-  MPI_Bcast(renders.data(), static_cast<int>(renders.size()), MPI_INT, 0, this->Communicator);
-  std::vector<PipelineScript> kept;
-  std::vector<std::string> skipped;
-  for (std::size_t i = 0; i < renders.size(); ++i)
-  {
-    const auto& script = this->Options.scripts[i];
-    if (!this->CanRender && renders[i])
-    {
-      skipped.push_back(script.path);
-    }
-    else
-    {
-      kept.push_back(script);
-    }
-  }
-  if (!skipped.empty() && this->Rank == 0)
-  {
-    vtkLogF(WARNING,
-            "canopy: no X display (%s on at least one rank): rendering pipeline(s) %s will not "
-            "run at any step; data extracts still run. Run under 'xvfb-run -a' to get images.",
-            noDisplay.empty() ? "another rank has none" : noDisplay.c_str(),
-            joined(skipped, ", ").c_str());
-  }
+  const RenderPlan plan = planRendering(comm, this->Options.scripts, *this->Display);
+  this->CanRender = plan.canRender;
 
-  // Scripts find their settings, the plugin and the helper module through these.
-  setenv("CANOPY_OUTPUT_DIRECTORY", this->Options.outputDirectory.c_str(), 1);
-  setenv("CANOPY_CHANNEL", this->Options.channel.c_str(), 1);
-  setenv("CANOPY_PLUGIN", pluginPath().c_str(), 0);
-  std::error_code ignored;
-  std::filesystem::create_directories(this->Options.outputDirectory, ignored);
+  exportScriptEnvironment(this->Options.outputDirectory, this->Options.channel);
+  outputDirectoryProblem(this->Options.outputDirectory); // created now; reported at each step
+  this->Session = std::make_unique<CatalystSession>(comm);
+  if (!this->Agreement->allOf(this->Session->started()))
+  {
+    throw InSituError("canopy::InSitu: ParaView Catalyst failed to initialize");
+  }
+  this->startScripts(plan.scripts);
 
-  catalystStarted = true;
-  this->Processor = vtkSmartPointer<vtkCPProcessor>::New();
-  vtkMPICommunicatorOpaqueComm opaque(&this->Communicator);
-  int started = this->Processor->Initialize(opaque);
-  int everyStarted = 0;
-  MPI_Allreduce(&started, &everyStarted, 1, MPI_INT, MPI_MIN, this->Communicator);
-  if (!everyStarted)
-  {
-    this->Processor->Finalize();
-    this->Processor = nullptr;
-    fail("ParaView Catalyst failed to initialize");
-  }
+  connectAgreement(this->Agreement.get(), this->Watchdog.get());
+  this->Open = true;
+  this->Guard = std::make_unique<FinalizeGuard>([this] { this->close(); });
+  vtkVLogF(vtkLogger::VERBOSITY_TRACE, "canopy: open with %zu pipeline(s), output in '%s'",
+           this->Scripts.size(), this->Options.outputDirectory.c_str());
+}
 
-  vtkPythonInterpreter::Initialize();
-  vtkPythonInterpreter::PrependPythonPath(pipelinesDirectory().c_str());
-  std::ostringstream registration;
-  registration << "import canopy_catalyst\n"
-               << "canopy_catalyst._can_render = " << (this->CanRender ? "True" : "False") << "\n";
-  for (const auto& script : kept)
+void InSitu::Driver::startScripts(const std::vector<PipelineScript>& scripts)
+{
+  std::string localProblem = startDriverPython(pipelinesDirectory(), scripts);
+  if (localProblem.empty())
   {
-    registration << "canopy_catalyst._register_arguments(" << pythonLiteral(script.path) << ", [";
-    for (const auto& argument : script.arguments)
-    {
-      registration << pythonLiteral(argument) << ", ";
-    }
-    registration << "])\n";
-  }
-  std::string localProblem;
-  if (vtkPythonInterpreter::RunSimpleString(registration.str().c_str()) != 0)
-  {
-    localProblem = "cannot import the canopy_catalyst helper module from '" + pipelinesDirectory() +
-                   "' (set CANOPY_PIPELINES_DIR)";
-  }
-  else
-  {
+    this->Watchdog->connectPython();
     try
     {
-      for (const auto& script : kept)
+      for (const auto& script : scripts)
       {
         this->Scripts.push_back(
-            std::make_unique<CatalystScript>(script.path, this->Options.channel));
+            std::make_unique<CatalystScript>(script.path, this->Options.channel, *this->Watchdog));
       }
     }
     catch (const std::exception& error)
@@ -306,71 +141,22 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
       localProblem = error.what();
     }
   }
-  const auto startFailures = gatherFailures(this->Communicator, localProblem);
-  if (!startFailures.empty())
+  const auto failures = this->Agreement->gatherFailures(localProblem);
+  if (!failures.empty())
   {
-    this->Scripts.clear();
-    this->Processor->Finalize();
-    this->Processor = nullptr;
-    fail(joined(startFailures, "\n"));
+    throw InSituError("canopy::InSitu: " + joined(failures, "\n"));
   }
-
-  this->Open = true;
-  driverOpen = true;
-  this->Guard = std::make_unique<FinalizeGuard>([this] { this->close(); });
-  vtkVLogF(vtkLogger::VERBOSITY_TRACE, "canopy: open with %zu pipeline(s), output in '%s'",
-           this->Scripts.size(), this->Options.outputDirectory.c_str());
 }
 
-const InSitu::Driver::Requests& InSitu::Driver::requestAll(std::int64_t step, double time)
+StepRequests InSitu::Driver::takeRequests(std::int64_t step, double time)
 {
-  Requests& requests = this->LastRequests;
-  if (requests.valid && requests.step == step && requests.time == time)
+  std::optional<StepRequests> requested;
+  requested.swap(this->Requested); // each execute() asks anew next time
+  if (requested && requested->step == step && requested->time == time)
   {
-    return requests;
+    return std::move(*requested);
   }
-  requests = Requests{step, time, std::vector<bool>(this->Scripts.size(), false), {}, true};
-  std::vector<int> states(this->Scripts.size(), 0);
-  std::string localErrors;
-  for (std::size_t i = 0; i < this->Scripts.size(); ++i)
-  {
-    std::string error;
-    switch (this->Scripts[i]->request(step, time, error))
-    {
-    case CatalystScript::Request::NotDue:
-      states[i] = 0;
-      break;
-    case CatalystScript::Request::Due:
-      states[i] = 1;
-      break;
-    case CatalystScript::Request::Failed:
-      states[i] = 2;
-      localErrors += (localErrors.empty() ? "" : "; ") + error;
-      break;
-    }
-  }
-  const auto agreed = agreeOnStates(this->Communicator, states);
-  bool anyProblem = false;
-  for (std::size_t i = 0; i < this->Scripts.size(); ++i)
-  {
-    anyProblem = anyProblem || agreed.maximum[i] == 2 || agreed.minimum[i] != agreed.maximum[i];
-    requests.due[i] = agreed.minimum[i] == 1 && agreed.maximum[i] == 1;
-  }
-  if (anyProblem)
-  {
-    std::string local =
-        localErrors.empty() ? std::string() : "step " + std::to_string(step) + ": " + localErrors;
-    requests.failures = gatherFailures(this->Communicator, local);
-    for (std::size_t i = 0; i < this->Scripts.size(); ++i)
-    {
-      if (agreed.maximum[i] != 2 && agreed.minimum[i] != agreed.maximum[i])
-      {
-        requests.failures.push_back("step " + std::to_string(step) + ": ranks disagree whether '" +
-                                    this->Scripts[i]->path() + "' runs; skipped");
-      }
-    }
-  }
-  return requests;
+  return requestScripts(this->Scripts, *this->Agreement, *this->Failures, step, time);
 }
 
 bool InSitu::Driver::willExecute(std::int64_t step, double time)
@@ -379,186 +165,181 @@ bool InSitu::Driver::willExecute(std::int64_t step, double time)
   {
     return false;
   }
-  const auto& requests = this->requestAll(step, time);
-  return !requests.failures.empty() ||
-         std::any_of(requests.due.begin(), requests.due.end(), [](bool due) { return due; });
+  this->Requested = this->takeRequests(step, time);
+  return !this->Requested->failures.empty() || this->Requested->anyDue();
 }
 
-FieldRequest InSitu::Driver::fieldsFor(const std::vector<bool>& due,
-                                       const ForestDescription& forest) const
+StepReport& InSitu::Driver::finish(StepReport& report, std::int64_t step, double time,
+                                   std::chrono::steady_clock::time_point start) const
 {
-  std::set<std::string> wanted;
-  for (std::size_t i = 0; i < this->Scripts.size(); ++i)
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (this->Options.stepSummary && report.executed && this->Rank == 0)
   {
-    if (!due[i])
-    {
-      continue;
-    }
-    if (this->Scripts[i]->needsAllFields())
-    {
-      return FieldRequest::all();
-    }
-    for (const auto& name : this->Scripts[i]->neededFields())
-    {
-      wanted.insert(name);
-    }
+    vtkLogF(INFO,
+            "canopy: step %lld time %g: ran [%s], %zu failure(s), %lld cells on rank 0, %.3f s "
+            "(grid %.3f s, %zu of %zu trees rebuilt)",
+            static_cast<long long>(step), time, joined(report.pipelinesRun, ", ").c_str(),
+            report.failures.size(), static_cast<long long>(report.localCells), report.seconds,
+            report.buildSeconds, report.treesRebuilt, report.treesRebuilt + report.treesKept);
   }
-  std::vector<std::string> present;
-  for (const auto& field : forest.fields)
-  {
-    if (wanted.count(field.name) != 0)
-    {
-      present.push_back(field.name);
-      wanted.erase(field.name);
-    }
-  }
-  for (const auto& missing : wanted)
-  {
-    vtkVLogF(vtkLogger::VERBOSITY_TRACE,
-             "canopy: a pipeline asks for field '%s', which the forest does not have",
-             missing.c_str());
-  }
-  return FieldRequest::only(present);
-}
-
-void InSitu::Driver::logFailures(const std::vector<std::string>& failures) const
-{
-  // Ranks above 0 have their stderr silenced by ParaView; every rank's
-  // failures are gathered, so rank 0 reports them all.
-  if (this->Rank != 0)
-  {
-    return;
-  }
-  for (const auto& failure : failures)
-  {
-    vtkLogF(ERROR, "canopy: %s", failure.c_str());
-  }
+  return report;
 }
 
 StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestDescription& forest)
 {
   const auto start = std::chrono::steady_clock::now();
   StepReport report;
-  auto finish = [&]() -> StepReport
-  {
-    report.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (this->Options.stepSummary && report.executed && this->Rank == 0)
-    {
-      vtkLogF(INFO,
-              "canopy: step %lld time %g: ran [%s], %zu failure(s), %lld cells on rank 0, %.3f s",
-              static_cast<long long>(step), time, joined(report.pipelinesRun, ", ").c_str(),
-              report.failures.size(), static_cast<long long>(report.localCells), report.seconds);
-    }
-    return report;
-  };
   if (!this->Open)
   {
     report.failures.push_back("rank " + std::to_string(this->Rank) + ", step " +
                               std::to_string(step) + ": execute() after close()");
-    return finish();
+    return this->finish(report, step, time, start);
   }
-
-  const Requests requests = this->requestAll(step, time);
-  this->LastRequests.valid = false; // each execute() asks anew next time
+  const StepRequests requests = this->takeRequests(step, time);
   report.failures = requests.failures;
-  this->logFailures(requests.failures);
-  if (std::none_of(requests.due.begin(), requests.due.end(), [](bool due) { return due; }))
+  report.executed = requests.anyDue() || !requests.failures.empty();
+  if (!requests.anyDue())
   {
-    report.executed = !requests.failures.empty();
-    return finish();
+    return this->finish(report, step, time, start);
   }
-  report.executed = true;
+  const auto grid = this->buildGrid(forest, requests, report);
+  for (std::size_t i = 0; grid && i < this->Scripts.size(); ++i)
+  {
+    if (requests.due[i])
+    {
+      this->runScript(*this->Scripts[i], grid, step, report);
+    }
+  }
+  return this->finish(report, step, time, start);
+}
 
-  // Build only now, and only with the fields some due pipeline asked for.
+vtkSmartPointer<vtkHyperTreeGrid> InSitu::Driver::buildGrid(const ForestDescription& forest,
+                                                            const StepRequests& requests,
+                                                            StepReport& report)
+{
+  // Built only now, and only with the fields some due pipeline asked for.
   vtkSmartPointer<vtkHyperTreeGrid> grid;
   std::string localProblem = outputDirectoryProblem(this->Options.outputDirectory);
   if (localProblem.empty())
   {
     try
     {
-      grid = buildHyperTreeGrid(forest, this->fieldsFor(requests.due, forest));
+      const auto start = std::chrono::steady_clock::now();
+      grid = this->Builder.build(forest, fieldsNeeded(this->Scripts, requests.due, forest));
+      report.buildSeconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       report.localCells = grid->GetNumberOfCells();
+      report.treesRebuilt = this->Builder.lastBuild().treesRebuilt;
+      report.treesKept = this->Builder.lastBuild().treesKept;
     }
     catch (const InvalidForest& error)
     {
-      // One line per failure in the report: the problems, separated by ';'.
-      std::string problems;
-      for (const auto& problem : error.problems())
-      {
-        problems += (problems.empty() ? "" : "; ") + problem;
-      }
-      localProblem = "invalid forest: " + problems;
+      localProblem = "invalid forest: " + joined(error.problems(), "; "); // one line per rank
     }
     catch (const std::exception& error)
     {
       localProblem = std::string("cannot build the grid: ") + error.what();
     }
   }
-  const std::string stepText = "step " + std::to_string(step) + ": ";
-  const auto buildFailures =
-      gatherFailures(this->Communicator, localProblem.empty() ? "" : stepText + localProblem);
-  if (!buildFailures.empty())
-  {
-    this->logFailures(buildFailures);
-    report.failures.insert(report.failures.end(), buildFailures.begin(), buildFailures.end());
-    return finish();
-  }
+  const std::string stepText = "step " + std::to_string(requests.step) + ": ";
+  const auto failures = this->Failures->gather(localProblem.empty() ? "" : stepText + localProblem);
+  report.failures.insert(report.failures.end(), failures.begin(), failures.end());
+  return failures.empty() ? grid : nullptr;
+}
 
+void InSitu::Driver::runScript(CatalystScript& script, vtkHyperTreeGrid* grid, std::int64_t step,
+                               StepReport& report)
+{
   // Each phase that can fail on some ranks only (import, the script's own
   // request, the run) ends in an agreement, so no rank enters a script's
-  // collectives alone.
-  auto agree = [&](const std::string& localError)
+  // collectives alone; the agreement after a script call is bounded by the
+  // step time limit.
+  const std::string stepText = "step " + std::to_string(step) + ": ";
+  const std::string phaseText =
+      "the script '" + script.path() + "' (%) at step " + std::to_string(step);
+  auto after = [&](const char* phase, std::chrono::steady_clock::time_point since, double extra)
   {
-    auto failures =
-        gatherFailures(this->Communicator, localError.empty() ? "" : stepText + localError);
-    this->logFailures(failures);
+    std::string what = phaseText;
+    what.replace(what.find('%'), 1, phase);
+    return RankAgreement::After{what, since, extra};
+  };
+  auto agree = [&](const std::string& localError, const RankAgreement::After* waited = nullptr)
+  {
+    const std::string traceback = script.lastTraceback().empty()
+                                      ? std::string()
+                                      : stepText + "Python traceback of the script '" +
+                                            script.path() + "':\n" + script.lastTraceback();
+    const auto failures =
+        this->Failures->gather(localError.empty() ? "" : stepText + localError, traceback, waited);
     report.failures.insert(report.failures.end(), failures.begin(), failures.end());
     return failures.empty();
   };
-  for (std::size_t i = 0; i < this->Scripts.size(); ++i)
+  std::string error;
+  if (!script.imported())
   {
-    if (!requests.due[i])
+    auto since = std::chrono::steady_clock::now();
+    const bool imported = script.import(grid, error);
+    const auto importing = after("import", since, StepWatchdog::firstStepExtraSeconds);
+    if (!agree(imported ? "" : error + "; the script is disabled", &importing))
     {
-      continue;
+      script.disable(); // on every rank, also where the import worked
+      return;
     }
-    auto& script = *this->Scripts[i];
-    std::string error;
-    if (!script.imported())
+    since = std::chrono::steady_clock::now();
+    const ScriptState state = script.requestAfterImport(error);
+    const auto asking = after("RequestDataDescription", since, script.extraSeconds());
+    const auto agreed = this->Agreement->agree({state}, &asking);
+    if (agreed.maximum[0] == ScriptState::Failed)
     {
-      const bool imported = script.import(grid, error);
-      if (!agree(imported ? "" : error + "; the script is disabled"))
-      {
-        script.disable(); // on every rank, also where the import worked
-        continue;
-      }
-      const auto state = script.requestAfterImport(error);
-      const int local = state == CatalystScript::Request::Failed ? 2
-                        : state == CatalystScript::Request::Due  ? 1
-                                                                 : 0;
-      const auto agreed = agreeOnStates(this->Communicator, {local});
-      if (agreed.maximum[0] == 2)
-      {
-        agree(local == 2 ? error : "");
-        continue;
-      }
-      if (agreed.minimum[0] != agreed.maximum[0])
-      {
-        agree(this->Rank == 0 ? "ranks disagree whether '" + script.path() + "' runs; skipped"
-                              : "");
-        continue;
-      }
-      if (agreed.maximum[0] == 0)
-      {
-        continue; // imported, and not due at this step
-      }
+      agree(state == ScriptState::Failed ? error : "");
+      return;
     }
-    if (agree(script.run(grid, error) ? "" : error))
+    if (agreed.minimum[0] != agreed.maximum[0])
     {
-      report.pipelinesRun.push_back(script.path());
+      agree(this->Rank == 0 ? "ranks disagree whether '" + script.path() + "' runs; skipped" : "");
+      return;
+    }
+    if (agreed.maximum[0] == ScriptState::NotDue)
+    {
+      return; // imported, and not due at this step
     }
   }
-  return finish();
+  const auto since = std::chrono::steady_clock::now();
+  const double extraSeconds = script.extraSeconds();
+  const bool ran = script.run(grid, error);
+  const auto running = after("catalyst_execute", since, extraSeconds);
+  if (agree(ran ? "" : error, &running))
+  {
+    report.pipelinesRun.push_back(script.path());
+  }
+  else
+  {
+    script.discardOutputs(); // nothing half-written may look like a result
+  }
+}
+
+void InSitu::Driver::finalizeScripts()
+{
+  // Every rank finalizes its scripts; failures are gathered and logged by rank 0.
+  std::string localErrors;
+  std::string tracebacks;
+  const auto since = std::chrono::steady_clock::now();
+  for (auto& script : this->Scripts)
+  {
+    std::string error;
+    if (!script->finalize(error))
+    {
+      localErrors += (localErrors.empty() ? "" : "; ") + error;
+      if (!script->lastTraceback().empty())
+      {
+        tracebacks += "close: Python traceback of the script '" + script->path() + "':\n" +
+                      script->lastTraceback();
+      }
+    }
+  }
+  const RankAgreement::After finalizing{"catalyst_finalize of the scripts at close", since};
+  this->Failures->gather(localErrors.empty() ? "" : "close: " + localErrors, tracebacks,
+                         &finalizing);
 }
 
 void InSitu::Driver::close()
@@ -568,20 +349,16 @@ void InSitu::Driver::close()
     return;
   }
   this->Open = false;
-  driverOpen = false;
-  if (this->Guard)
-  {
-    this->Guard->disarm();
-  }
-  for (auto& script : this->Scripts)
-  {
-    script->finalize();
-  }
+  this->Guard->disarm();
+  this->finalizeScripts();
+  connectAgreement(nullptr, nullptr);
   this->Scripts.clear();
-  this->Processor->Finalize();
-  this->Processor = nullptr;
+  this->Session.reset();
   this->Display.reset();
-  MPI_Comm_free(&this->Communicator);
+  this->Failures.reset();
+  this->Agreement.reset();
+  this->Watchdog.reset();
+  this->Communicator.reset();
 }
 
 InSitu::InSitu(MPI_Comm communicator, InSituOptions options)

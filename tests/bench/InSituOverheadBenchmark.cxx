@@ -10,6 +10,7 @@
 //
 // Usage: mpirun -np N canopy_bench_insitu --script PATH [--script PATH]...
 //          [--frequency F] [--steps S] [--max-levels L] [--output DIR]
+//          [--time-limit SECONDS]   (InSituOptions::stepTimeLimitSeconds)
 #include "SyntheticForest.h"
 
 #include "canopy/HtgBuilder.h"
@@ -73,6 +74,7 @@ int main(int argc, char** argv)
   int steps = 201;
   int maxLevels = 7;
   std::string output = "canopy-bench-insitu";
+  double timeLimit = 0.0;
   for (int i = 1; i + 1 < argc; i += 2)
   {
     const std::string key = argv[i];
@@ -86,6 +88,8 @@ int main(int argc, char** argv)
       maxLevels = std::stoi(argv[i + 1]);
     else if (key == "--output")
       output = argv[i + 1];
+    else if (key == "--time-limit")
+      timeLimit = std::stod(argv[i + 1]);
   }
   {
     // Each rank holds a slice of a 3D front-refined forest (whole trees).
@@ -138,6 +142,7 @@ int main(int argc, char** argv)
     for (const auto& path : scripts)
       options.scripts.push_back({path, {"--frequency=" + std::to_string(frequency)}});
     options.outputDirectory = output;
+    options.stepTimeLimitSeconds = timeLimit;
     canopy::InSitu insitu(MPI_COMM_WORLD, options);
     std::vector<double> idle;
     std::vector<double> busy;

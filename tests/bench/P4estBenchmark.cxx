@@ -172,7 +172,7 @@ int main(int argc, char** argv)
                 "build ms | balance / describe | balance / (describe + build) |\n");
     std::printf("|---|---|---|---|---|---|---|---|\n");
   }
-  for (int level : {9, 11, 12})
+  for (int level : {10, 12, 14})
   {
     Run<2>::row(level, repetitions, rank);
   }

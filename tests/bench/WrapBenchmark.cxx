@@ -8,6 +8,7 @@
 // build adds per cell while its grid is alive, and field bytes copied per cell.
 #include "SyntheticForest.h"
 
+#include "canopy/GridBuilder.h"
 #include "canopy/HtgBuilder.h"
 
 #include <vtkBitArray.h>
@@ -24,6 +25,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -287,6 +289,94 @@ void printVtkFloor()
             << " ns/tree\n";
 }
 
+/// Median over `repetitions` of one call, in ns per cell.
+template <typename Call>
+double medianNsPerCell(double cells, int repetitions, Call&& call)
+{
+  std::vector<double> times;
+  for (int r = 0; r < repetitions; ++r)
+  {
+    const auto start = Clock::now();
+    call();
+    times.push_back(std::chrono::duration<double, std::nano>(Clock::now() - start).count() / cells);
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
+/// Steps after the first with canopy::GridBuilder: nothing changed, one mask byte
+/// changed (trees kept, mask and tables redone), two trees changed (two trees of
+/// the same size swap their refinement, so the fields still fit).
+void printStepRow(const SyntheticForest& forest, const char* storage, int repetitions)
+{
+  const auto request = canopy::FieldRequest::only(Fields);
+  const double cells = static_cast<double>(forest.numberOfNodes());
+  canopy::ForestDescription d = forest.description();
+  canopy::GridBuilder builder;
+  const double full = medianNsPerCell(cells, repetitions,
+                                      [&]
+                                      {
+                                        builder.reset();
+                                        builder.build(d, request);
+                                      });
+  builder.build(d, request);
+  const double unchanged = medianNsPerCell(cells, repetitions, [&] { builder.build(d, request); });
+  const auto* reuse = &builder.lastBuild();
+  if (reuse->treesRebuilt != 0)
+  {
+    std::cerr << "bench: an unchanged step rebuilt trees\n";
+    std::exit(1);
+  }
+  // One mask byte: a private copy of tree 0's mask (or a new mask) with one byte flipped.
+  std::vector<std::uint8_t> mask(d.trees[0].numberOfNodes, 0);
+  if (d.trees[0].masked)
+  {
+    std::copy(d.trees[0].masked, d.trees[0].masked + mask.size(), mask.begin());
+  }
+  const std::uint8_t* originalMask = d.trees[0].masked;
+  const double maskChanged = medianNsPerCell(cells, repetitions,
+                                             [&]
+                                             {
+                                               mask.back() ^= 1;
+                                               d.trees[0].masked = mask.data();
+                                               builder.build(d, request);
+                                             });
+  d.trees[0].masked = originalMask;
+  builder.build(d, request);
+  // Two trees with the same node count and different refinement.
+  std::size_t a = 0;
+  std::size_t b = 0;
+  for (std::size_t i = 0; i < d.trees.size() && !b; ++i)
+    for (std::size_t j = i + 1; j < d.trees.size() && !b; ++j)
+      if (d.trees[i].numberOfNodes == d.trees[j].numberOfNodes && d.trees[i].numberOfNodes > 1 &&
+          std::memcmp(d.trees[i].refinement, d.trees[j].refinement, d.trees[i].numberOfNodes) !=
+              0 &&
+          !d.trees[i].storageSlots)
+      {
+        a = i;
+        b = j;
+      }
+  double twoChanged = -1;
+  if (b != 0)
+  {
+    twoChanged = medianNsPerCell(cells, repetitions,
+                                 [&]
+                                 {
+                                   std::swap(d.trees[a].refinement, d.trees[b].refinement);
+                                   builder.build(d, request);
+                                 });
+  }
+  std::cout << std::fixed << std::setprecision(2) << "| " << storage << " | "
+            << forest.numberOfNodes() << " | " << full << " | " << unchanged << " ("
+            << std::setprecision(1) << 100 * unchanged / full << "%) | " << std::setprecision(2)
+            << maskChanged << " (" << std::setprecision(1) << 100 * maskChanged / full << "%) | ";
+  if (twoChanged >= 0)
+    std::cout << std::setprecision(2) << twoChanged << " (" << std::setprecision(1)
+              << 100 * twoChanged / full << "%) |\n";
+  else
+    std::cout << "n/a (no two trees of equal size) |\n";
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -364,6 +454,27 @@ int main(int argc, char** argv)
             << cursorBuild.bytesPerCell << "," << canopyBuild.fieldBytesPerCell << ","
             << cursorBuild.fieldBytesPerCell << "\n";
       }
+    }
+  }
+  std::cout << "\nSteps after the first with canopy::GridBuilder (ns per cell, median; % of a "
+               "full build):\n\n"
+            << "| storage | cells | full build | nothing changed | one mask byte changed | "
+               "two trees changed |\n"
+            << "|---|---:|---:|---:|---:|---:|\n";
+  for (bool depthFirst : {false, true})
+  {
+    for (int levels = 5; levels <= maxLevels; ++levels)
+    {
+      canopy::tools::SyntheticForestOptions options;
+      options.dimension = 3;
+      options.branchFactor = 2;
+      options.rootsPerAxis = 6;
+      options.maxLevels = levels;
+      options.cutaway = false;
+      options.depthFirstStorage = depthFirst;
+      SyntheticForest forest(options);
+      const int reps = forest.numberOfNodes() > 5'000'000 ? std::min(repetitions, 3) : repetitions;
+      printStepRow(forest, depthFirst ? "depth-first + slot map" : "breadth-first", reps);
     }
   }
   printVtkFloor();

@@ -37,6 +37,9 @@ def check_insitu(output, command):
     expect(code == 0, "the mini-app exits normally")
     expect("simulation arrays untouched by Canopy: yes" in log, "Canopy left the arrays untouched")
     expect(re.search(r"0 pipeline failure\(s\)", log) is not None, "no pipeline failed")
+    noisy = [line for line in log.splitlines() if re.search(r"WARN|Warning|ERROR", line)]
+    expect(not noisy, "no warning or error in the output (%d line(s)%s)"
+           % (len(noisy), (": " + noisy[0].strip()) if noisy else ""))
     worst = float(re.search(r"worst relative mass change ([0-9.e+-]+)", log).group(1))
     expect(worst < 1e-12, "mass conserved to %.1e" % worst)
     steps = [int(s) for s in re.findall(r"^step\s+(\d+)", log, re.M)]

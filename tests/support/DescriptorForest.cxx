@@ -168,10 +168,11 @@ std::size_t DescriptorForest::numberOfUnmaskedLeaves() const
 {
   // A leaf is visible when neither it nor an ancestor is masked.
   std::size_t visible = 0;
-  const std::size_t children = static_cast<std::size_t>(
-      Description.dimension == 2
-          ? Description.branchFactor * Description.branchFactor
-          : Description.branchFactor * Description.branchFactor * Description.branchFactor);
+  std::size_t children = 1;
+  for (int d = 0; d < Description.dimension; ++d)
+  {
+    children *= static_cast<std::size_t>(Description.branchFactor);
+  }
   for (std::size_t t = 0; t < Refinement.size(); ++t)
   {
     const auto& refinement = Refinement[t];

@@ -24,7 +24,8 @@ RandomForest::RandomForest(const RandomForestOptions& o)
   std::size_t trees = 1;
   for (int a = 0; a < 3; ++a)
   {
-    const bool flat = o.dimension == 2 && a == o.flatAxis;
+    const bool flat =
+        (o.dimension == 2 && a == o.flatAxis) || (o.dimension == 1 && a != o.activeAxis);
     const std::size_t cells = flat ? 0 : o.rootCells[a];
     double x = o.origin[a];
     Coordinates[a].push_back(x);

@@ -22,8 +22,9 @@ struct RandomForestOptions
 {
   int dimension = 3;
   int branchFactor = 2;
-  std::array<std::size_t, 3> rootCells{{2, 2, 2}}; ///< the flat axis of a 2D forest is ignored
+  std::array<std::size_t, 3> rootCells{{2, 2, 2}}; ///< flat axes (2D, 1D) are ignored
   int flatAxis = 2;                                ///< 2D only: the axis with a single point
+  int activeAxis = 0; ///< 1D only: the axis of the line (the two others have a single point)
   int maxLevels = 4;
   double refineProbability = 0.5;
   double maskProbability = 0.0; ///< 0: no mask arrays at all

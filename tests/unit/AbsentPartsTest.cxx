@@ -136,9 +136,10 @@ RandomForestOptions splitOptions(int dimension)
 {
   RandomForestOptions o;
   o.dimension = dimension;
-  o.rootCells = dimension == 2 ? std::array<std::size_t, 3>{{4, 3, 1}}
-                               : std::array<std::size_t, 3>{{2, 2, 2}};
-  o.maxLevels = dimension == 2 ? 6 : 4;
+  o.rootCells = dimension == 1   ? std::array<std::size_t, 3>{{5, 1, 1}}
+                : dimension == 2 ? std::array<std::size_t, 3>{{4, 3, 1}}
+                                 : std::array<std::size_t, 3>{{2, 2, 2}};
+  o.maxLevels = dimension == 1 ? 9 : dimension == 2 ? 6 : 4;
   o.refineProbability = 0.55;
   o.seed = 11;
   return o;
@@ -213,8 +214,8 @@ TEST_P(AbsentParts, EveryLeafOnceWithItsValueAndAbsentCellsMaskedAsAnotherRanks)
 }
 
 INSTANTIATE_TEST_SUITE_P(DimensionRanksOrder, AbsentParts,
-                         ::testing::Combine(::testing::Values(2, 3), ::testing::Values(1, 2, 3, 4),
-                                            ::testing::Bool()));
+                         ::testing::Combine(::testing::Values(1, 2, 3),
+                                            ::testing::Values(1, 2, 3, 4), ::testing::Bool()));
 
 /// The volume average over present children, recursively, by brute force.
 double presentAverage(const PartitionedTree& tree, const std::vector<std::size_t>& first,
@@ -388,6 +389,84 @@ TEST(AbsentPartsSelection, AbsentCellsAreNeverSelectedEvenWithAllowMasked)
   EXPECT_EQ(selected, expected);
 }
 
+TEST(AbsentPartsSelection, BoxAndFrustumSelectEachLeafOnExactlyOneRank)
+{
+  for (int dimension : {1, 2, 3})
+  {
+    RandomForest whole(splitOptions(dimension));
+    const auto& c = whole.coordinates();
+    // A box and a frustum (six planes, tilted) through the middle of the domain.
+    double box[6];
+    double planes[24] = {};
+    for (int a = 0; a < 3; ++a)
+    {
+      const double lo = c[a].front();
+      const double size = c[a].back() - lo;
+      box[2 * a] = lo + 0.21 * size - 1e-3;
+      box[2 * a + 1] = lo + 0.77 * size + 1e-3;
+      planes[8 * a + a] = 1; // x >= xmin, tilted by the next axis
+      planes[8 * a + (a + 1) % 3] = 0.1;
+      planes[8 * a + 3] = -(box[2 * a] + 0.1 * c[(a + 1) % 3].front());
+      planes[8 * a + 4 + a] = -1; // x <= xmax
+      planes[8 * a + 7] = box[2 * a + 1];
+    }
+    auto select = [&](const ForestDescription& forest, bool frustum)
+    {
+      vtkNew<vtkCanopyExtractSelection> extract;
+      extract->SetInputData(buildHyperTreeGrid(forest));
+      extract->SetSelectionMode(frustum ? vtkCanopyExtractSelection::FRUSTUM
+                                        : vtkCanopyExtractSelection::BOX);
+      extract->SetBox(box);
+      extract->SetFrustumPlanes(planes);
+      extract->SetAllowMasked(true);
+      extract->Update();
+      // Each selected cell's value: the whole forest's node it is.
+      auto* out = vtkUnstructuredGrid::SafeDownCast(extract->GetOutputDataObject(0));
+      std::multiset<double> values;
+      vtkDataArray* node = out->GetCellData()->GetArray("node");
+      for (vtkIdType i = 0; node && i < node->GetNumberOfTuples(); ++i)
+      {
+        values.insert(node->GetTuple1(i));
+      }
+      return values;
+    };
+    for (bool frustum : {false, true})
+    {
+      // The whole forest's selection, as values of its nodes.
+      std::vector<double> values;
+      for (std::size_t t = 0; t < whole.nodes().size(); ++t)
+      {
+        for (std::size_t n = 0; n < whole.nodes()[t].size(); ++n)
+        {
+          values.push_back(0);
+        }
+      }
+      for (std::size_t t = 0; t < whole.nodes().size(); ++t)
+      {
+        for (std::size_t n = 0; n < whole.nodes()[t].size(); ++n)
+        {
+          values[static_cast<std::size_t>(whole.nodes()[t][n].slot)] = wholeValue(t, n);
+        }
+      }
+      ForestDescription described = whole.description();
+      described.fields.push_back(FieldDescription::aos("node", values.data(), values.size()));
+      const auto expected = select(described, frustum);
+      ASSERT_GT(expected.size(), 20u);
+      std::multiset<double> together;
+      for (int rank = 0; rank < 3; ++rank)
+      {
+        RankPart part(whole.description(), rank, 3, rank == 1);
+        for (double v : select(part.description, frustum))
+        {
+          EXPECT_FALSE(std::isnan(v)) << "an absent cell was selected";
+          together.insert(v);
+        }
+      }
+      EXPECT_EQ(together, expected) << dimension << "D " << (frustum ? "frustum" : "box");
+    }
+  }
+}
+
 // ---- Level of detail on split trees: every pixel has exactly one owner ----
 
 struct Quad
@@ -480,6 +559,64 @@ TEST_P(SplitTreeLevelOfDetail, NoTwoRanksQuadsOverlapAndTheirUnionCoversTheDomai
 }
 
 INSTANTIATE_TEST_SUITE_P(RanksAndThresholds, SplitTreeLevelOfDetail,
+                         ::testing::Combine(::testing::Values(2, 3), ::testing::Values(1.0, 8.0)));
+
+class SplitLineLevelOfDetail : public ::testing::TestWithParam<std::tuple<int, double>>
+{
+};
+
+TEST_P(SplitLineLevelOfDetail, NoTwoRanksSegmentsOverlapAndTheyCoverTheLine)
+{
+  const auto [ranks, threshold] = GetParam();
+  RandomForestOptions o = splitOptions(1);
+  o.maxLevels = 12;
+  o.refineProbability = 0.65;
+  RandomForest whole(o);
+  const auto& c = whole.coordinates();
+  const double length = c[0].back() - c[0].front();
+  std::vector<std::pair<double, double>> segments; // (lo, hi) along x, with the rank in order
+  std::vector<int> owner;
+  for (int rank = 0; rank < ranks; ++rank)
+  {
+    RankPart part(whole.description(), rank, ranks, false);
+    vtkNew<vtkCanopyAdaptiveSurface> surface;
+    surface->SetInputData(buildHyperTreeGrid(part.description));
+    // The whole line across 60 pixels, seen from +z.
+    const double cx = 0.5 * (c[0].front() + c[0].back());
+    surface->SetCameraPosition(cx, c[1][0], 10);
+    surface->SetCameraFocalPoint(cx, c[1][0], 0);
+    surface->ParallelProjectionOn();
+    surface->SetParallelScale(0.55 * length);
+    surface->SetViewportSize(60, 60);
+    surface->SetPixelThreshold(threshold);
+    surface->Update();
+    vtkPolyData* out = surface->GetPolyDataOutput();
+    for (vtkIdType i = 0; i < out->GetNumberOfCells(); ++i)
+    {
+      double b[6];
+      out->GetCellBounds(i, b);
+      segments.emplace_back(b[0], b[1]);
+      owner.push_back(rank);
+    }
+  }
+  EXPECT_LT(segments.size(), whole.numberOfLeaves()) << "level of detail must be at work";
+  double total = 0;
+  std::size_t overlaps = 0;
+  for (std::size_t i = 0; i < segments.size(); ++i)
+  {
+    total += segments[i].second - segments[i].first;
+    for (std::size_t j = i + 1; j < segments.size(); ++j)
+    {
+      const double shared = std::min(segments[i].second, segments[j].second) -
+                            std::max(segments[i].first, segments[j].first);
+      overlaps += owner[i] != owner[j] && shared > 1e-12 * length;
+    }
+  }
+  EXPECT_NEAR(total, length, 1e-9 * length);
+  EXPECT_EQ(overlaps, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(RanksAndThresholds, SplitLineLevelOfDetail,
                          ::testing::Combine(::testing::Values(2, 3), ::testing::Values(1.0, 8.0)));
 
 /// The quads of a full (view-independent) surface, as sorted corner lists.

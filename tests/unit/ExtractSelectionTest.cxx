@@ -27,6 +27,7 @@
 #include <cmath>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <random>
 #include <set>
 #include <string>
@@ -444,6 +445,180 @@ TEST(ExtractSelection, BadInputIsReportedNotCrashed)
     f->SetSelectionMode(vtkCanopyExtractSelection::IDS);
     EXPECT_EQ(errorsOf(f), 0);
     EXPECT_EQ(vtkUnstructuredGrid::SafeDownCast(f->GetOutput())->GetNumberOfCells(), 0);
+  }
+}
+
+/// A random 1D forest along `axis` whose binary trees have exact (dyadic) bounds.
+std::unique_ptr<RandomForest> lineForest(std::uint64_t seed, int axis, int branchFactor)
+{
+  RandomForestOptions o;
+  o.dimension = 1;
+  o.activeAxis = axis;
+  o.branchFactor = branchFactor;
+  o.rootCells = {{5, 6, 7}};
+  o.maxLevels = branchFactor == 2 ? 10 : 6;
+  o.refineProbability = 0.6;
+  o.maskProbability = 0.1;
+  o.skipEveryOtherRoot = seed % 3 == 0;
+  o.order = seed % 2 ? StorageOrder::DepthFirst : StorageOrder::BreadthFirst;
+  o.origin = {{-3.5, 1e3, 7.25}};
+  o.seed = seed;
+  auto forest = std::make_unique<RandomForest>(o);
+  auto& coords = const_cast<std::array<std::vector<double>, 3>&>(forest->coordinates());
+  for (std::size_t i = 0; i < coords[axis].size(); ++i)
+  {
+    coords[axis][i] = o.origin[axis] + 0.75 * static_cast<double>(i) + (i % 2 ? 0.25 : 0.0);
+  }
+  return forest;
+}
+
+TEST(ExtractSelection, OnLinesLocationsIdsAndValuesEqualBruteForce)
+{
+  std::size_t valuesSelected = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed)
+  {
+    const int axis = static_cast<int>(seed % 3);
+    const int f = seed % 4 < 2 ? 2 : 3;
+    auto forest = lineForest(seed, axis, f);
+    std::vector<double> values(forest->numberOfNodes());
+    for (std::size_t i = 0; i < values.size(); ++i)
+    {
+      values[i] = std::fmod(static_cast<double>(i) * 0.37, 3.0);
+    }
+    values[values.size() / 2] = std::nan("");
+    forest->description().fields.push_back(
+        FieldDescription::aos("v", values.data(), values.size()));
+    auto htg = buildHyperTreeGrid(forest->description());
+    const std::string label = "seed " + std::to_string(seed) + " along " + "xyz"[axis] +
+                              ", branch factor " + std::to_string(f);
+    // Locations: ends, centres, the line's upper end, outside; off the line on the
+    // flat axes (ignored).
+    auto points = trickyPoints(htg, seed, f == 2);
+    double d[6];
+    htg->GetBounds(d);
+    Point before{{d[0], d[2], d[4]}};
+    before[axis] -= 1e-9;
+    Point after{{d[1], d[3], d[5]}};
+    after[axis] += 0.5;
+    points.push_back(before);
+    points.push_back(after);
+    for (auto& p : points)
+    {
+      p[(axis + 1) % 3] += 0.5;
+    }
+    for (bool preserve : {false, true})
+    {
+      vtkNew<vtkCanopyExtractSelection> filter;
+      filter->SetPreserveTopology(preserve);
+      for (const Point& p : points)
+      {
+        filter->AddLocation(p[0], p[1], p[2]);
+      }
+      filter->SetInputData(htg);
+      filter->Update();
+      std::set<vtkIdType> got;
+      if (preserve)
+      {
+        for (const LeafBox& l :
+             visibleLeafBoxes(vtkHyperTreeGrid::SafeDownCast(filter->GetOutput())))
+        {
+          got.insert(l.global);
+        }
+      }
+      else
+      {
+        got = idsOf(vtkUnstructuredGrid::SafeDownCast(filter->GetOutput()));
+      }
+      EXPECT_EQ(got, expectedAt(htg, points)) << label << (preserve ? " (masked grid)" : "");
+      EXPECT_GE(filter->GetLastOutside(), 2) << label;
+    }
+    // Ids: every third node, coarse ones included; masked ones are counted.
+    std::set<vtkIdType> visibleNodes;
+    forEachVisibleNode(htg, [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
+                       { visibleNodes.insert(cursor->GetGlobalNodeIndex()); });
+    vtkNew<vtkCanopyExtractSelection> byId;
+    byId->SetInputData(htg);
+    byId->SetSelectionMode(vtkCanopyExtractSelection::IDS);
+    std::set<vtkIdType> expectedIds;
+    for (vtkIdType id = 0; id < htg->GetNumberOfCells(); id += 3)
+    {
+      byId->AddId(id);
+      if (visibleNodes.count(id))
+      {
+        expectedIds.insert(id);
+      }
+    }
+    byId->Update();
+    EXPECT_EQ(idsOf(vtkUnstructuredGrid::SafeDownCast(byId->GetOutput())), expectedIds) << label;
+    // Values within [0.5, 2] on visible leaves, never NaN; a cell's value is in its slot.
+    std::map<vtkIdType, std::size_t> slotOfCell;
+    for (std::size_t t = 0; t < forest->nodes().size(); ++t)
+      for (std::size_t n = 0; n < forest->nodes()[t].size(); ++n)
+        slotOfCell[forest->cellOf(t, n)] = static_cast<std::size_t>(forest->nodes()[t][n].slot);
+    std::set<vtkIdType> expectedValues;
+    for (const LeafBox& l : visibleLeafBoxes(htg))
+    {
+      const double v = values[slotOfCell.at(l.global)];
+      if (v >= 0.5 && v <= 2.0)
+      {
+        expectedValues.insert(l.global);
+      }
+    }
+    vtkNew<vtkCanopyExtractSelection> byValue;
+    byValue->SetInputData(htg);
+    byValue->SetSelectionMode(vtkCanopyExtractSelection::VALUE_RANGE);
+    byValue->SetValueArrayName("v");
+    byValue->SetValueRange(0.5, 2.0);
+    byValue->Update();
+    EXPECT_EQ(idsOf(vtkUnstructuredGrid::SafeDownCast(byValue->GetOutput())), expectedValues)
+        << label;
+    valuesSelected += expectedValues.size();
+  }
+  EXPECT_GT(valuesSelected, 30u);
+}
+
+TEST(ExtractSelection, LineCellsAreVtkLinesWithMergedPointsFieldsAndIds)
+{
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    auto forest = lineForest(7, axis, 2);
+    auto htg = buildHyperTreeGrid(forest->description());
+    double b[6];
+    htg->GetBounds(b);
+    vtkNew<vtkCanopyExtractSelection> filter;
+    filter->SetInputData(htg);
+    filter->SetSelectionMode(vtkCanopyExtractSelection::BOX);
+    filter->SetBox(b); // every visible leaf
+    filter->Update();
+    auto* out = vtkUnstructuredGrid::SafeDownCast(filter->GetOutput());
+    const auto leaves = visibleLeafBoxes(htg);
+    ASSERT_EQ(out->GetNumberOfCells(), static_cast<vtkIdType>(leaves.size()));
+    std::map<vtkIdType, const LeafBox*> byId;
+    std::set<double> ends;
+    for (const LeafBox& l : leaves)
+    {
+      byId[l.global] = &l;
+      ends.insert(l.bounds[2 * axis]);
+      ends.insert(l.bounds[2 * axis + 1]);
+    }
+    auto* ids = vtkIdTypeArray::SafeDownCast(out->GetCellData()->GetArray("OriginalCellId"));
+    vtkDataArray* levels = out->GetCellData()->GetArray("Level");
+    ASSERT_NE(levels, nullptr);
+    for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+    {
+      EXPECT_EQ(out->GetCellType(c), VTK_LINE);
+      EXPECT_EQ(out->GetCell(c)->GetNumberOfPoints(), 2);
+      const LeafBox& l = *byId.at(ids->GetValue(c));
+      EXPECT_EQ(levels->GetTuple1(c), l.level);
+      double cb[6];
+      out->GetCell(c)->GetBounds(cb);
+      for (int i = 0; i < 6; ++i)
+      {
+        EXPECT_EQ(cb[i], l.bounds[i]) << "axis " << axis;
+      }
+    }
+    // Neighbours share their end point: one point per distinct end.
+    EXPECT_EQ(static_cast<std::size_t>(out->GetNumberOfPoints()), ends.size());
   }
 }
 

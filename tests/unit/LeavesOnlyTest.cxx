@@ -175,6 +175,42 @@ TEST(LeavesOnly, ThreeDimensionalTernaryAverageMatchesBruteForce)
   EXPECT_NEAR(f->GetTuple1(14), fineSum / 27, 1e-12 * 100);
 }
 
+TEST(LeavesOnly, LineOfTreesAveragesItsSegments)
+{
+  // A 1D forest along y: tree 0 binary, root -> nodes 1, 2; node 2 -> nodes 3, 4.
+  // Tree 1 a single leaf. Leaves in slot order: 1, 3, 4, then tree 1's root.
+  const std::array<double, 1> x{{5.0}}, z{{-1.0}};
+  const std::array<double, 3> y{{0.0, 1.0, 4.0}};
+  const std::array<std::uint8_t, 5> refinement{{1, 0, 1, 0, 0}};
+  const std::array<std::uint8_t, 5> masked{{0, 0, 0, 1, 0}};
+  const std::array<std::uint8_t, 1> leaf{{0}};
+  for (bool withMask : {false, true})
+  {
+    ForestDescription d;
+    d.dimension = 1;
+    d.branchFactor = 2;
+    d.maxLevels = 3;
+    d.rootGrid = {x.data(), y.data(), z.data(), 1, 3, 1};
+    d.trees.push_back(
+        {0, refinement.data(), refinement.size(), withMask ? masked.data() : nullptr, nullptr});
+    d.trees.push_back({1, leaf.data(), leaf.size(), nullptr, nullptr});
+    const std::vector<double> energy{1, 10, 20, 7};
+    d.fields.push_back(
+        FieldDescription::aos("energy", energy.data(), energy.size(), 1, Centering::LeavesOnly));
+    auto htg = buildHyperTreeGrid(d);
+    ASSERT_EQ(htg->GetDimension(), 1u);
+    vtkDataArray* e = htg->GetCellData()->GetArray("energy");
+    ASSERT_NE(e, nullptr);
+    // Node 2 averages its two children (node 3 masked: node 4 alone); the root
+    // averages nodes 1 and 2; tree 1's leaf reads its own value.
+    const double node2 = withMask ? 20.0 : 15.0;
+    EXPECT_EQ(e->GetTuple1(2), node2);
+    EXPECT_EQ(e->GetTuple1(0), (1.0 + node2) / 2);
+    EXPECT_EQ(e->GetTuple1(3), 10.0);
+    EXPECT_EQ(e->GetTuple1(5), 7.0);
+  }
+}
+
 TEST(LeavesOnly, SoAVectorOverManyTreesMatchesBruteForceVolumeAverages)
 {
   for (StorageOrder order : {StorageOrder::BreadthFirst, StorageOrder::DepthFirst})

@@ -5,6 +5,7 @@
 
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSurface.h"
+#include "vtkCanopyExtractSelection.h"
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>
@@ -14,6 +15,10 @@
 #include <vtkHyperTreeGridSource.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <algorithm>
+#include <array>
 
 #include <string>
 
@@ -230,6 +235,126 @@ TEST(PaperCases, FiltersAcceptGridsFromVtkSource)
     surface->ViewDependentOff();
     surface->Update();
     EXPECT_EQ(surface->GetPolyDataOutput()->GetNumberOfCells(), caseB ? 466 : 75);
+  }
+}
+
+/// 1D forests along each axis (lines of roots), binary and ternary, with and
+/// without a mask, as vtkHyperTreeGridSource builds them from the same strings.
+std::vector<SourceParameters> lineCases()
+{
+  std::vector<SourceParameters> cases;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    for (int f : {2, 3})
+    {
+      SourceParameters p;
+      p.dimensions = {{1, 1, 1}};
+      p.dimensions[axis] = 5;
+      p.gridScale = {{1.5, 0.5, 0.7}};
+      p.branchFactor = f;
+      if (f == 2)
+      {
+        p.maxDepth = 5;
+        p.descriptor = "R.RR|R. .. .R|R. .R|.. R.|..";
+        p.mask = "1111|10 11 11|11 01|11 11|11";
+      }
+      else
+      {
+        p.maxDepth = 4;
+        p.descriptor = "R..R|R.. ..R|... .R.|...";
+        p.mask = "1101|110 111|111 110|111";
+      }
+      cases.push_back(p);
+      p.mask.clear();
+      cases.push_back(p);
+    }
+  }
+  return cases;
+}
+
+TEST(LineForests, EqualVtkSourceAlongEveryAxis)
+{
+  for (const SourceParameters& p : lineCases())
+  {
+    DescriptorForest forest(p);
+    ASSERT_EQ(forest.description().dimension, 1);
+    auto canopy = buildHyperTreeGrid(forest.description());
+    auto reference = buildWithVtkSource(p);
+    const std::string label = "axis " +
+                              std::to_string(p.dimensions[0] > 1   ? 0
+                                             : p.dimensions[1] > 1 ? 1
+                                                                   : 2) +
+                              ", branch factor " + std::to_string(p.branchFactor) +
+                              (p.mask.empty() ? "" : ", masked");
+    EXPECT_EQ(canopy->GetDimension(), 1u) << label;
+    EXPECT_EQ(canopy->GetOrientation(), reference->GetOrientation()) << label;
+    EXPECT_EQ(canopy->GetNumberOfChildren(), static_cast<unsigned int>(p.branchFactor)) << label;
+    const WalkTotals totals = compareGrids(canopy, reference, !p.mask.empty(), forest);
+    EXPECT_EQ(totals.nodes, forest.numberOfNodes()) << label;
+    EXPECT_EQ(totals.leaves, forest.numberOfLeaves()) << label;
+    EXPECT_EQ(visibleLeavesOf(canopy), forest.numberOfUnmaskedLeaves()) << label;
+    EXPECT_EQ(visibleLeavesOf(reference), forest.numberOfUnmaskedLeaves()) << label;
+    if (!p.mask.empty())
+    {
+      EXPECT_LT(forest.numberOfUnmaskedLeaves(), forest.numberOfLeaves()) << label;
+    }
+  }
+}
+
+/// The segments a box selects, as sorted (lo, hi) bounds.
+std::vector<std::array<double, 6>> boxSelection(vtkHyperTreeGrid* htg, const double box[6])
+{
+  vtkNew<vtkCanopyExtractSelection> filter;
+  filter->SetInputData(htg);
+  filter->SetSelectionMode(vtkCanopyExtractSelection::BOX);
+  filter->SetBox(box);
+  filter->Update();
+  auto* out = vtkUnstructuredGrid::SafeDownCast(filter->GetOutput());
+  std::vector<std::array<double, 6>> cells;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    std::array<double, 6> b;
+    out->GetCell(c)->GetBounds(b.data());
+    cells.push_back(b);
+  }
+  std::sort(cells.begin(), cells.end());
+  return cells;
+}
+
+TEST(LineForests, FiltersAcceptVtkSourceLines)
+{
+  // VTK's 1D grids (explicit global indices, a 0 in single-leaf trees' child
+  // tables) give the filters what Canopy's own give them.
+  for (const SourceParameters& p : lineCases())
+  {
+    DescriptorForest forest(p);
+    auto canopy = buildHyperTreeGrid(forest.description());
+    auto reference = buildWithVtkSource(p);
+    vtkNew<vtkCanopyAdaptiveSurface> surface;
+    surface->SetInputData(reference);
+    surface->ViewDependentOff();
+    surface->Update();
+    EXPECT_EQ(surface->GetPolyDataOutput()->GetNumberOfLines(),
+              static_cast<vtkIdType>(forest.numberOfUnmaskedLeaves()));
+    double b[6];
+    canopy->GetBounds(b);
+    const int axis = p.dimensions[0] > 1 ? 0 : p.dimensions[1] > 1 ? 1 : 2;
+    const double box[6] = {-1, 1, -1, 1, -1, 1};
+    double middle[6];
+    std::copy(box, box + 6, middle);
+    middle[2 * axis] = b[2 * axis] + 0.3 * (b[2 * axis + 1] - b[2 * axis]);
+    middle[2 * axis + 1] = b[2 * axis] + 0.8 * (b[2 * axis + 1] - b[2 * axis]);
+    const auto expected = boxSelection(canopy, middle);
+    EXPECT_FALSE(expected.empty());
+    const auto got = boxSelection(reference, middle);
+    ASSERT_EQ(got.size(), expected.size());
+    for (std::size_t i = 0; i < got.size(); ++i)
+    {
+      for (int k = 0; k < 6; ++k)
+      {
+        EXPECT_DOUBLE_EQ(got[i][k], expected[i][k]);
+      }
+    }
   }
 }
 

@@ -67,7 +67,60 @@ TEST_F(Validation, TheUnmodifiedForestIsValid)
 TEST_F(Validation, BadDimension)
 {
   d().dimension = 4;
-  expectRejected({"dimension must be 2 or 3, got 4"});
+  expectRejected({"dimension must be 1, 2 or 3, got 4"});
+  d().dimension = 0;
+  expectRejected({"dimension must be 1, 2 or 3, got 0"});
+}
+
+TEST(LineForestValidation, ALineOfRootsAlongAnyAxisAndNothingElse)
+{
+  // Three roots along one axis; tree 0 refined (binary: 2 children), tree 2 a leaf.
+  const std::vector<double> line{0.0, 1.0, 2.5, 3.0};
+  const std::vector<double> point{4.0};
+  const std::vector<std::uint8_t> refined{1, 0, 1, 0, 0}, leaf{0};
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    ForestDescription forest;
+    forest.dimension = 1;
+    forest.branchFactor = 2;
+    forest.maxLevels = 3;
+    const double* coords[3] = {point.data(), point.data(), point.data()};
+    std::size_t counts[3] = {1, 1, 1};
+    coords[axis] = line.data();
+    counts[axis] = line.size();
+    forest.rootGrid = {coords[0], coords[1], coords[2], counts[0], counts[1], counts[2]};
+    forest.trees.push_back({0, refined.data(), refined.size(), nullptr, nullptr});
+    forest.trees.push_back({2, leaf.data(), leaf.size(), nullptr, nullptr});
+    const ForestLayout layout = validateForest(forest);
+    EXPECT_EQ(layout.totalNodes, 6u) << "axis " << axis;
+    EXPECT_EQ(layout.totalLeaves, 4u) << "axis " << axis;
+    EXPECT_EQ(layout.numberOfRootCells, 3u) << "axis " << axis;
+    // A ternary reading of the same bits needs 3 children per refined node.
+    forest.branchFactor = 3;
+    EXPECT_THROW(validateForest(forest), InvalidForest);
+    forest.branchFactor = 2;
+    // A 1D forest needs exactly two flat axes, a 2D forest exactly one.
+    counts[(axis + 1) % 3] = 2;
+    const std::vector<double> two{4.0, 5.0};
+    coords[(axis + 1) % 3] = two.data();
+    forest.rootGrid = {coords[0], coords[1], coords[2], counts[0], counts[1], counts[2]};
+    try
+    {
+      validateForest(forest);
+      ADD_FAILURE() << "a 1D forest over a plane of roots was accepted";
+    }
+    catch (const InvalidForest& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("a 1D forest needs exactly two flat axes"),
+                std::string::npos)
+          << e.what();
+    }
+    counts[(axis + 1) % 3] = 1;
+    coords[(axis + 1) % 3] = point.data();
+    forest.rootGrid = {coords[0], coords[1], coords[2], counts[0], counts[1], counts[2]};
+    forest.dimension = 2;
+    EXPECT_THROW(validateForest(forest), InvalidForest) << "a 2D forest on a line";
+  }
 }
 
 TEST_F(Validation, BadBranchFactor)

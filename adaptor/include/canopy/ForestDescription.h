@@ -185,6 +185,7 @@ struct TreeDescription
 
 /// The root grid: rectilinear point coordinates per axis, not necessarily uniform.
 /// A 2D forest lies in an axis-aligned plane: exactly one axis has a single point.
+/// A 1D forest is a line of roots along one axis: the two others have a single point.
 struct RootGrid
 {
   const double* x = nullptr;
@@ -206,7 +207,7 @@ struct RootGrid
 /// leaves ordered by slot (so breadth-first, tree by tree, by default).
 struct ForestDescription
 {
-  int dimension = 3;    ///< 2 or 3
+  int dimension = 3;    ///< 1, 2 or 3
   int branchFactor = 2; ///< 2 or 3
   /// Number of levels any tree may have, the root level included (VTK's MaxDepth).
   int maxLevels = 32;

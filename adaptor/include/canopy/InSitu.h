@@ -15,6 +15,7 @@
 
 #include <mpi.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -46,6 +47,15 @@ struct InSituOptions
   int verbosity = -10;
   /// Log one line per executed step (rank 0): pipelines run, cells, times.
   bool stepSummary = false;
+  /// The longest any call into a script may take (its import, its
+  /// RequestDataDescription, its catalyst_execute with its extracts, its
+  /// catalyst_finalize), in seconds; 0: no limit. A script still running then is
+  /// interrupted (a Python exception where it is), reported with rank, script
+  /// and step, and the step skipped on every rank. A rank that cannot be
+  /// interrupted (in C code, or waiting in an MPI collective inside ParaView)
+  /// is named on stderr and the job is ended with MPI_Abort (exit code 124)
+  /// rather than hanging. See docs/insitu.md.
+  double stepTimeLimitSeconds = 0.0;
 };
 
 /// Thrown by the InSitu constructor when the options are unusable (no script,
@@ -64,6 +74,11 @@ struct StepReport
   std::vector<std::string> failures;     ///< "rank R, step S: message", every rank's
   std::int64_t localCells = 0;           ///< cells of this rank's grid (0 when not built)
   double seconds = 0.0;                  ///< wall time of the call on this rank
+  double buildSeconds = 0.0;             ///< of which building the grid (this rank)
+  /// This rank's trees built anew and kept from the previous executed step: the
+  /// grid is rebuilt only where the forest's topology changed (canopy::GridBuilder).
+  std::size_t treesRebuilt = 0;
+  std::size_t treesKept = 0;
 };
 
 class InSitu

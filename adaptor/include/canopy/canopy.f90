@@ -73,6 +73,11 @@ module canopy
       type(c_ptr), value :: options
       integer(c_int), value :: enabled
     end function
+    integer(c_int) function canopy_options_set_step_time_limit(options, seconds) bind(c)
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: options
+      real(c_double), value :: seconds
+    end function
 
     ! ---- forest ----
     ! x, y, z: c_loc of real(c_double) target arrays, borrowed until canopy_forest_destroy.

@@ -90,11 +90,14 @@ extern "C"
   int canopy_options_set_verbosity(canopy_options* options, int verbosity);
   /* [in] enabled  nonzero: rank 0 logs one line per executed step. */
   int canopy_options_set_step_summary(canopy_options* options, int enabled);
+  /* The longest a call into a script may take, in seconds (0: no limit); see
+   * InSituOptions::stepTimeLimitSeconds. */
+  int canopy_options_set_step_time_limit(canopy_options* options, double seconds);
 
   /* ---- forest (borrowed views of the simulation's arrays) ---------------- */
   /* The root grid: rectilinear point coordinates per axis; a 2D forest has one
-   * point on one axis.
-   * [in] dimension      2 or 3.
+   * point on one axis, a 1D forest (a line of roots) one point on two axes.
+   * [in] dimension      1, 2 or 3.
    * [in] branch_factor  2 or 3.
    * [in] max_levels     levels any tree may have, the root's included: 1 to 62 (binary), 39
    * (ternary). [in] x, y, z        borrowed until canopy_forest_destroy (clear keeps the root

@@ -10,6 +10,13 @@
 //   --steps N (1)  --distribute trees|split (trees)  --empty-rank R
 //   --corrupt-rank R --corrupt-step S   (that rank passes a malformed tree then)
 //   --no-close (rely on MPI_Finalize)  --summary
+//   --rename-field OLD=NEW   (the simulation calls field OLD by the name NEW)
+//   --time-limit SECONDS     (InSituOptions::stepTimeLimitSeconds)
+//   --expected PATH          (where rank 0 writes the totals; OUTPUT/expected.json)
+//   --fill-disk-step S       (before step S, rank 0 fills the output's filesystem up
+//                             to --leave-free BYTES (8192); it frees it after step S)
+//   --obstruct-step S --obstruct NAME  (before step S, a folder NAME in the output
+//                             directory stands where a pipeline writes a file)
 #include "DescriptorForest.h"
 #include "PaperCaseDefinitions.h"
 #include "SyntheticForest.h"
@@ -18,8 +25,13 @@
 
 #include <mpi.h>
 
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -45,6 +57,13 @@ struct Arguments
   int corruptStep = -1;
   bool close = true;
   bool summary = false;
+  std::map<std::string, std::string> renamedFields;
+  double timeLimit = 0.0;
+  std::string expected;
+  int fillDiskStep = -1;
+  long long leaveFree = 8192;
+  int obstructStep = -1;
+  std::string obstruct;
 };
 
 Arguments parse(int argc, char** argv)
@@ -87,12 +106,36 @@ Arguments parse(int argc, char** argv)
       a.close = false;
     else if (key == "--summary")
       a.summary = true;
+    else if (key == "--time-limit")
+      a.timeLimit = std::stod(value());
+    else if (key == "--expected")
+      a.expected = value();
+    else if (key == "--fill-disk-step")
+      a.fillDiskStep = std::stoi(value());
+    else if (key == "--leave-free")
+      a.leaveFree = std::stoll(value());
+    else if (key == "--obstruct-step")
+      a.obstructStep = std::stoi(value());
+    else if (key == "--obstruct")
+      a.obstruct = value();
+    else if (key == "--rename-field")
+    {
+      const std::string pair = value();
+      const auto equals = pair.find('=');
+      if (equals == std::string::npos)
+        throw std::invalid_argument("--rename-field needs OLD=NEW");
+      a.renamedFields[pair.substr(0, equals)] = pair.substr(equals + 1);
+    }
     else
       throw std::invalid_argument("unknown option " + key);
   }
   if (a.output.empty())
   {
     throw std::invalid_argument("--output is required");
+  }
+  if (a.expected.empty())
+  {
+    a.expected = a.output + "/expected.json";
   }
   return a;
 }
@@ -343,6 +386,32 @@ private:
   canopy::ForestDescription Description;
 };
 
+/// Fills the filesystem of `directory` with a file until `leave` bytes are free
+/// (as far as the filesystem's blocks allow); returns the file's path.
+std::string fillDisk(const std::string& directory, long long leave)
+{
+  const std::string path = directory + "/filler.bin";
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr)
+    throw std::runtime_error("cannot create " + path);
+  const std::vector<char> block(4096, 0);
+  for (;;)
+  {
+    struct statvfs disk;
+    if (statvfs(directory.c_str(), &disk) != 0)
+      break;
+    const long long available = static_cast<long long>(disk.f_bavail) * disk.f_frsize;
+    if (available <= leave)
+      break;
+    const auto chunk = static_cast<std::size_t>(
+        std::min<long long>(static_cast<long long>(block.size()), available - leave));
+    if (std::fwrite(block.data(), 1, chunk, file) != chunk || std::fflush(file) != 0)
+      break;
+  }
+  std::fclose(file);
+  return path;
+}
+
 /// Brute-force totals of the whole forest (rank 0 writes them for the checkers).
 std::string totalsJson(const canopy::ForestDescription& f, int step, double time)
 {
@@ -410,11 +479,12 @@ int main(int argc, char** argv)
     options.scripts = args.scripts;
     options.outputDirectory = args.output;
     options.stepSummary = args.summary;
+    options.stepTimeLimitSeconds = args.timeLimit;
     insitu = std::make_unique<canopy::InSitu>(MPI_COMM_WORLD, options);
 
     std::ofstream expected;
     if (rank == 0)
-      expected.open(args.output + "/expected.json");
+      expected.open(args.expected);
     if (rank == 0)
       expected << "[\n";
     for (int step = 0; step < args.steps; ++step)
@@ -446,12 +516,33 @@ int main(int argc, char** argv)
         byTrees = std::make_unique<RankForest>(whole, own);
         local = &byTrees->description();
       }
+      for (auto& field : local->fields)
+      {
+        const auto renamed = args.renamedFields.find(field.name);
+        if (renamed != args.renamedFields.end())
+          field.name = renamed->second;
+      }
       if (rank == args.corruptRank && step == args.corruptStep && !local->trees.empty())
       {
         // One byte short: the refinement does not describe a complete tree.
         local->trees[0].numberOfNodes -= 1;
       }
+      std::string filler;
+      if (step == args.fillDiskStep)
+      {
+        if (rank == 0)
+          filler = fillDisk(args.output, args.leaveFree);
+        MPI_Barrier(MPI_COMM_WORLD);
+      }
+      if (step == args.obstructStep)
+      {
+        if (rank == 0)
+          mkdir((args.output + "/" + args.obstruct).c_str(), 0755);
+        MPI_Barrier(MPI_COMM_WORLD);
+      }
       const auto report = insitu->execute(step, time, *local);
+      if (!filler.empty())
+        std::remove(filler.c_str());
       if (rank == 0)
       {
         // One write per report: the checker reads stdout and ParaView's stderr
@@ -467,7 +558,11 @@ int main(int argc, char** argv)
     if (rank == 0)
       expected << "\n]\n";
     if (args.close)
+    {
       insitu->close();
+      if (rank == 0)
+        std::cout << "closed\n" << std::flush;
+    }
   }
   catch (const std::exception& error)
   {

@@ -117,7 +117,7 @@ static void arguments(void)
   /* ---- forest ---- */
   forest = (canopy_forest*)&failures; /* must be reset to NULL */
   refused(canopy_forest_create(4, 2, 8, x, 3, y, 2, z, 1, &forest),
-          "canopy_forest_create: dimension must be 2 or 3, got 4", "forest_create(dimension 4)");
+          "canopy_forest_create: dimension must be 1, 2 or 3, got 4", "forest_create(dimension 4)");
   check(forest == NULL, "a refused forest_create sets the handle to NULL");
   refused(canopy_forest_create(2, 5, 8, x, 3, y, 2, z, 1, &forest),
           "canopy_forest_create: branch_factor must be 2 or 3, got 5", "forest_create(branch 5)");
@@ -139,6 +139,16 @@ static void arguments(void)
           "canopy_forest_create: the result pointer is NULL", "forest_create(NULL result)");
   check(canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1, &forest) == CANOPY_OK && forest != NULL,
         "forest_create");
+  {
+    /* A 1D forest: a line of roots along y (one point on x and z). */
+    canopy_forest* line = NULL;
+    refused(canopy_forest_create(0, 2, 8, z, 1, x, 3, z, 1, &line),
+            "canopy_forest_create: dimension must be 1, 2 or 3, got 0",
+            "forest_create(dimension 0)");
+    check(canopy_forest_create(1, 3, 8, z, 1, x, 3, z, 1, &line) == CANOPY_OK && line != NULL,
+          "forest_create(dimension 1)");
+    canopy_forest_destroy(line);
+  }
 
   refused(canopy_forest_clear(NULL), "canopy_forest_clear: the forest handle is NULL",
           "forest_clear(NULL)");

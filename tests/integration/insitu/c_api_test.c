@@ -162,6 +162,9 @@ int main(int argc, char** argv)
   CHECK(canopy_options_set_output_directory(options, argv[2]) == CANOPY_OK, "output directory");
   CHECK(canopy_options_set_channel(options, "") == CANOPY_INVALID_ARGUMENT,
         "an empty channel refused");
+  CHECK(canopy_options_set_step_time_limit(options, -1.0) == CANOPY_INVALID_ARGUMENT,
+        "a negative time limit refused");
+  CHECK(canopy_options_set_step_time_limit(options, 120.0) == CANOPY_OK, "a time limit");
 
   canopy_insitu* insitu = NULL;
   CHECK(canopy_open(MPI_COMM_NULL, options, &insitu) == CANOPY_INVALID_ARGUMENT && insitu == NULL,

@@ -59,6 +59,7 @@ program fortran_api_test
   call check(canopy_options_set_channel(options, "grid"//c_null_char) == CANOPY_OK, "channel")
   call check(canopy_options_set_verbosity(options, -10_c_int) == CANOPY_OK, "verbosity")
   call check(canopy_options_set_step_summary(options, 0_c_int) == CANOPY_OK, "step summary")
+  call check(canopy_options_set_step_time_limit(options, 120.0_c_double) == CANOPY_OK, "time limit")
   call check(canopy_open_f(int(MPI_COMM_WORLD, c_int), options, insitu) == CANOPY_OK, "open")
   call canopy_options_destroy(options)
 

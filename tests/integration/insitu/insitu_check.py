@@ -13,7 +13,9 @@ import json
 import os
 import re
 import shutil
+import subprocess
 import sys
+import time
 
 import numpy
 
@@ -22,11 +24,43 @@ from output_checks import (cell_array, expect, finish, read_htg_pieces,  # noqa:
                            read_png, read_polydata, read_unstructured, run_command)
 
 
-def run(command):
+SKIP = 77  # CTest's SKIP_RETURN_CODE for these tests
+
+
+def run(command, tmpfs=None):
+    """Runs the command in a fresh OUTPUT (with `tmpfs`, e.g. "200k": a tmpfs of
+    that size mounted there for the run, so the disk can be filled)."""
+    global ELAPSED
+    if tmpfs and os.path.ismount(OUTPUT):
+        subprocess.run(["umount", OUTPUT])  # left by a run that crashed
     shutil.rmtree(OUTPUT, ignore_errors=True)
     os.makedirs(OUTPUT, exist_ok=True)
-    code, log = run_command(command)
-    with open(os.path.join(OUTPUT, "run.log"), "w") as out:
+    log_path = os.path.join(OUTPUT, "run.log")
+    if tmpfs:
+        try:
+            mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=" + tmpfs, "tmpfs",
+                                      OUTPUT], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                     text=True)
+            why = mounted.stdout.strip() or "mount failed" if mounted.returncode != 0 else ""
+        except OSError as error:
+            why = str(error)
+        if why:
+            print("SKIPPED: cannot mount a %s tmpfs at %s to fill it: %s" % (tmpfs, OUTPUT, why))
+            sys.exit(SKIP)
+        log_path = OUTPUT + ".log"
+    try:
+        start = time.monotonic()
+        code, log = run_command(command)
+        ELAPSED = time.monotonic() - start
+    finally:
+        if tmpfs:
+            snapshot = OUTPUT + ".files"  # what the run left, for the checks
+            shutil.rmtree(snapshot, ignore_errors=True)
+            shutil.copytree(OUTPUT, snapshot, symlinks=True)
+            subprocess.run(["umount", OUTPUT])
+            shutil.rmtree(OUTPUT, ignore_errors=True)
+            os.rename(snapshot, OUTPUT)
+    with open(log_path, "w") as out:
         out.write(log)
     return code, log
 
@@ -100,6 +134,51 @@ def check_surface_image_case_a(code, log):
            "each quad carries its own cell's Depth")
 
 
+def check_overlays_off(code, log):
+    """The reference for check_overlays: no legend, no time label."""
+    expect(code == 0, "the simulation exits normally")
+    expect(len(glob.glob(path("surface_*.png"))) == 3, "three images")
+
+
+def check_overlays(code, log):
+    """Legend and time label (the defaults) against the same run without them
+    (REFERENCE), both with the first step's colour range kept: the images differ in
+    the upper left corner (time) and the lower right (legend) only; the time label
+    changes with the step, the legend (a fixed range) does not."""
+    expect(code == 0, "the simulation exits normally")
+    # vtkPNGReader's rows go bottom to top: flip them so row 0 is the image's top.
+    images = [image("surface_%06d.png" % step)[::-1] for step in range(3)]
+    height, width, _ = images[0].shape
+    time_box = (slice(0, height // 8), slice(0, width // 4))
+    legend_box = (slice(height // 2, height), slice(3 * width // 4, width))
+    for step, pixels in enumerate(images):
+        bare = image("surface_%06d.png" % step, REFERENCE)[::-1]
+        differs = (pixels.astype(int) != bare.astype(int)).any(axis=2)
+        in_time = int(differs[time_box].sum())
+        in_legend = int(differs[legend_box].sum())
+        elsewhere = int(differs.sum()) - in_time - in_legend
+        expect(in_time > 30, "step %d: a time label in the upper left (%d pixels)" % (step, in_time))
+        expect(in_legend > 300, "step %d: a legend in the lower right (%d pixels)"
+               % (step, in_legend))
+        expect(elsewhere == 0, "step %d: nothing else differs (%d pixels)" % (step, elsewhere))
+    expect(not numpy.array_equal(images[0][time_box], images[2][time_box]),
+           "the time label changes from step 0 to step 2")
+    expect(all(numpy.array_equal(images[0][legend_box], other[legend_box]) for other in images),
+           "color_range=first: the legend (and its range) stays the same over the run")
+
+
+def check_fixed_color_range(code, log):
+    """color_range=100,200 on a density within [1, 4]: every cell below the range,
+    so the grid is drawn in the lookup table's lowest colour only."""
+    expect(code == 0, "the simulation exits normally")
+    for step in range(2):
+        pixels = image("surface_%06d.png" % step)
+        grid = pixels[(pixels != 255).any(axis=2)]
+        colors = numpy.unique(grid.reshape(-1, 3), axis=0)
+        expect(len(grid) > 10000 and len(colors) == 1,
+               "step %d: %d grid pixels, %d colour(s)" % (step, len(grid), len(colors)))
+
+
 def check_surface_zoomed_case_a(code, log):
     """A camera given to the script culls: only quads meeting the view remain,
     and every leaf inside the view is there."""
@@ -165,6 +244,100 @@ def check_selection_range_moving(code, log):
                    "step %d: only the requested field was wrapped: %s" % (step, names))
 
 
+def clipped_area(polygon, planes):
+    """Area of the part of a polygon in the z = 0 plane inside every plane
+    (a, b, c, d: a x + b y + c z + d >= 0)."""
+    for a, b, c, d in planes:
+        out = []
+        for i, p in enumerate(polygon):
+            q = polygon[(i + 1) % len(polygon)]
+            fp, fq = a * p[0] + b * p[1] + d, a * q[0] + b * q[1] + d
+            if fp >= 0:
+                out.append(p)
+            if fp * fq < 0:
+                t = fp / (fp - fq)
+                out.append((p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
+        polygon = out
+        if len(polygon) < 3:
+            return 0.0
+    return 0.5 * abs(sum(p[0] * q[1] - q[0] * p[1]
+                         for p, q in zip(polygon, polygon[1:] + polygon[:1])))
+
+
+def expect_region_tiled(selection, planes, label):
+    """Case A (no mask, leaves tiling [0, 3]^2): every selected cell overlaps the
+    region with positive area and together they cover its part of the domain once."""
+    total, empty = 0.0, 0
+    for c in range(selection.GetNumberOfCells()):
+        b = selection.GetCell(c).GetBounds()
+        area = clipped_area([(b[0], b[2]), (b[1], b[2]), (b[1], b[3]), (b[0], b[3])], planes)
+        empty += area <= 1e-12
+        total += area
+    domain = clipped_area([(0.0, 0.0), (3.0, 0.0), (3.0, 3.0), (0.0, 3.0)], planes)
+    expect(0 < selection.GetNumberOfCells() < 75,
+           "%s: %d of 75 leaves selected" % (label, selection.GetNumberOfCells()))
+    expect(empty == 0, "%s: no selected cell merely touches the region (%d)" % (label, empty))
+    expect(abs(total - domain) <= 1e-9, "%s: the cells cover the region's part of the domain "
+           "exactly once (%.12g against %.12g)" % (label, total, domain))
+
+
+def camera_planes(position, focal, aspect, angle=30.0):
+    from vtkmodules.vtkRenderingCore import vtkCamera
+    camera = vtkCamera()
+    camera.SetPosition(position)
+    camera.SetFocalPoint(focal)
+    camera.SetViewAngle(angle)
+    camera.SetClippingRange(0.01, 100.0)  # the plane z = 0 lies well inside
+    planes = [0.0] * 24
+    camera.GetFrustumPlanes(aspect, planes)
+    return [planes[4 * i:4 * i + 4] for i in range(6)]
+
+
+def check_selection_box_case_a(code, log):
+    """A box whose z range misses the plane z = 0: flat axes are ignored."""
+    expect(code == 0, "the simulation exits normally")
+    box = (0.3, 2.2, 0.4, 2.7)
+    expect_region_tiled(unstructured("selection_000000.pvtu"),
+                        [(1, 0, 0, -box[0]), (-1, 0, 0, box[1]), (0, 1, 0, -box[2]),
+                         (0, -1, 0, box[3])], "box")
+
+
+def check_selection_frustum_camera_case_a(code, log):
+    """A tilted perspective camera (the script's settings), on 2 ranks."""
+    expect(code == 0, "the simulation exits normally")
+    expect_region_tiled(unstructured("selection_000000.pvtu"),
+                        camera_planes((2.5, -1.0, 4.0), (1.2, 1.4, 0.0), 600 / 400, 12.0),
+                        "camera")
+
+
+def check_selection_frustum_corners_case_a(code, log):
+    """Eight corners: the frustum of a camera at (1.2, 1.6, 4) looking down at
+    (1.2, 1.6, 0), 30 degrees, aspect 1.5, near 1, far 10."""
+    expect(code == 0, "the simulation exits normally")
+    expect_region_tiled(unstructured("corners_000000.pvtu"),
+                        camera_planes((1.2, 1.6, 4.0), (1.2, 1.6, 0.0), 1.5), "corners")
+
+
+def check_selection_long_field_name(code, log):
+    """A value range on a field named with 40 characters, over 4 steps: the script
+    asks for that field alone, and it arrives at every step (ParaView 5.11's
+    GetFieldName hands out freed memory, so a long name used to come back as
+    garbage after the first step, with no failure reported)."""
+    name = "refinementLevel_named_with_forty_chars_x"
+    expect(code == 0, "the simulation exits normally")
+    expect(steps_ran(log) == [0, 1, 2, 3], "every step ran without failure (%s)" % steps_ran(log))
+    for entry in expected():
+        step = entry["step"]
+        want = sum(entry["leaves_by_level"].get(str(level), 0) for level in (3, 4))
+        selection = unstructured("selection_%06d.pvtu" % step)
+        data = selection.GetCellData()
+        names = sorted(data.GetArrayName(i) for i in range(data.GetNumberOfArrays()))
+        expect(name in names, "step %d: the field reached the pipeline (%s)" % (step, names))
+        expect(selection.GetNumberOfCells() == want > 0,
+               "step %d: %d leaves at levels 3-4 selected (expected %d)"
+               % (step, selection.GetNumberOfCells(), want))
+
+
 def check_data_extracts(code, log):
     """Every step: the .htg pieces hold every node, the full-resolution surface one
     quad per leaf (2D) or one face per boundary leaf face (3D, unmasked)."""
@@ -195,12 +368,32 @@ def check_moving_2d(code, log):
            "one summary line per step: %s" % summaries)
     expect([int(cells) for _, cells in summaries] == [entry["nodes"] for entry in expected()],
            "summaries give the grid's cells each step")
+    rebuilt = trees_rebuilt(log)
+    expect(len(rebuilt) == 4 and any(0 < r < t for r, t in rebuilt[1:]),
+           "a moving front rebuilds some trees, not all: %s" % rebuilt)
     images = [image("surface_%06d.png" % step) for step in range(4)]
     for step in range(1, 4):
         changed = int((numpy.abs(images[step].astype(int) - images[step - 1].astype(int))
                        .max(axis=2) > 0).sum())
         expect(changed > 100, "the image changes from step %d to %d (%d pixels)"
                % (step - 1, step, changed))
+
+
+def trees_rebuilt(log):
+    """Per executed step in the summaries: (trees rebuilt, trees)."""
+    return [(int(r), int(t)) for r, t in
+            re.findall(r"canopy: step \d+ time .*\(grid [0-9.]+ s, (\d+) of (\d+) trees rebuilt\)",
+                       log)]
+
+
+def check_unchanged_steps(code, log):
+    """A forest that does not change: the first step builds every tree, the
+    next ones none (the grid is kept), and the extracts are right every step."""
+    check_data_extracts(code, log)
+    rebuilt = trees_rebuilt(log)
+    expect(len(rebuilt) == 3 and rebuilt[0][0] == rebuilt[0][1] > 0,
+           "step 0 builds every tree: %s" % rebuilt)
+    expect(all(r == 0 for r, _ in rebuilt[1:]), "steps 1 and 2 rebuild no tree: %s" % rebuilt)
 
 
 def check_cinema(code, log):
@@ -244,6 +437,26 @@ def check_mpi_split(code, log):
         compare_images(image(name), image(name, REFERENCE), name)
 
 
+def check_clean_log(code, log):
+    """Several steps of three scripts (an image, data extracts, a selection) on 2
+    ranks: everything written every step, and not one warning or error in the
+    job's output (ParaView's time handling used to warn on every image step)."""
+    expect(code == 0, "the simulation exits normally")
+    steps = [entry["step"] for entry in expected()]
+    expect(steps_ran(log) == steps and all(
+        re.search(r"^step %d executed ran 3 failures 0$" % step, log, re.M) for step in steps),
+        "all three scripts ran at every step %s (%s)" % (steps, steps_ran(log)))
+    for step in steps:
+        expect(os.path.exists(path("surface_%06d.png" % step)) and
+               os.path.exists(path("selection_%06d.pvtu" % step)) and
+               len(htg_pieces("grid", step)) == RANKS,
+               "step %d: image, selection and grid extracts written" % step)
+    noisy = [line for line in log.splitlines()
+             if re.search(r"WARN|Warning|ERROR", line)]
+    expect(not noisy, "no warning or error in the output (%d line(s)%s)"
+           % (len(noisy), (": " + noisy[0].strip()) if noisy else ""))
+
+
 def check_python_error(code, log):
     """The script raises at step 1 on every rank: step 1 is reported with rank,
     step and the Python message, nothing is extracted then, steps 0 and 2 run."""
@@ -265,6 +478,192 @@ def check_python_error_one_rank(code, log):
     expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
     pieces = [len(htg_pieces("grid", step)) for step in range(3)]
     expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
+
+
+def check_sys_exit_execute(code, log):
+    """sys.exit() in catalyst_execute at step 1 is reported like an exception (rank,
+    step, script) instead of ending the simulation: steps 0 and 2 run."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(re.search(r"failure: rank 0, step 1: the script .*marker_script.py' .*sys\.exit\(3\)",
+                     log) is not None, "rank 0's sys.exit is reported with step and script")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+    pieces = [len(htg_pieces("grid", step)) for step in range(3)]
+    expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
+
+
+def check_sys_exit_execute_one_rank(code, log):
+    """sys.exit() on rank 1 only: reported for rank 1, every rank skips the step
+    (nobody waits for rank 1), later steps run."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(re.search(r"failure: rank 1, step 1: the script .*marker_script.py' .*sys\.exit\(3\)",
+                     log) is not None, "rank 1's sys.exit is reported with step and script")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+    pieces = [len(htg_pieces("grid", step)) for step in range(3)]
+    expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
+
+
+def check_sys_exit_import(code, log):
+    """sys.exit() at import (module level or catalyst_initialize, on every rank or
+    one): the import failure is reported once, the script disabled everywhere,
+    the simulation runs all its steps."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    failing = "1" if RANKS > 1 else "0"
+    expect(len(re.findall(r"failure: rank %s, step 0: the script .*marker_script.py' failed to "
+                          r"import.*sys\.exit\(4\).*; the script is disabled" % failing,
+                          log)) == 1,
+           "rank %s's sys.exit at import is reported once, at step 0" % failing)
+    expect(len(re.findall(r"^step \d+ ", log, re.M)) == 3, "all 3 steps reported")
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+    expect(not glob.glob(path("ran_*.txt")) and not glob.glob(path("grid_*")),
+           "no rank ran the script: no outputs")
+
+
+def check_sys_exit_finalize(code, log):
+    """sys.exit() in catalyst_finalize on rank 1: close() reports it (rank 0 logs
+    rank 1's failure) and the simulation ends normally."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(steps_ran(log) == [0, 1], "steps 0 and 1 ran (%s)" % steps_ran(log))
+    expect(re.search(r"rank 1, close: the script .*marker_script.py' failed in "
+                     r"catalyst_finalize.*sys\.exit\(4\)", log) is not None,
+           "rank 1's failure in catalyst_finalize is logged")
+    expect("closed" in log.splitlines(), "close() returned")
+
+
+LIMIT = r"the step time limit \(5 s\)"
+
+
+def check_loop_one_rank(code, log):
+    """catalyst_execute loops forever on rank 1 at step 1 (under @canopy.collective,
+    rank 0 waits in ParaView's AllReduce): rank 1 is interrupted at the limit, the
+    step is skipped on both ranks, the run goes on."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(re.search(r"failure: rank 1, step 1: the script .*marker_script.py' exceeded "
+                     + LIMIT + " and was interrupted", log) is not None,
+           "rank 1's loop is reported with step, script and the limit")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+
+
+def check_loop_all_ranks(code, log):
+    """catalyst_execute loops on both ranks at step 1: both are interrupted and
+    reported, the step is skipped, the run goes on."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    for rank in (0, 1):
+        expect(re.search(r"failure: rank %d, step 1: the script .*marker_script.py' exceeded "
+                         % rank + LIMIT + " and was interrupted", log) is not None,
+               "rank %d's loop is reported with step, script and the limit" % rank)
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
+
+
+def check_unguarded_error_one_rank(code, log):
+    """Rank 1 raises at step 2 of 4 in a catalyst_execute without @canopy.collective;
+    rank 0 then waits for it in ParaView's AllReduce, where Python cannot be
+    interrupted. Instead of hanging, the job ends (MPI_Abort, exit code 124) with
+    rank 0 named as stuck (script, step) and rank 1's own error shown."""
+    expect(code == 124, "the job is ended with exit code 124 (got %d)" % code)
+    expect(ELAPSED < 60, "within a minute (%.1f s)" % ELAPSED)
+    expect(re.search(r"rank 0, step 2: the script '.*marker_script.py' is still in "
+                     r"catalyst_execute .* after " + LIMIT + " and cannot be interrupted", log)
+           is not None, "rank 0 is named as stuck, with script and step")
+    expect(re.search(r"rank 1, .*step 2.*RuntimeError: failing on purpose at step 2 on rank 1",
+                     log) is not None, "rank 1's error reaches the output")
+    expect(steps_ran(log) == [0, 1], "steps 0 and 1 ran before (%s)" % steps_ran(log))
+
+
+def check_loop_finalize(code, log):
+    """catalyst_finalize loops on rank 1: interrupted at the limit, reported by
+    close(), and the simulation ends normally."""
+    expect(code == 0, "the simulation exits normally (exit code %d)" % code)
+    expect(re.search(r"rank 1, close: the script .*marker_script.py' failed in catalyst_finalize: "
+                     r"exceeded " + LIMIT, log) is not None,
+           "rank 1's looping catalyst_finalize is reported")
+    expect("closed" in log.splitlines(), "close() returned")
+    expect(os.path.exists(path("finalized.txt")), "rank 0's catalyst_finalize ran")
+
+
+def check_error_text_rank1(code, log):
+    """A Python error on rank 1 only (ParaView silences rank 1's stderr): its
+    message and its traceback reach the job's output, with rank and step."""
+    expect(code == 0, "the simulation exits normally")
+    expect(re.search(r"rank 1, step 1: the script .*marker_script.py' raised an error: "
+                     r"RuntimeError: zebra-7731-only-on-rank-1", log) is not None,
+           "rank 1's exception message is in the output, with rank and step")
+    match = re.search(r"rank 1, step 1: Python traceback of [^\n]*marker_script.py':\n(.*?)"
+                      r"RuntimeError: zebra-7731-only-on-rank-1", log, re.S)
+    expect(match is not None and re.search(r'File ".*marker_script.py", line \d+, in execute',
+                                           match.group(1)) is not None,
+           "rank 1's traceback (down to the script's line) is in the output")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
+
+
+def read_expected(name):
+    """The simulation's totals written outside OUTPUT (None if it did not finish them)."""
+    try:
+        with open(os.path.join(os.path.dirname(OUTPUT), name)) as source:
+            return json.load(source)
+    except (OSError, ValueError):
+        return None
+
+
+def step_files(step):
+    return sorted(os.path.relpath(p, OUTPUT) for p in glob.glob(path("*_%06d*" % step)) +
+                  glob.glob(path("*_%06d*/*" % step)))
+
+
+def check_full_disk(code, log):
+    """Output on a 512 KiB tmpfs, filled before step 2 of 4 so that the step's
+    extracts (grid, surface, selection) do not fit: step 2 is reported failed,
+    saying so, for both scripts; it leaves no file at all (not even a partial
+    one); steps 0 and 1 are intact; nothing crashes (VTK 9.2's polydata and
+    unstructured writers segfault on a full disk); step 3, with the space back,
+    is written again."""
+    totals = read_expected("full_disk.expected.json")
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    if totals is None:
+        expect(False, "the simulation wrote its totals")
+        return
+    expect("Segmentation fault" not in log and "SIGSEGV" not in log, "no crash")
+    for script in ("data_extracts.py", "selection_extract.py"):
+        expect(re.search(r"failure: rank \d, step 2: the script '.*%s' .*not enough free disk "
+                         r"space" % script, log) is not None,
+               "step 2 of %s is reported failed for want of disk space" % script)
+    expect(steps_ran(log) == [0, 1, 3], "steps 0, 1 and 3 ran, step 2 failed (%s)"
+           % steps_ran(log))
+    expect(step_files(2) == [], "nothing of step 2 is left (%s)" % step_files(2))
+    for step in (0, 1, 3):
+        nodes = sum(g.GetNumberOfCells() for g in htg_pieces("grid", step))
+        surface = polydata("grid_surface_%06d.pvtp" % step).GetNumberOfCells()
+        selected = unstructured("selection_%06d.pvtu" % step).GetNumberOfCells()
+        expect(nodes == totals[step]["nodes"] and surface == totals[step]["leaves"] and
+               selected > 0, "step %d's extracts are intact: %d nodes, %d quads, %d selected"
+               % (step, nodes, surface, selected))
+
+
+check_full_disk.tmpfs = "512k"
+
+
+def check_writer_error(code, log):
+    """A folder stands where step 1's selection summary (.pvtu) goes: the writer's
+    error marks the selection's step failed with VTK's message; the pieces it
+    had written are removed; the other script's step and the other steps are
+    untouched."""
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(re.search(r"failure: rank 0, step 1: the script '.*selection_extract.py' .*"
+                     r"(cannot|Cannot|unable|Unable|Error|error).*selection_000001", log)
+           is not None, "step 1 of the selection is reported failed with the writer's message")
+    expect(re.search(r"^step 1 executed ran 1 failures [1-9]", log, re.M) is not None,
+           "step 1: the other script ran")
+    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran without failure (%s)" % steps_ran(log))
+    expect(not os.path.exists(path("selection_000001")),
+           "the pieces written for the failed step are removed")
+    expect(os.path.isdir(path("selection_000001.pvtu")), "the folder in the way is left alone")
+    expect(len(htg_pieces("grid", 1)) == RANKS, "the other script's step 1 is intact")
+    for step in (0, 2):
+        expect(unstructured("selection_%06d.pvtu" % step).GetNumberOfCells() > 0,
+               "step %d's selection is intact" % step)
 
 
 def check_import_error_one_rank(code, log):
@@ -369,6 +768,7 @@ if __name__ == "__main__":
     REFERENCE = sys.argv[3] if separator > 3 else None
     COMMAND = sys.argv[separator + 1:]
     RANKS = int(COMMAND[COMMAND.index("-np") + 1]) if "-np" in COMMAND else 1
-    exit_code, output = run(COMMAND)
-    globals()["check_" + CHECK](exit_code, output)
+    check = globals()["check_" + CHECK]
+    exit_code, output = run(COMMAND, getattr(check, "tmpfs", None))
+    check(exit_code, output)
     finish()

@@ -1,0 +1,63 @@
+// Builds the vtkHyperTreeGrid of a simulation's forest step after step, doing
+// again only what changed since the previous build.
+//
+//   canopy::GridBuilder builder;                  // one per simulation run
+//   for (each output step)
+//     vtkHyperTreeGrid* grid = builder.build(describe(state), request);
+//
+// Each tree's topology is fingerprinted (64-bit hashes, one pass over its bytes,
+// far cheaper than building it): a tree whose root and refinement did not change
+// keeps its vtkHyperTree, a changed one is rebuilt; when nothing changed (masks,
+// absent parts and slot maps included) the mask and the tables fields read
+// through are kept as well. Fields are wrapped anew at every build (the simulation
+// may have moved them; leaves-only fields get their coarse averages again).
+// The same vtkHyperTreeGrid object is returned while the root grid's shape and
+// the set of trees stay the same, marked Modified() at every build so that
+// pipelines downstream run again; a new one otherwise. A grid shallow-copied
+// from an earlier build keeps that build's trees and arrays.
+#pragma once
+
+#include "canopy/HtgBuilder.h"
+
+#include <vtkSmartPointer.h>
+
+#include <cstddef>
+#include <memory>
+
+class vtkHyperTreeGrid;
+
+namespace canopy
+{
+
+class GridBuilder
+{
+public:
+  GridBuilder();
+  ~GridBuilder();
+  GridBuilder(const GridBuilder&) = delete;
+  GridBuilder& operator=(const GridBuilder&) = delete;
+
+  /// Validates `forest` (InvalidForest, nothing changed, when it is malformed)
+  /// and returns its grid, reusing what did not change since the last build. The
+  /// grid borrows the simulation's memory as buildHyperTreeGrid's does.
+  vtkSmartPointer<vtkHyperTreeGrid> build(const ForestDescription& forest,
+                                          const FieldRequest& request = FieldRequest::all());
+
+  /// What the last build did.
+  struct Reuse
+  {
+    bool newGrid = false;         ///< a new grid object (first build, or a different shape)
+    std::size_t treesRebuilt = 0; ///< trees built from their bytes
+    std::size_t treesKept = 0;    ///< trees whose topology was unchanged
+  };
+  const Reuse& lastBuild() const;
+
+  /// Forgets the previous build: the next one builds everything.
+  void reset();
+
+private:
+  struct State;
+  std::unique_ptr<State> Impl;
+};
+
+} // namespace canopy

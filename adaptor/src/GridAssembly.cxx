@@ -1,0 +1,279 @@
+#include "GridAssembly.h"
+
+#include "FieldWrapping.h"
+
+#include <vtkBitArray.h>
+#include <vtkCellData.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkHyperTree.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkHyperTreeGridScales.h>
+#include <vtkIntArray.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <algorithm>
+#include <cstring>
+#include <memory>
+
+namespace canopy::assembly
+{
+namespace
+{
+
+vtkSmartPointer<vtkDoubleArray> borrowCoordinates(const double* coords, std::size_t points)
+{
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetArray(const_cast<double*>(coords), static_cast<vtkIdType>(points), 1);
+  return array;
+}
+
+} // namespace
+
+std::vector<const FieldDescription*> selectFields(const ForestDescription& forest,
+                                                  const FieldRequest& request)
+{
+  std::vector<const FieldDescription*> selected;
+  if (request.includesAll())
+  {
+    for (const auto& field : forest.fields)
+    {
+      selected.push_back(&field);
+    }
+    return selected;
+  }
+  std::vector<std::string> unknown;
+  for (const auto& name : request.names())
+  {
+    const auto it = std::find_if(forest.fields.begin(), forest.fields.end(),
+                                 [&](const FieldDescription& f) { return f.name == name; });
+    if (it == forest.fields.end())
+    {
+      unknown.push_back("requested field '" + name + "' is not in the forest description");
+    }
+  }
+  if (!unknown.empty())
+  {
+    throw InvalidForest(std::move(unknown));
+  }
+  for (const auto& field : forest.fields)
+  {
+    if (std::find(request.names().begin(), request.names().end(), field.name) !=
+        request.names().end())
+    {
+      selected.push_back(&field);
+    }
+  }
+  return selected;
+}
+
+namespace
+{
+
+/// The breadth-first descriptors of the trees to build, back to back, without
+/// their deepest level (VTK infers it: it is all leaves).
+vtkSmartPointer<vtkBitArray> packDescriptors(const ForestDescription& forest,
+                                             const ForestLayout& layout,
+                                             const std::vector<bool>& rebuild)
+{
+  std::size_t total = 0;
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    total += rebuild[t] ? layout.trees[t].descriptorBits : 0;
+  }
+  auto bits = vtkSmartPointer<vtkBitArray>::New();
+  bits->SetNumberOfValues(static_cast<vtkIdType>(total));
+  if (total == 0)
+  {
+    return bits;
+  }
+  unsigned char* bytes = bits->GetPointer(0);
+  std::memset(bytes, 0, (total + 7) / 8);
+  std::size_t position = 0;
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    if (!rebuild[t])
+    {
+      continue;
+    }
+    const std::uint8_t* refinement = forest.trees[t].refinement;
+    const std::size_t count = layout.trees[t].descriptorBits;
+    for (std::size_t n = 0; n < count; ++n, ++position)
+    {
+      // vtkBitArray stores the most significant bit first.
+      bytes[position >> 3] |=
+          static_cast<unsigned char>((refinement[n] != 0) << (7 - (position & 7)));
+    }
+  }
+  return bits;
+}
+
+} // namespace
+
+void buildTrees(vtkHyperTreeGrid* htg, const ForestDescription& forest, const ForestLayout& layout,
+                const std::vector<bool>& rebuild)
+{
+  vtkSmartPointer<vtkBitArray> descriptors = packDescriptors(forest, layout, rebuild);
+  vtkIdType start = 0;
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    const TreeLayout& shape = layout.trees[t];
+    if (rebuild[t])
+    {
+      // A new tree object: a grid shallow-copied from an earlier step keeps its own.
+      vtkSmartPointer<vtkHyperTree> hyperTree = vtkSmartPointer<vtkHyperTree>::Take(
+          vtkHyperTree::CreateInstance(static_cast<unsigned char>(forest.branchFactor),
+                                       static_cast<unsigned char>(forest.dimension)));
+      const auto bits = static_cast<vtkIdType>(shape.descriptorBits);
+      hyperTree->BuildFromBreadthFirstOrderDescriptor(descriptors, bits, start);
+      start += bits;
+      const vtkIdType root = forest.trees[t].rootIndex;
+      htg->SetTree(root, hyperTree);
+      // As vtkHyperTreeGrid::GetTree(create) does: cursors read the tree's scales.
+      double origin[3];
+      double size[3];
+      htg->GetLevelZeroOriginAndSizeFromIndex(root, origin, size);
+      hyperTree->SetScales(
+          std::make_shared<vtkHyperTreeGridScales>(static_cast<double>(forest.branchFactor), size));
+    }
+    // Cells breadth-first, tree by tree; fields map cells to slots (CellSlots).
+    htg->GetTree(forest.trees[t].rootIndex)
+        ->SetGlobalIndexStart(static_cast<vtkIdType>(shape.firstCell));
+  }
+}
+
+vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const ForestLayout& layout)
+{
+  auto mask = vtkSmartPointer<vtkBitArray>::New();
+  mask->SetName("vtkHyperTreeGridMask");
+  mask->SetNumberOfValues(static_cast<vtkIdType>(layout.totalNodes));
+  if (layout.totalNodes > 0)
+  {
+    std::memset(mask->GetPointer(0), 0, (layout.totalNodes + 7) / 8);
+  }
+  // Absent cells are masked too: every filter skips them, as it skips holes.
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    const TreeDescription& tree = forest.trees[t];
+    if (!tree.masked && !tree.absent)
+    {
+      continue;
+    }
+    const TreeLayout& shape = layout.trees[t];
+    for (std::size_t n = 0; n < shape.numberOfNodes; ++n)
+    {
+      if ((tree.masked && tree.masked[n]) || isAbsent(tree, n))
+      {
+        mask->SetValue(static_cast<vtkIdType>(cellIndex(shape, n)), 1);
+      }
+    }
+  }
+  return mask;
+}
+
+/// VTK's ghost array marks absent cells DUPLICATECELL ("another process owns
+/// it"): what tells an absent cell from a masked one (see docs/api.md).
+vtkSmartPointer<vtkUnsignedCharArray> buildAbsentGhosts(const ForestDescription& forest,
+                                                        const ForestLayout& layout)
+{
+  auto ghosts = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  ghosts->SetName(vtkDataSetAttributes::GhostArrayName());
+  ghosts->SetNumberOfValues(static_cast<vtkIdType>(layout.totalNodes));
+  unsigned char* values = ghosts->GetPointer(0);
+  std::memset(values, 0, layout.totalNodes);
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    const TreeDescription& tree = forest.trees[t];
+    const TreeLayout& shape = layout.trees[t];
+    for (std::size_t n = 0; tree.absent && n < shape.numberOfNodes; ++n)
+    {
+      if (tree.absent[n])
+      {
+        values[shape.firstCell + n] = vtkDataSetAttributes::DUPLICATECELL;
+      }
+    }
+  }
+  return ghosts;
+}
+
+vtkSmartPointer<vtkHyperTreeGrid> newGrid(const ForestDescription& forest)
+{
+  auto htg = vtkSmartPointer<vtkHyperTreeGrid>::New();
+  const RootGrid& grid = forest.rootGrid;
+  // Dimensions before branch factor: the latter derives the number of children from both.
+  // VTK derives the dimension (1, 2 or 3) and a 1D or 2D grid's orientation from the
+  // point counts: a line of roots needs nothing more.
+  htg->SetDimensions(static_cast<unsigned int>(grid.pointsX),
+                     static_cast<unsigned int>(grid.pointsY),
+                     static_cast<unsigned int>(grid.pointsZ));
+  htg->SetBranchFactor(static_cast<unsigned int>(forest.branchFactor));
+  setCoordinates(htg, grid);
+  return htg;
+}
+
+void setCoordinates(vtkHyperTreeGrid* htg, const RootGrid& grid)
+{
+  htg->SetXCoordinates(borrowCoordinates(grid.x, grid.pointsX));
+  htg->SetYCoordinates(borrowCoordinates(grid.y, grid.pointsY));
+  htg->SetZCoordinates(borrowCoordinates(grid.z, grid.pointsZ));
+}
+
+void setTopologyArrays(vtkHyperTreeGrid* htg, const ForestDescription& forest,
+                       const ForestLayout& layout)
+{
+  htg->SetMask(layout.anyMask || layout.anyAbsent ? buildMask(forest, layout) : nullptr);
+  vtkCellData* cells = htg->GetCellData();
+  cells->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  if (layout.anyAbsent)
+  {
+    cells->AddArray(buildAbsentGhosts(forest, layout));
+  }
+  htg->GetFieldData()->RemoveArray(missingTreesElsewhereName);
+  if (forest.missingTreesAreElsewhere)
+  {
+    // Read by Canopy's filters (HyperTreeAccess::treeElsewhere).
+    auto flag = vtkSmartPointer<vtkIntArray>::New();
+    flag->SetName(missingTreesElsewhereName);
+    flag->InsertNextValue(1);
+    htg->GetFieldData()->AddArray(flag);
+  }
+}
+
+void setFields(vtkHyperTreeGrid* htg, const ForestDescription& forest, const ForestLayout& layout,
+               const std::vector<const FieldDescription*>& fields, FieldTables& tables)
+{
+  vtkCellData* cells = htg->GetCellData();
+  // Replace the previous step's fields (the ghost array is topology, kept).
+  for (int a = cells->GetNumberOfArrays(); a-- > 0;)
+  {
+    const char* name = cells->GetArrayName(a);
+    if (!name || std::strcmp(name, vtkDataSetAttributes::GhostArrayName()) != 0)
+    {
+      cells->RemoveArray(a);
+    }
+  }
+  if (!tables.slots)
+  {
+    tables.slots = CellSlots::build(forest, layout);
+  }
+  for (const FieldDescription* field : fields)
+  {
+    vtkSmartPointer<vtkDataArray> array;
+    if (field->centering == Centering::LeavesOnly)
+    {
+      if (!tables.leaves)
+      {
+        tables.leaves = LeafTupleMap::build(forest, layout, *tables.slots);
+      }
+      array = wrapLeafField(*field, forest, layout, *tables.leaves);
+    }
+    else
+    {
+      array = wrapNodeField(*field, layout, *tables.slots);
+    }
+    cells->AddArray(array);
+  }
+}
+
+} // namespace canopy::assembly

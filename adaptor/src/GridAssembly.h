@@ -1,0 +1,64 @@
+// The steps that turn a validated forest description into a vtkHyperTreeGrid,
+// shared by the one-shot build (buildHyperTreeGrid) and the step-to-step builder
+// that rebuilds only what changed (GridBuilder). Every function takes the
+// layout validateForest just computed for the same description.
+#pragma once
+
+#include "CellSlots.h"
+#include "LeafRestriction.h"
+#include "canopy/ForestDescription.h"
+#include "canopy/ForestValidation.h"
+#include "canopy/HtgBuilder.h"
+
+#include <vtkSmartPointer.h>
+
+#include <optional>
+#include <vector>
+
+class vtkBitArray;
+class vtkHyperTreeGrid;
+class vtkUnsignedCharArray;
+
+namespace canopy::assembly
+{
+
+/// Field-data flag (a one-value integer array) saying that root cells without a
+/// tree have it on another rank; Canopy's filters read it under the same name.
+inline constexpr const char* missingTreesElsewhereName = "CanopyMissingTreesElsewhere";
+
+/// An empty grid with the forest's root grid (coordinates borrowed).
+vtkSmartPointer<vtkHyperTreeGrid> newGrid(const ForestDescription& forest);
+/// Borrows the root coordinates again (the simulation may have moved them).
+void setCoordinates(vtkHyperTreeGrid* htg, const RootGrid& grid);
+
+/// (Re)builds the trees marked in `rebuild` (one flag per forest tree) from their
+/// refinement bytes, each as a new tree object, and sets every tree's first cell.
+void buildTrees(vtkHyperTreeGrid* htg, const ForestDescription& forest, const ForestLayout& layout,
+                const std::vector<bool>& rebuild);
+
+/// The mask (masked and absent cells), the absent cells' ghost marks and the
+/// trees-elsewhere flag, replacing any earlier ones.
+void setTopologyArrays(vtkHyperTreeGrid* htg, const ForestDescription& forest,
+                       const ForestLayout& layout);
+vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const ForestLayout& layout);
+vtkSmartPointer<vtkUnsignedCharArray> buildAbsentGhosts(const ForestDescription& forest,
+                                                        const ForestLayout& layout);
+
+/// The requested fields, in the forest's order; throws InvalidForest on unknown names.
+std::vector<const FieldDescription*> selectFields(const ForestDescription& forest,
+                                                  const FieldRequest& request);
+
+/// Tables the fields read through; they depend on the topology only, so a grid
+/// whose topology did not change keeps them. Built on first use.
+struct FieldTables
+{
+  std::optional<CellSlots> slots;
+  std::optional<LeafTupleMap> leaves;
+};
+
+/// Replaces the grid's fields by `fields`, wrapped in place (leaves-only ones get
+/// their coarse averages computed now).
+void setFields(vtkHyperTreeGrid* htg, const ForestDescription& forest, const ForestLayout& layout,
+               const std::vector<const FieldDescription*>& fields, FieldTables& tables);
+
+} // namespace canopy::assembly

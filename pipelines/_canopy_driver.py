@@ -1,0 +1,259 @@
+"""The in-situ driver's side of Python (not for pipeline scripts).
+
+ParaView 5.11 calls a V2 script through functions of
+``paraview.catalyst.v2_internals`` (import, catalyst_initialize,
+RequestDataDescription, catalyst_execute, catalyst_finalize). ``guard_catalyst_calls``
+wraps them so that
+
+* ``sys.exit()`` in a script is an error like any other: a SystemExit reaching
+  ParaView's C++ ends the process (its PyErr_Print exits on SystemExit);
+* the driver can read what went wrong (``take_failure``): the one-line summary
+  and the traceback, which ranks above 0 cannot print (ParaView silences them);
+* between a script's catalyst_execute and its extracts (which ParaView writes
+  right after), every rank agrees: if catalyst_execute failed on any rank, or
+  the extracts due at this step would not fit on the disk, no rank writes any
+  (VTK 9.2's polydata and unstructured writers crash on a full disk, and the
+  others leave partial files). ``discard_outputs`` removes what a failed step of
+  a script wrote.
+
+``StepTimeLimitExceeded`` is what the driver's watchdog raises in a script that
+runs past the step time limit.
+"""
+import functools
+import os
+import shutil
+import time
+import traceback
+
+_failure = None  # (summary, traceback) of the last failed call, until taken
+_in_script = False  # the script's own code is running: the time limit may interrupt it
+_extractors = {}  # script path -> the extractors its import created
+_outputs = {}  # script path -> (start of its last run, the files that run was to write)
+
+# Disk space the extracts of one rank may need at most: the data in memory
+# times 4/3 for base64 (compression only shrinks it) and a margin (an image:
+# its raw pixels and a margin), and per extract 16 KiB for the XML around the
+# data, the summary file and the filesystem's blocks.
+DATA_FACTOR = 1.5
+IMAGE_FACTOR = 1.1
+PER_EXTRACT_BYTES = 16 * 1024
+
+
+class ScriptExit(RuntimeError):
+    """A script called sys.exit(); raised instead, so the simulation goes on."""
+
+
+class NotEnoughDiskSpace(OSError):
+    """The extracts due at a step would not fit on the disk: none is written."""
+
+
+class StepTimeLimitExceeded(TimeoutError):
+    """Raised by the driver's watchdog where a script is when the step time limit
+    passes (InSituOptions::stepTimeLimitSeconds)."""
+
+
+def _summary(error):
+    if isinstance(error, (ScriptExit, StepTimeLimitExceeded, NotEnoughDiskSpace)):
+        return str(error)
+    return "raised an error: " + "".join(
+        traceback.format_exception_only(type(error), error)).strip().replace("\n", " ")
+
+
+def _script_code(call):
+    """Marks the call as the script's own code: only there does the step time
+    limit interrupt (an exception in the driver's agreements would leave the
+    other ranks waiting)."""
+    @functools.wraps(call)
+    def script_code(*args):
+        global _in_script
+        _in_script = True
+        try:
+            return call(*args)
+        finally:
+            _in_script = False
+
+    return script_code
+
+
+def _guarded(call):
+    @functools.wraps(call)
+    def guarded(*args):
+        global _failure
+        try:
+            return call(*args)
+        except SystemExit as exit:
+            error = ScriptExit("called sys.exit(%r)" % (exit.code,))
+            _failure = (_summary(error), traceback.format_exc())
+            raise error from exit
+        except BaseException as error:
+            _failure = (_summary(error), traceback.format_exc())
+            raise
+
+    guarded._canopy_guarded = True
+    return guarded
+
+
+def guard_catalyst_calls():
+    from paraview.catalyst import detail, v2_internals
+    if getattr(v2_internals.do_catalyst_execute, "_canopy_guarded", False):
+        return
+    for name in ("import_and_validate", "do_catalyst_initialize", "do_request_data_description",
+                 "do_catalyst_finalize"):
+        setattr(v2_internals, name, _guarded(_script_code(getattr(v2_internals, name))))
+    v2_internals.do_catalyst_execute = _guarded(_before_extracts(
+        _script_code(v2_internals.do_catalyst_execute)))
+    detail.RegisterExtractor = _recording_extractors(detail.RegisterExtractor)
+
+
+def _active_step():
+    """(script path, step, time) of the script ParaView is running."""
+    from paraview.modules.vtkPVPythonCatalyst import vtkCPPythonScriptV2Helper
+    helper = vtkCPPythonScriptV2Helper.GetActiveInstance()
+    description = helper.GetDataDescription()
+    return (os.path.abspath(helper.GetScriptFileName()), description.GetTimeStep(),
+            description.GetTime())
+
+
+def _recording_extractors(register):
+    """Keeps, per script, the extractors it creates (ParaView keeps them hidden)."""
+    @functools.wraps(register)
+    def register_extractor(extractor):
+        register(extractor)
+        _extractors.setdefault(_active_step()[0], []).append(extractor)
+
+    return register_extractor
+
+
+def _due_outputs(script, directory, step, step_time):
+    """The files the script's extractors will write at this step, and the disk
+    space they may need on this rank (an upper bound)."""
+    from paraview.modules.vtkRemotingServerManager import vtkSMExtractsController
+    controller = vtkSMExtractsController()
+    controller.SetTimeStep(step)
+    controller.SetTime(step_time)
+    paths, needed = [], 0.0
+    for extractor in _extractors.get(script, []):
+        if not controller.IsTriggerActivated(extractor.SMProxy):
+            continue
+        writer = extractor.Writer
+        pattern = str(writer.FileName)
+        try:
+            name = pattern.format(timestep=step, time=step_time)
+            paths.append(name if os.path.isabs(name) else os.path.join(directory, name))
+        except (KeyError, IndexError, ValueError):
+            pass  # a pattern Canopy cannot predict: not removed if the step fails
+        if "ImageResolution" in writer.ListProperties():
+            width, height = (int(n) for n in writer.ImageResolution)
+            needed += IMAGE_FACTOR * 4 * width * height + PER_EXTRACT_BYTES
+        elif "Input" in writer.ListProperties() and writer.Input is not None:
+            source = writer.Input
+            source.UpdatePipeline(step_time)  # as the writer will (the result is kept)
+            kib = source.GetDataInformation().GetMemorySize()
+            needed += DATA_FACTOR * 1024 * kib + PER_EXTRACT_BYTES
+    return paths, needed
+
+
+def _free_bytes(directory):
+    while directory and not os.path.isdir(directory):
+        directory = os.path.dirname(directory)
+    disk = os.statvfs(directory or ".")
+    return float(disk.f_bavail * disk.f_frsize)
+
+
+def _size(count):
+    for unit in ("bytes", "KiB", "MiB", "GiB"):
+        if count < 1024 or unit == "GiB":
+            return "%.0f %s" % (count, unit) if unit == "bytes" else "%.1f %s" % (count, unit)
+        count /= 1024.0
+
+
+def _before_extracts(execute):
+    """do_catalyst_execute, then the agreement before ParaView writes the extracts
+    (agree_before_extracts: set by the driver, on its own communicator)."""
+
+    @functools.wraps(execute)
+    def execute_then_agree(module):
+        script, step, step_time = _active_step()
+        directory = module.options.ExtractsOutputDirectory
+        _outputs[script] = (time.time(), [])
+        error, result, needed = None, None, 0.0
+        try:
+            result = execute(module)
+            paths, needed = _due_outputs(script, directory, step, step_time)
+            _outputs[script] = (_outputs[script][0], paths)
+        except BaseException as exception:  # noqa: B902 - re-raised below, after agreeing
+            error = exception
+        # Every rank comes here, also where the script failed.
+        outcome = _summary(error) if error is not None else ""
+        failed, total_needed, free = agree_before_extracts(outcome, needed, _free_bytes(directory))
+        if error is not None:
+            raise error
+        if failed:
+            raise RuntimeError("catalyst_execute failed on another rank; no rank writes the "
+                               "step's extracts")
+        if total_needed > free:
+            raise NotEnoughDiskSpace(
+                "could not write its extracts: not enough free disk space in '%s' (up to %s "
+                "needed by all ranks, %s free); nothing written"
+                % (directory, _size(total_needed), _size(free)))
+        return result
+
+    return execute_then_agree
+
+
+def agree_before_extracts(outcome, needed, free):
+    """Replaced by the driver at open (its ranks' agreement): `outcome` is "" if
+    catalyst_execute succeeded here, else its failure; returns (whether it
+    failed on any rank, `needed` summed over ranks, the least `free`)."""
+    raise RuntimeError("Canopy's in-situ driver did not connect its agreement")
+
+
+def discard_outputs(script):
+    """Removes what the last run of `script` wrote (its extracts failed on some
+    rank): each file due at that step, and the folder of its pieces, if they
+    were written since that run started."""
+    start, paths = _outputs.pop(os.path.abspath(script), (None, []))
+    for path in paths:
+        stem = os.path.splitext(path)[0]
+        for candidate in (path, stem):
+            try:
+                if os.lstat(candidate).st_mtime < start - 1.0:  # coarse filesystem clocks
+                    continue
+            except OSError:
+                continue
+            if candidate == path and os.path.isfile(candidate):
+                _remove(os.remove, candidate)
+            elif candidate == stem and os.path.isdir(candidate) and path != stem:
+                _remove(shutil.rmtree, candidate)
+
+
+def _remove(remove, path):
+    try:
+        remove(path)
+    except OSError:
+        pass  # another rank removed it first
+
+
+def take_failure():
+    """(summary, traceback) of the last failed script call, or None; forgets it."""
+    global _failure
+    failure, _failure = _failure, None
+    return failure
+
+
+def install_interrupt(number, interrupt_wanted):
+    """Handles signal `number` on the main thread: when the driver's watchdog
+    wants the running script call stopped (interrupt_wanted() gives the message),
+    raises StepTimeLimitExceeded where the script is. Not installed (False) if
+    the simulation handles that signal itself."""
+    import signal
+    if signal.getsignal(number) not in (signal.SIG_DFL, signal.SIG_IGN):
+        return False
+
+    def on_signal(signal_number, frame):
+        message = interrupt_wanted() if _in_script else None
+        if message:
+            raise StepTimeLimitExceeded(message)
+
+    signal.signal(number, on_signal)
+    return True
