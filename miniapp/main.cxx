@@ -6,6 +6,7 @@
 // Run with --help for the options (also in docs/miniapp.md).
 #include "MiniAppOptions.h"
 #include "Simulation.h"
+#include "ZoomedView.h"
 
 #include <canopy/InSitu.h>
 
@@ -38,11 +39,39 @@ std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOption
   scripts.push_back({dir + "/surface_image.py",
                      {every + std::to_string(o.imageEvery), "--color-by=scalar", "--fields=scalar",
                       "--image-size=1024x1024", "--show-edges=1", "--pixel-threshold=3"}});
+  // A zoomed view of the refined region: the surface culls what is outside it and
+  // coarsens what recedes from the camera.
+  auto zoomed = miniamr::zoomedViewCamera(o);
+  if (!zoomed.empty())
+  {
+    zoomed.insert(zoomed.end(), {every + std::to_string(o.imageEvery), "--color-by=scalar",
+                                 "--fields=scalar", "--image-size=1024x768", "--show-edges=1",
+                                 "--pixel-threshold=5", "--file-prefix=zoom"});
+    scripts.push_back({dir + "/surface_image_second_view.py", zoomed});
+  }
   scripts.push_back({dir + "/selection_extract.py",
                      {every + std::to_string(o.selectionEvery), "--selection=range",
                       "--value-field=scalar", "--value-range=0.5,1e30"}});
   scripts.push_back({dir + "/data_extracts.py", {every + std::to_string(o.extractEvery)}});
   return scripts;
+}
+
+/// "  quads: surface 1234, zoom 56" from what the image scripts measured (their
+/// "<prefix> quads"), empty when no image was drawn this step.
+std::string quadsDrawn(const canopy::StepReport& report)
+{
+  std::string text;
+  const std::string suffix = " quads";
+  for (const auto& [name, value] : report.measures)
+  {
+    if (name.size() > suffix.size() &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+    {
+      text += (text.empty() ? "  quads: " : ", ") + name.substr(0, name.size() - suffix.size()) +
+              " " + std::to_string(static_cast<long long>(value));
+    }
+  }
+  return text;
 }
 
 double seconds(std::chrono::steady_clock::time_point since)
@@ -105,6 +134,7 @@ int main(int argc, char** argv)
       if (step > 0)
         simulation.advance();
       double canopyStep = 0;
+      std::string drawn; // the images' quads against the grid's leaves, when drawn
       if (insitu)
       {
         const auto start = std::chrono::steady_clock::now();
@@ -114,6 +144,7 @@ int main(int argc, char** argv)
           const auto before = options.verifyUntouched ? simulation.borrowedArraysChecksum() : 0;
           const auto report = insitu->execute(simulation.step(), simulation.time(), forest);
           pipelineFailures += static_cast<int>(report.failures.size());
+          drawn = quadsDrawn(report);
           if (options.verifyUntouched && simulation.borrowedArraysChecksum() != before)
             untouched = false;
         }
@@ -131,11 +162,11 @@ int main(int argc, char** argv)
       MPI_Reduce(&canopyStep, &slowestCanopy, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
       if (rank == 0 && !options.quiet)
         std::printf("step %4d  time %.4f  leaves %8lld  cells %8lld  imbalance %.3f  "
-                    "mass change %.2e  canopy %.1f ms\n",
+                    "mass change %.2e  canopy %.1f ms%s\n",
                     simulation.step(), simulation.time(),
                     static_cast<long long>(simulation.globalLeaves()),
                     static_cast<long long>(simulation.globalNodes()), imbalance, change,
-                    1e3 * slowestCanopy);
+                    1e3 * slowestCanopy, drawn.c_str());
       std::fflush(stdout);
     }
     if (insitu)

@@ -29,6 +29,7 @@ _failure = None  # (summary, traceback) of the last failed call, until taken
 _in_script = False  # the script's own code is running: the time limit may interrupt it
 _extractors = {}  # script path -> the extractors its import created
 _outputs = {}  # script path -> (start of its last run, the files that run was to write)
+_measures = {}  # name -> this rank's value of what the running script measured (report_measure)
 
 # Disk space the extracts of one rank may need at most: the data in memory
 # times 4/3 for base64 (compression only shrinks it) and a margin (an image:
@@ -232,6 +233,31 @@ def _remove(remove, path):
         remove(path)
     except OSError:
         pass  # another rank removed it first
+
+
+def report_measure(name, local_value):
+    """Records a number the running script measured at this step (canopy_catalyst.report);
+    `local_value`, a function, is called after the script's extracts were written."""
+    _measures[str(name)] = local_value
+
+
+def take_measures(evaluate):
+    """What the script that just ran reported, summed over ranks: {name: total}, in
+    the StepReport. Collective when `evaluate` (every rank's script ran; every rank
+    reported the same names); otherwise forgets them (the step failed somewhere)."""
+    global _measures
+    measures, _measures = _measures, {}
+    if not evaluate:
+        return {}
+    names = sorted(measures)
+    local = []
+    for name in names:
+        try:
+            local.append(float(measures[name]()))
+        except Exception:  # a measure is never worth a deadlock: report NaN
+            local.append(float("nan"))
+    from canopy_catalyst import _reduce
+    return dict(zip(names, _reduce(local, "SUM_OP")))
 
 
 def take_failure():

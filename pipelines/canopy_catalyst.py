@@ -278,6 +278,27 @@ def time_text(time):
     return "t = %.6g" % time
 
 
+def report(name, local_value):
+    """Reports a number this step measured (e.g. the quads the surface drew): after
+    the script's extracts are written, `local_value()` is called on every rank and
+    the sum over ranks goes into the step's canopy::StepReport::measures under `name`
+    (and the driver's step summary). Call it in catalyst_execute, on every rank, with
+    the same names; each call covers one step."""
+    try:
+        import _canopy_driver
+    except ImportError:
+        return  # not run by Canopy's driver (e.g. pvbatch): nobody to tell
+    _canopy_driver.report_measure(name, local_value)
+
+
+def output_cells(proxy):
+    """A function giving the number of cells the proxy's filter output on this rank
+    last time it ran (the data rendered or written), for report(). Catalyst runs in a
+    builtin session: the client-side object is the rank's own VTK algorithm."""
+    algorithm = proxy.GetClientSideObject()
+    return lambda: algorithm.GetOutputDataObject(0).GetNumberOfCells()
+
+
 def _step_time():
     """The simulation time of the step being run (None outside a Catalyst run)."""
     from paraview.modules.vtkPVPythonCatalyst import vtkCPPythonScriptV2Helper

@@ -151,6 +151,35 @@ ScriptFailureText takeScriptFailure()
   return failure;
 }
 
+std::map<std::string, double> takeScriptMeasures(bool evaluate)
+{
+  vtkPythonScopeGilEnsurer gil;
+  std::map<std::string, double> measures;
+  vtkSmartPyObject module(PyImport_ImportModule("_canopy_driver"));
+  vtkSmartPyObject taken(
+      module ? PyObject_CallMethod(module, "take_measures", "O", evaluate ? Py_True : Py_False)
+             : nullptr);
+  if (!taken || !PyDict_Check(taken))
+  {
+    PyErr_Clear();
+    return measures;
+  }
+  PyObject* name = nullptr;
+  PyObject* value = nullptr;
+  Py_ssize_t position = 0;
+  while (PyDict_Next(taken, &position, &name, &value))
+  {
+    const double number = PyFloat_AsDouble(value);
+    if (PyErr_Occurred())
+    {
+      PyErr_Clear();
+      continue;
+    }
+    measures[textOf(name)] = number;
+  }
+  return measures;
+}
+
 void connectAgreement(const RankAgreement* agreement, StepWatchdog* watchdog)
 {
   connectedAgreement = agreement;

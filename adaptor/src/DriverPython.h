@@ -5,6 +5,7 @@
 
 #include "canopy/InSitu.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,11 @@ struct ScriptFailureText
   std::string traceback;
 };
 ScriptFailureText takeScriptFailure();
+
+/// What the script that just ran reported (canopy_catalyst.report), summed over
+/// ranks. Collective when `evaluate` (the script ran on every rank); otherwise
+/// forgets them and returns nothing. Names whose measure failed map to NaN.
+std::map<std::string, double> takeScriptMeasures(bool evaluate);
 
 class RankAgreement;
 class StepWatchdog;

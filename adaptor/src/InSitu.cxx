@@ -23,10 +23,28 @@
 #include <vtkSmartPointer.h>
 
 #include <chrono>
+#include <cstdio>
 #include <optional>
 
 namespace canopy
 {
+namespace
+{
+
+/// ", surface quads 1234, ..." for the step summary; empty without measures.
+std::string measuresText(const std::map<std::string, double>& measures)
+{
+  std::string text;
+  for (const auto& [name, value] : measures)
+  {
+    char number[32];
+    std::snprintf(number, sizeof number, " %.15g", value);
+    text += ", " + name + number;
+  }
+  return text;
+}
+
+} // namespace
 
 class InSitu::Driver
 {
@@ -177,10 +195,11 @@ StepReport& InSitu::Driver::finish(StepReport& report, std::int64_t step, double
   {
     vtkLogF(INFO,
             "canopy: step %lld time %g: ran [%s], %zu failure(s), %lld cells on rank 0, %.3f s "
-            "(grid %.3f s, %zu of %zu trees rebuilt)",
+            "(grid %.3f s, %zu of %zu trees rebuilt)%s",
             static_cast<long long>(step), time, joined(report.pipelinesRun, ", ").c_str(),
             report.failures.size(), static_cast<long long>(report.localCells), report.seconds,
-            report.buildSeconds, report.treesRebuilt, report.treesRebuilt + report.treesKept);
+            report.buildSeconds, report.treesRebuilt, report.treesRebuilt + report.treesKept,
+            measuresText(report.measures).c_str());
   }
   return report;
 }
@@ -308,7 +327,13 @@ void InSitu::Driver::runScript(CatalystScript& script, vtkHyperTreeGrid* grid, s
   const double extraSeconds = script.extraSeconds();
   const bool ran = script.run(grid, error);
   const auto running = after("catalyst_execute", since, extraSeconds);
-  if (agree(ran ? "" : error, &running))
+  const bool ranEverywhere = agree(ran ? "" : error, &running);
+  // Collective only when the script ran on every rank (then every rank is here).
+  for (const auto& [name, value] : takeScriptMeasures(ranEverywhere))
+  {
+    report.measures[name] = value;
+  }
+  if (ranEverywhere)
   {
     report.pipelinesRun.push_back(script.path());
   }

@@ -60,6 +60,20 @@ def check_insitu(output, command):
                "%s: the field in %d colors and the mesh's edges (%d dark pixels)"
                % (os.path.basename(name), colors, dark))
 
+    # The zoomed view (a camera on the region the sphere sweeps): culled, so it
+    # draws fewer quads than the grid has leaves; the step line says both.
+    zoomed = sorted(glob.glob(os.path.join(output, "zoom_*.png")))
+    expect(len(zoomed) == len(images), "a zoomed image beside each of the %d images (%d)"
+           % (len(images), len(zoomed)))
+    drawn = re.findall(r"^step\s+(\d+)\s.*leaves\s+(\d+)\s.*quads: surface (\d+), zoom (\d+)$",
+                       log, re.M)
+    expect(len(drawn) == len(images), "%d step lines say the quads drawn, one per image"
+           % len(drawn))
+    for step, step_leaves, surface_quads, zoom_quads in drawn:
+        expect(0 < int(zoom_quads) < int(step_leaves) and 0 < int(surface_quads) <= int(step_leaves),
+               "step %s: %s quads in the image, %s in the zoomed view, %s leaves"
+               % (step, surface_quads, zoom_quads, step_leaves))
+
     # The selection (scalar >= 0.5) at the last step is the dump's leaves >= 0.5.
     selection = read_unstructured(os.path.join(output, "selection_%06d.pvtu" % last))
     want = sum(1 for value in final.values() if value >= 0.5)

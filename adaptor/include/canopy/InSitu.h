@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -79,6 +80,10 @@ struct StepReport
   /// grid is rebuilt only where the forest's topology changed (canopy::GridBuilder).
   std::size_t treesRebuilt = 0;
   std::size_t treesKept = 0;
+  /// What the scripts that ran measured this step (canopy_catalyst.report in a
+  /// script), each summed over ranks, by name: e.g. surface_image.py's
+  /// "surface quads", the quads its image drew. The same on every rank.
+  std::map<std::string, double> measures;
 };
 
 class InSitu
