@@ -38,5 +38,5 @@ cmake --build "$build" -j "$(nproc)"
 if [ "${CANOPY_SKIP_SANITIZER_BUILD:-0}" != 1 ]; then
   cmake -S "$here" -B "$build-asan" -DCMAKE_BUILD_TYPE=Release \
     "-DCANOPY_SANITIZE=address;undefined" -DCANOPY_BUILD_BENCHMARKS=OFF
-  cmake --build "$build-asan" -j "$(nproc)"
+  cmake --build "$build-asan" --target canopy_sanitizer_tests -j "$(nproc)"
 fi

@@ -21,12 +21,14 @@
 // Input format (tests/fuzz/make_corpus.py writes inputs in it): bytes read front to
 // back, every read past the end is 0.
 //   header   shape: bit 0 3D, bit 1 branch factor 3, bit 2 missingTreesAreElsewhere,
-//                   bit 3 storage slots, bits 4-5 flat axis of a 2D grid (3 -> z),
+//                   bit 3 storage slots, bits 4-5 flat axis of a 2D grid (3: a 1D
+//                   line instead, along the grid defect's axis, whatever bit 0),
 //                   bits 6-7 field request (all, none, some, some + an unknown name)
 //            maxLevels: < 0xF0 -> 1 + v % 5, else WildLevels[v - 0xF0]
-//            points per axis: 3 bytes, 2 + v % 3 (the flat axis of a 2D grid: 1)
+//            points per axis: 3 bytes, 2 + v % 3 (flat axes of a 2D or 1D grid: 1)
 //            grid defect: v % 16 (10 NaN, 11 not increasing, 12 null, 13 no points,
-//                   14 wrong flat axes, 15 too many points), axis (v / 16) % 3
+//                   14 wrong flat axes, 15 too many points), axis (v / 16) % 3 (a 1D
+//                   grid's line)
 //            coordinates: spacing 0.5 * (1 + v % 3)
 //   trees    count: v % (root cells + 1); then per tree:
 //            root: picks the (v % free)-th unused root cell
@@ -88,7 +90,7 @@ constexpr std::size_t NodeBudget = 1200;
 
 /// maxLevels at and around the bounds docs/api.md states (62 binary, 39 ternary).
 constexpr std::array<int, 16> WildLevels{
-  {0, -1, INT_MIN, INT_MAX, 61, 62, 63, 64, 38, 39, 40, 6, 7, 8, 9, 10}};
+    {0, -1, INT_MIN, INT_MAX, 61, 62, 63, 64, 38, 39, 40, 6, 7, 8, 9, 10}};
 
 int maxSupportedLevels(int branchFactor)
 {
@@ -177,8 +179,7 @@ struct Scalar
     {
       return other.integer && whole == other.whole;
     }
-    return !other.integer &&
-           ((std::isnan(real) && std::isnan(other.real)) || real == other.real);
+    return !other.integer && ((std::isnan(real) && std::isnan(other.real)) || real == other.real);
   }
   std::string str() const
   {
@@ -304,12 +305,18 @@ struct Generated
 
 void generateGrid(Input& in, Generated& g, int dimension, int flatAxis)
 {
-  for (int a = 0; a < 3; ++a)
+  std::array<std::uint8_t, 3> pointBytes{};
+  for (auto& v : pointBytes)
   {
-    const std::uint8_t v = in.byte();
-    g.points[a] = dimension == 2 && a == flatAxis ? 1 : 2 + v % 3;
+    v = in.byte();
   }
   const std::uint8_t gridDefect = in.byte();
+  const int lineAxis = (gridDefect / 16) % 3;
+  for (int a = 0; a < 3; ++a)
+  {
+    const bool flat = (dimension == 2 && a == flatAxis) || (dimension == 1 && a != lineAxis);
+    g.points[a] = flat ? 1 : 2 + pointBytes[a] % 3;
+  }
   const double spacing = 0.5 * (1 + in.byte() % 3);
   std::array<std::size_t, 3> claimed = g.points;
   std::array<bool, 3> nullAxis{{false, false, false}};
@@ -317,7 +324,7 @@ void generateGrid(Input& in, Generated& g, int dimension, int flatAxis)
   int axis = (gridDefect / 16) % 3;
   if ((kind == 10 || kind == 11) && g.points[axis] < 2)
   {
-    axis = (axis + 1) % 3; // a non-flat axis: only a 2D grid has a flat one
+    axis = (axis + 1) % 3; // a non-flat axis (a 1D grid's line is never flat here)
   }
   for (int a = 0; a < 3; ++a)
   {
@@ -336,6 +343,12 @@ void generateGrid(Input& in, Generated& g, int dimension, int flatAxis)
     {
       claimed[axis] = allocated[axis] = 1;
       g.defect("a 3D grid with a flat axis");
+    }
+    else if (dimension == 1)
+    {
+      const int second = (lineAxis + 1) % 3;
+      claimed[second] = allocated[second] = 2;
+      g.defect("a 1D grid with a second axis");
     }
     else
     {
@@ -382,8 +395,7 @@ void generateGrid(Input& in, Generated& g, int dimension, int flatAxis)
 }
 
 /// Refinement breadth-first, one byte per node that may still refine.
-void generateShape(Input& in, Tree& tree, int levelCap, std::size_t& budget,
-                   std::size_t children)
+void generateShape(Input& in, Tree& tree, int levelCap, std::size_t& budget, std::size_t children)
 {
   tree.refined.assign(1, false);
   tree.level.assign(1, 0);
@@ -548,8 +560,8 @@ void generateSlots(Input& in, Generated& g)
     for (std::size_t n = 0; n < tree.nodes(); ++n)
     {
       // Entries of absent nodes are ignored (docs/api.md): anything goes.
-      tree.slots[n] = tree.isAbsent(n) ? std::numeric_limits<std::int64_t>::min() + 7
-                                       : permutation[next++];
+      tree.slots[n] =
+          tree.isAbsent(n) ? std::numeric_limits<std::int64_t>::min() + 7 : permutation[next++];
     }
   }
   Tree* first = nullptr;
@@ -745,8 +757,8 @@ void generateFields(Input& in, Generated& g)
       }
       break;
     case Layout::Indirect:
-      d.tupleAddresses = nullWhenEmpty || field.addresses.empty() ? nullptr
-                                                                 : field.addresses.data();
+      d.tupleAddresses =
+          nullWhenEmpty || field.addresses.empty() ? nullptr : field.addresses.data();
       break;
     }
     switch (defect)
@@ -856,16 +868,18 @@ Generated generate(const std::uint8_t* data, std::size_t size)
   Input in(data, size);
   Generated g;
   const std::uint8_t shape = in.byte();
-  const int dimension = shape & 1 ? 3 : 2;
+  const int flatBits = (shape >> 4) & 3;
+  const int dimension = flatBits == 3 ? 1 : shape & 1 ? 3 : 2;
   const int branchFactor = shape & 2 ? 3 : 2;
   g.forest.dimension = dimension;
   g.forest.branchFactor = branchFactor;
   g.forest.missingTreesAreElsewhere = (shape >> 2) & 1;
   g.explicitSlots = (shape >> 3) & 1;
-  const int flatAxis = std::min((shape >> 4) & 3, 2);
+  const int flatAxis = std::min(flatBits, 2);
   g.requestMode = shape >> 6;
   g.children = static_cast<std::size_t>(dimension == 3 ? branchFactor * branchFactor * branchFactor
-                                                       : branchFactor * branchFactor);
+                                        : dimension == 2 ? branchFactor * branchFactor
+                                                         : branchFactor);
   const std::uint8_t levels = in.byte();
   const int maxLevels = levels < 0xF0 ? 1 + levels % 5 : WildLevels[levels - 0xF0];
   g.forest.maxLevels = maxLevels;
@@ -987,7 +1001,7 @@ Shape checkTrees(const Generated& g, vtkHyperTreeGrid* htg)
     // The root sits where its index says: i fastest, then j, then k.
     const auto r = static_cast<std::size_t>(tree.rootIndex);
     const std::array<std::size_t, 3> ijk{
-      {r % g.cells[0], (r / g.cells[0]) % g.cells[1], r / (g.cells[0] * g.cells[1])}};
+        {r % g.cells[0], (r / g.cells[0]) % g.cells[1], r / (g.cells[0] * g.cells[1])}};
     vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
     htg->InitializeNonOrientedGeometryCursor(cursor, tree.rootIndex);
     double bounds[6];
@@ -1023,7 +1037,7 @@ void checkMaskAndGhosts(const Generated& g, vtkHyperTreeGrid* htg, const Shape& 
     fail("the mask has fewer values than the grid has cells");
   }
   auto* ghosts = vtkUnsignedCharArray::SafeDownCast(
-    htg->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName()));
+      htg->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName()));
   if (ghosts && ghosts->GetNumberOfTuples() != static_cast<vtkIdType>(shape.totalCells))
   {
     fail("the ghost array does not have one value per cell");
@@ -1247,9 +1261,9 @@ void checkField(const Generated& g, const Shape& shape, std::size_t f, vtkDataAr
       if (!(actual == wanted))
       {
         fail("field " + field.name + " (" + array->GetClassName() +
-             (read == array ? "" : ", deep copy") + "): cell " +
-             std::to_string(i / nc) + " component " + std::to_string(i % nc) + " reads " +
-             actual.str() + ", expected " + wanted.str());
+             (read == array ? "" : ", deep copy") + "): cell " + std::to_string(i / nc) +
+             " component " + std::to_string(i % nc) + " reads " + actual.str() + ", expected " +
+             wanted.str());
       }
     }
   }
@@ -1260,8 +1274,7 @@ void checkGrid(const Generated& g, vtkHyperTreeGrid* htg)
   const Shape shape = checkTrees(g, htg);
   checkMaskAndGhosts(g, htg, shape);
   // Root coordinates are borrowed, not copied.
-  vtkDataArray* axes[3] = {htg->GetXCoordinates(), htg->GetYCoordinates(),
-                           htg->GetZCoordinates()};
+  vtkDataArray* axes[3] = {htg->GetXCoordinates(), htg->GetYCoordinates(), htg->GetZCoordinates()};
   for (int a = 0; a < 3; ++a)
   {
     auto* axis = vtkDoubleArray::SafeDownCast(axes[a]);
@@ -1350,9 +1363,9 @@ void describe(const Generated& g, const char* outcome)
   std::fprintf(stderr,
                "canopy fuzz input: %dD, branch factor %d, maxLevels %d, %zu tree(s), %zu "
                "node(s), %zu field(s), defects: %s; %s\n",
-               g.forest.dimension, g.forest.branchFactor, g.forest.maxLevels, g.trees.size(),
-               nodes, g.fields.size(),
-               g.defects.empty() ? "none" : joined(g.defects, ", ").c_str(), outcome);
+               g.forest.dimension, g.forest.branchFactor, g.forest.maxLevels, g.trees.size(), nodes,
+               g.fields.size(), g.defects.empty() ? "none" : joined(g.defects, ", ").c_str(),
+               outcome);
 }
 
 } // namespace
@@ -1360,9 +1373,10 @@ void describe(const Generated& g, const char* outcome)
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   const Generated g = generate(data, size);
-  const canopy::FieldRequest request = g.requestMode == 0   ? canopy::FieldRequest::all()
-                                       : g.requestMode == 1 ? canopy::FieldRequest::none()
-                                                            : canopy::FieldRequest::only(g.requested);
+  const canopy::FieldRequest request = g.requestMode == 0 ? canopy::FieldRequest::all()
+                                       : g.requestMode == 1
+                                           ? canopy::FieldRequest::none()
+                                           : canopy::FieldRequest::only(g.requested);
   vtkSmartPointer<vtkHyperTreeGrid> htg;
   try
   {

@@ -26,9 +26,13 @@ ALL, NONE, SOME, UNKNOWN = range(4)
 class Seed:
     def __init__(self, dim3=False, bf3=False, elsewhere=False, slots=False, flat=2,
                  request=ALL, levels=3, levels_byte=None, points=(3, 3, 3), grid_defect=0,
-                 spacing=0):
+                 spacing=0, line=None):
+        """line: a 1D grid along that axis (the flat-axis bits 3, the grid defect's axis)."""
         self.bytes = bytearray()
-        self.children = (3 if bf3 else 2) ** (3 if dim3 else 2)
+        if line is not None:
+            flat = 3
+            grid_defect = grid_defect % 16 + 16 * line
+        self.children = (3 if bf3 else 2) ** (1 if line is not None else 3 if dim3 else 2)
         self.slots = slots
         self.request = request
         self.budget = BUDGET
@@ -43,7 +47,10 @@ class Seed:
         # Trees may have maxLevels levels; with an invalid maxLevels, roots only.
         levels = levels if levels_byte < 0xF0 else WILD_LEVELS[levels_byte - 0xF0]
         self.cap = levels if 1 <= levels <= (39 if bf3 else 62) else 1
-        self.points = [1 if not dim3 and a == flat else p for a, p in enumerate(points)]
+        if line is not None:
+            self.points = [p if a == line else 1 for a, p in enumerate(points)]
+        else:
+            self.points = [1 if not dim3 and a == flat else p for a, p in enumerate(points)]
         for p in points:
             self.put(max(p - 2, 0))
         self.put(grid_defect)
@@ -143,6 +150,14 @@ def seeds():
     s["valid_no_trees_null_fields"] = Seed().field(FLOAT64, AOS, null_when_empty=True).field(
         FLOAT32, SOA, components=2, null_when_empty=True).field(
             INT32, INDIRECT, null_when_empty=True).build()
+    s["valid_1d_ternary_line_along_y_leaves_only"] = every_layout(
+        Seed(bf3=True, line=1, levels=3, points=(3, 4, 2), request=SOME)
+        .tree(2, [True, False, True, False], mask=[False] * 4 + [True] + [False] * 2)
+        .tree(0, [False]), leaves_only=True).build(chosen=0b0111)
+    s["valid_1d_binary_line_along_z_absent"] = every_layout(
+        Seed(elsewhere=True, line=2, levels=4, points=(2, 2, 4))
+        .tree(1, [True, True, False, True, False], absent=[True, False, False, True])).build()
+    s["invalid_1d_grid_with_a_second_axis"] = Seed(line=0, grid_defect=14).tree(0, [True]).build()
     base = lambda: Seed(levels=3).tree(0, [True, False, True, False, False]).tree(1, [True])
     s["invalid_too_few_tuples"] = base().field(FLOAT64, SOA, components=2, defect=18).build()
     s["invalid_duplicate_root"] = Seed(levels=2).tree(0, [True]).tree(0, [False], defect=55).build()
