@@ -10,7 +10,7 @@ CellSlots CellSlots::build(const ForestDescription& forest, const ForestLayout& 
   {
     return slots;
   }
-  auto table = std::make_shared<std::vector<std::int64_t>>(layout.totalNodes);
+  auto table = std::make_shared<IndexTable>(layout.totalNodes);
   std::int64_t* slotOfCell = table->data();
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
   {

@@ -10,6 +10,7 @@
 // table in which absent cells have no slot.
 #pragma once
 
+#include "FreshMemory.h"
 #include "StorageSlots.h"
 #include "canopy/ForestDescription.h"
 #include "canopy/ForestValidation.h"
@@ -26,7 +27,7 @@ struct CellSlots
   /// Entry of an absent cell in slotOfCell.
   static constexpr std::int64_t NoSlot = -1;
   /// Cell -> slot (NoSlot for absent cells); null when every cell is its own slot.
-  std::shared_ptr<const std::vector<std::int64_t>> slotOfCell;
+  std::shared_ptr<const IndexTable> slotOfCell;
 
   bool identity() const { return !slotOfCell; }
 

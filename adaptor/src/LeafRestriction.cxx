@@ -14,7 +14,7 @@ LeafTupleMap LeafTupleMap::build(const ForestDescription& forest, const ForestLa
 {
   // Mark which slots hold coarse nodes, then number leaves and coarse nodes
   // separately in slot order.
-  std::vector<std::int64_t> bySlot(layout.totalPresentNodes);
+  IndexTable bySlot(layout.totalPresentNodes);
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
   {
     const TreeDescription& tree = forest.trees[t];
@@ -42,11 +42,11 @@ LeafTupleMap LeafTupleMap::build(const ForestDescription& forest, const ForestLa
   map.numberOfCoarse = coarse;
   if (slots.identity())
   {
-    map.cellToTuple = std::make_shared<std::vector<std::int64_t>>(std::move(bySlot));
+    map.cellToTuple = std::make_shared<IndexTable>(std::move(bySlot));
     return map;
   }
   const auto& slotOfCell = *slots.slotOfCell;
-  auto byCell = std::make_shared<std::vector<std::int64_t>>(layout.totalNodes);
+  auto byCell = std::make_shared<IndexTable>(layout.totalNodes);
   for (std::size_t cell = 0; cell < layout.totalNodes; ++cell)
   {
     const std::int64_t slot = slotOfCell[cell];

@@ -25,7 +25,7 @@ namespace canopy
 /// Leaves and coarse nodes are each numbered in slot order.
 struct LeafTupleMap
 {
-  std::shared_ptr<const std::vector<std::int64_t>> cellToTuple;
+  std::shared_ptr<const IndexTable> cellToTuple;
   std::size_t numberOfCoarse = 0;
 
   static LeafTupleMap build(const ForestDescription& forest, const ForestLayout& layout,

@@ -16,6 +16,7 @@
 #pragma once
 
 #include "FieldView.h"
+#include "FreshMemory.h"
 
 #include <vtkGenericDataArray.h>
 #include <vtkObjectFactory.h>
@@ -64,7 +65,7 @@ public:
   using ValueType = typename Superclass::ValueType;
 
   /// Tuple -> borrowed tuple (>= 0) or computed tuple (< 0, see computedEntry).
-  using TupleMap = std::vector<std::int64_t>;
+  using TupleMap = IndexTable;
 
   static SimulationFieldArray* New() { VTK_STANDARD_NEW_BODY(SimulationFieldArray<T>); }
 
