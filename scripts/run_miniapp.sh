@@ -23,8 +23,11 @@ if [ "$(id -u)" -eq 0 ]; then
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
 # Debian's ParaView renders through X only: use a virtual display if needed.
+# -noreset: by default the server resets when its last client disconnects and
+# refuses connections meanwhile, failing a process that closes a display and
+# opens the next (tests use tests/support/with_xvfb.sh instead: docs/testing.md).
 if [ -z "${DISPLAY:-}" ] || ! xdpyinfo >/dev/null 2>&1; then
-  launcher=(xvfb-run -a -s "-screen 0 1280x1024x24" "${launcher[@]}")
+  launcher=(xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" "${launcher[@]}")
 fi
 mkdir -p "$output"
 "${launcher[@]}" "$binary" --output "$output" "$@"

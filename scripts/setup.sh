@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what Canopy needs on Debian (only the missing apt packages), then
-# configures and builds it. Usage: scripts/setup.sh [build-dir]
+# configures and builds it, and a sanitizer build next to it ([build-dir]-asan).
+# Usage: scripts/setup.sh [build-dir]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$here/build}"
@@ -13,6 +14,7 @@ packages=(
   libhdf5-openmpi-dev libboost-dev liblz4-dev libdouble-conversion-dev libutfcpp-dev
   libexpat1-dev liblzma-dev libpng-dev libjpeg-dev libtiff-dev zlib1g-dev libgl-dev
   libp4est-dev python3-matplotlib python3-pandas valgrind
+  clang-14 libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -28,3 +30,13 @@ fi
 
 cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build" -j "$(nproc)"
+
+# The same sources with AddressSanitizer + UBSan, next to the main build: its
+# sanitizers.* tests run this build's unit, in-situ and mini-app tests
+# (docs/testing.md). CANOPY_SKIP_SANITIZER_BUILD=1 skips it (those tests then fail
+# saying so).
+if [ "${CANOPY_SKIP_SANITIZER_BUILD:-0}" != 1 ]; then
+  cmake -S "$here" -B "$build-asan" -DCMAKE_BUILD_TYPE=Release \
+    "-DCANOPY_SANITIZE=address;undefined" -DCANOPY_BUILD_BENCHMARKS=OFF
+  cmake --build "$build-asan" --target canopy_sanitizer_tests -j "$(nproc)"
+fi

@@ -2,7 +2,7 @@
 ParaView's own hypertree-grid source, run both filters, show every output type,
 write an image and a .vtu, and check them by content.
 
-Run: xvfb-run -a pvbatch plugin_case_a.py <CanopyPlugin.so> <output dir>
+Run: tests/support/with_xvfb.sh pvbatch plugin_case_a.py <CanopyPlugin.so> <output dir>
 """
 import os
 import sys

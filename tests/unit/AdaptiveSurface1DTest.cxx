@@ -228,8 +228,11 @@ TEST(AdaptiveSurface1D, RandomViewsEmitExactlyTheOverlappingLeaves)
 /// Pixel footprint of a segment by VTK's own projection matrix.
 double vtkFootprint(const View& v, const double b[6])
 {
+  // The camera owns the matrix: it must outlive its use (a temporary camera here was
+  // a heap-use-after-free, found by the sanitizer build).
+  const vtkSmartPointer<vtkCamera> camera = cameraFor(v);
   vtkMatrix4x4* m =
-      cameraFor(v)->GetCompositeProjectionTransformMatrix(double(v.width) / v.height, -1, 1);
+      camera->GetCompositeProjectionTransformMatrix(double(v.width) / v.height, -1, 1);
   double lo[2] = {1e300, 1e300};
   double hi[2] = {-1e300, -1e300};
   for (int k = 0; k < 2; ++k)

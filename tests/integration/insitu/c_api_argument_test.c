@@ -411,7 +411,7 @@ static int oom_child(int which)
   }
   for (i = 1; i <= 4; ++i) /* capacity 4, full: the next one must grow the vectors */
   {
-    char name[8];
+    char name[16]; /* room for any int: gcc -O1 (the sanitizer build) warns otherwise */
     snprintf(name, sizeof name, "f%d", i);
     canopy_forest_add_tree(forest, i, refined, 5, NULL, NULL);
     canopy_forest_add_field(forest, name, CANOPY_FLOAT64, 1, density, 0, 5, CANOPY_EVERY_NODE);

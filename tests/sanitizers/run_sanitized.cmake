@@ -1,0 +1,38 @@
+# cmake -DBUILD=<sanitizer build> -DCTEST=<ctest> [-DLABEL=<label>] -DSUPPRESSIONS=<lsan.supp>
+#       -P run_sanitized.cmake
+# Without LABEL: checks that BUILD is a sanitizer build and brings it up to date
+# (sanitizers.build). With LABEL: runs that build's tests with the label under the
+# sanitizers' options (sanitizers.unit, .insitu, .miniapp). docs/testing.md.
+if(NOT EXISTS "${BUILD}/CMakeCache.txt" OR NOT EXISTS "${BUILD}/CTestTestfile.cmake")
+  message(FATAL_ERROR "sanitizers: there is no sanitizer build in ${BUILD}. scripts/setup.sh "
+    "configures and builds it (cmake -S <source> -B ${BUILD} -DCMAKE_BUILD_TYPE=Release "
+    "\"-DCANOPY_SANITIZE=address;undefined\" -DCANOPY_BUILD_BENCHMARKS=OFF, then cmake --build)")
+endif()
+file(STRINGS "${BUILD}/CMakeCache.txt" _sanitize REGEX "^CANOPY_SANITIZE:STRING=.+")
+if(NOT _sanitize)
+  message(FATAL_ERROR "sanitizers: ${BUILD} is not a sanitizer build (CANOPY_SANITIZE is empty)")
+endif()
+
+if(NOT DEFINED LABEL)
+  # Up to date with the sources, so that the runs test the code as it is.
+  execute_process(COMMAND ${CMAKE_COMMAND} --build "${BUILD}" --target canopy_sanitizer_tests -j 2
+    RESULT_VARIABLE _result)
+  if(NOT _result EQUAL 0)
+    message(FATAL_ERROR "sanitizers: building ${BUILD} failed")
+  endif()
+  return()
+endif()
+
+# Stop at the first error (UBSan too: the build has -fno-sanitize-recover=undefined),
+# with stack traces. Leaks are reported, except ParaView's and Python's own, which
+# SUPPRESSIONS lists with the reason for each.
+set(ENV{ASAN_OPTIONS} "detect_leaks=1:check_initialization_order=1:halt_on_error=1")
+set(ENV{LSAN_OPTIONS} "suppressions=${SUPPRESSIONS}:print_suppressions=0")
+set(ENV{UBSAN_OPTIONS} "print_stacktrace=1:halt_on_error=1")
+execute_process(
+  COMMAND ${CTEST} --test-dir "${BUILD}" -L "^${LABEL}$" -j 2 --output-on-failure --no-tests=error
+  RESULT_VARIABLE _result)
+if(NOT _result EQUAL 0)
+  message(FATAL_ERROR "sanitizers: tests labelled '${LABEL}' failed in ${BUILD} (above: "
+    "AddressSanitizer / UBSan / LeakSanitizer reports name the file and line)")
+endif()
