@@ -7,7 +7,7 @@ earlier steps intact).
 usage: python3 grid_extracts_check.py CHECK OUTPUT_DIR [ARGUMENT] -- COMMAND...
   vtkhdf                    the VTKHDF file holds every step
   paraview511 PVPYTHON      ParaView 5.11 opens the .pvd and .vtm files right
-  paraview511_render PVPYTHON (no COMMAND) ParaView 5.11 draws OUTPUT_DIR's series
+  paraview511_render PVPYTHON WITH_XVFB (no COMMAND) ParaView 5.11 draws OUTPUT_DIR's series
   disk_full SIZE            OUTPUT_DIR/tmpfs is a tmpfs of SIZE (mounted here when
                             possible, else the test is skipped): steps that do not
                             fit fail, the file keeps the others
@@ -42,19 +42,6 @@ def check_vtkhdf(code, log, output, _):
     verify(os.path.join(output, "grid.vtkhdf"), forests, expect)
 
 
-def private_display():
-    """An Xvfb of our own on a display number it picks itself (-displayfd): no race
-    with other X servers on the machine, as xvfb-run -a has. Returns (server, DISPLAY)."""
-    read, write = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-nolisten", "tcp", "-screen", "0",
-                               "1280x1024x24"], pass_fds=(write,), stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL)
-    os.close(write)
-    number = os.read(read, 64).decode().strip()
-    os.close(read)
-    return server, ":" + number
-
-
 def check_paraview511(code, log, output, pvpython):
     expect(code == 0, "the simulation exits normally")
     expect(failed_steps(log) == [], "no step failed (%s)" % failed_steps(log))
@@ -67,33 +54,13 @@ def check_paraview511(code, log, output, pvpython):
            "with the simulation's cells and values (exit code %d)" % data.returncode)
 
 
-def render_paraview511(output, pvpython):
+def render_paraview511(output, pvpython, with_xvfb):
     """ParaView 5.11 draws the series of an earlier run (OUTPUT_DIR) in a render
-    view. Several tries: X servers of other jobs on a shared machine can take the
-    display away (a lost connection, a crash inside Xlib); if every try loses it,
-    the test is skipped with that reason rather than judged."""
+    view, on an X server of its own (tests/support/with_xvfb.sh)."""
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview511_open.py")
-    lost = 0
-    for attempt in range(5):
-        server, display = private_display()
-        try:
-            result = subprocess.run([pvpython, script, output, "render"], stdout=subprocess.PIPE,
-                                    stderr=subprocess.STDOUT, text=True,
-                                    env=dict(os.environ, DISPLAY=display))
-        finally:
-            server.terminate()
-            server.wait()
-        x_lost = result.returncode < 0 and re.search(
-            r"bad X server connection|XSync|XOpenGLRenderWindow|X Error", result.stdout)
-        if not x_lost:
-            break
-        lost += 1
-        print("attempt %d: the X display was lost while rendering (signal %d)"
-              % (attempt + 1, -result.returncode))
+    result = subprocess.run([with_xvfb, pvpython, script, output, "render"],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     print(result.stdout[-3000:])
-    if lost == 5:
-        print("SKIPPED: no X display stayed up long enough to render (other jobs' X servers)")
-        sys.exit(SKIP)
     expect(result.returncode == 0, "ParaView 5.11 (pvpython) renders the series (exit code %d)"
            % result.returncode)
 
@@ -158,7 +125,7 @@ def mount_tmpfs(directory, size):
 def main():
     check, output = sys.argv[1], sys.argv[2]
     if check == "paraview511_render":
-        render_paraview511(output, sys.argv[3])
+        render_paraview511(output, sys.argv[3], sys.argv[4])
         finish()
     separator = sys.argv.index("--")
     argument = sys.argv[3] if separator > 3 else None
