@@ -16,8 +16,8 @@ import shutil
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "support"))
-from output_checks import (cell_array, expect, finish, read_png, read_polydata,  # noqa: E402
-                           read_unstructured, run_command)
+from output_checks import (cell_array, expect, finish, read_htg_pieces, read_png,  # noqa: E402
+                           read_polydata, read_unstructured, run_command)
 
 separator = sys.argv.index("--")
 arguments = sys.argv[1:separator]
@@ -44,8 +44,11 @@ for step, quadrants, dense in steps:
         density = cell_array(selection, "density")
         expect(density.min() >= 1.9 and density.max() <= 2.1,
                "step %d: selected densities within [1.9, 2.1]" % step)
-    expect(os.path.exists(os.path.join(output, "grid_%s.phtg" % name)),
-           "step %d: hypertree-grid extract written" % step)
+    pieces = read_htg_pieces(output, "grid", step)
+    expect(os.path.exists(os.path.join(output, "grid_%s.vtm" % name)) and pieces
+           and all(piece.GetNumberOfCells() > 0 for piece in pieces),
+           "step %d: hypertree-grid extract written (grid_%s.vtm, %d .htg piece(s))"
+           % (step, name, len(pieces)))
     if dimension == 2:
         surface = read_polydata(os.path.join(output, "grid_surface_%s.pvtp" % name))
         expect(surface.GetNumberOfCells() == quadrants,
