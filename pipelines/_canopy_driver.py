@@ -202,6 +202,23 @@ def _before_extracts(execute):
     return execute_then_agree
 
 
+def ensure_step_fits(own_bytes, directory):
+    """For a script that writes files itself in catalyst_execute (data_extracts.py's
+    grid writers), before it writes them: agrees over ranks that those
+    (`own_bytes` on this rank) and the step's extracts fit on the disk; raises
+    NotEnoughDiskSpace on every rank otherwise, with nothing written. Collective:
+    every rank calls it (the agreement after catalyst_execute follows as usual)."""
+    script, step, step_time = _active_step()
+    _, needed = _due_outputs(script, directory, step, step_time)
+    needed += own_bytes
+    failed, total_needed, free = agree_before_extracts("", needed, _free_bytes(directory))
+    if total_needed > free:
+        raise NotEnoughDiskSpace(
+            "could not write its extracts: not enough free disk space in '%s' (up to %s "
+            "needed by all ranks, %s free); nothing written"
+            % (directory, _size(total_needed), _size(free)))
+
+
 def agree_before_extracts(outcome, needed, free):
     """Replaced by the driver at open (its ranks' agreement): `outcome` is "" if
     catalyst_execute succeeded here, else its failure; returns (whether it

@@ -427,6 +427,20 @@ def write_grid(writers, info):
     agrees over ranks, so when any rank fails, every rank raises the same error,
     naming each rank's problem and the step (the driver then reports the step as
     failed on all ranks)."""
+    if not writers:
+        return
+    try:
+        import _canopy_driver
+    except ImportError:
+        _canopy_driver = None  # not run by Canopy's driver: no agreement to join
+    folder = os.path.dirname(writers[0].FileName)
+    if _canopy_driver is not None and os.path.isdir(folder):
+        # A step whose extracts would not fit is refused before any file is written
+        # (the driver's own check comes after catalyst_execute, too late for these).
+        # A folder that does not exist: the writers say why they cannot create it.
+        data = _local_data(writers[0].Input)
+        size = data.GetActualMemorySize() * 1024.0 if data is not None else 0.0
+        _canopy_driver.ensure_step_fits(_canopy_driver.DATA_FACTOR * size * len(writers), folder)
     problems = []
     for writer in writers:
         writer.TimeStep = info.timestep
