@@ -1,5 +1,6 @@
 // Canopy's adaptive surface against ParaView 5.11's VTK filters, in one run
-// (run under Xvfb, tests/support/with_xvfb.sh: it renders). Writes CSV files into the output folder:
+// (run under Xvfb, tests/support/with_xvfb.sh: it renders). Writes CSV files into the output
+// folder:
 //   full2d.csv      full-resolution 2D surface vs vtkHyperTreeGridGeometry
 //   adaptive2d.csv  view-dependent 2D at 1024x1024 vs vtkAdaptiveDataSetSurfaceFilter
 //   surface3d.csv   3D surface vs both upstream filters

@@ -1,6 +1,6 @@
-// Rendered under Xvfb (tests/support/with_xvfb.sh): with level of detail off the adaptive surface gives
-// the same image as the full surface (culling removes only what is not seen);
-// with level of detail on, the image error stays under a stated bound.
+// Rendered under Xvfb (tests/support/with_xvfb.sh): with level of detail off the adaptive surface
+// gives the same image as the full surface (culling removes only what is not seen); with level of
+// detail on, the image error stays under a stated bound.
 #include "DescriptorForest.h"
 #include "OffscreenRenderer.h"
 #include "PaperCaseDefinitions.h"
