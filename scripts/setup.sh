@@ -13,7 +13,7 @@ packages=(
   libfreetype-dev libglew-dev libx11-dev libxt-dev libxml2-dev libnetcdf-dev
   libhdf5-openmpi-dev libboost-dev liblz4-dev libdouble-conversion-dev libutfcpp-dev
   libexpat1-dev liblzma-dev libpng-dev libjpeg-dev libtiff-dev zlib1g-dev libgl-dev
-  libp4est-dev python3-matplotlib python3-pandas valgrind
+  libp4est-dev python3-h5py python3-matplotlib python3-pandas valgrind
   clang-14 libclang-rt-14-dev
 )
 missing=()
