@@ -495,28 +495,27 @@ def check_python_error_one_rank(code, log):
     expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
 
 
-def check_sys_exit_execute(code, log):
-    """sys.exit() in catalyst_execute at step 1 is reported like an exception (rank,
-    step, script) instead of ending the simulation: steps 0 and 2 run."""
+def _check_sys_exit_execute(code, log, rank):
     expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
-    expect(re.search(r"failure: rank 0, step 1: the script .*marker_script.py' .*sys\.exit\(3\)",
-                     log) is not None, "rank 0's sys.exit is reported with step and script")
+    expect(re.search(r"failure: rank %d, step 1: the script .*marker_script.py' .*sys\.exit\(3\)"
+                     % rank, log) is not None,
+           "rank %d's sys.exit is reported with step and script" % rank)
     expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
     expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
     pieces = [len(htg_pieces("grid", step)) for step in range(3)]
     expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
+
+
+def check_sys_exit_execute(code, log):
+    """sys.exit() in catalyst_execute at step 1 is reported like an exception (rank,
+    step, script) instead of ending the simulation: steps 0 and 2 run."""
+    _check_sys_exit_execute(code, log, rank=0)
 
 
 def check_sys_exit_execute_one_rank(code, log):
     """sys.exit() on rank 1 only: reported for rank 1, every rank skips the step
     (nobody waits for rank 1), later steps run."""
-    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
-    expect(re.search(r"failure: rank 1, step 1: the script .*marker_script.py' .*sys\.exit\(3\)",
-                     log) is not None, "rank 1's sys.exit is reported with step and script")
-    expect(steps_ran(log) == [0, 2], "steps 0 and 2 ran (%s)" % steps_ran(log))
-    expect("closed" in log.splitlines(), "the simulation closed Canopy at the end")
-    pieces = [len(htg_pieces("grid", step)) for step in range(3)]
-    expect(pieces == [RANKS, 0, RANKS], "extracts at steps 0 and 2 only: %s" % pieces)
+    _check_sys_exit_execute(code, log, rank=1)
 
 
 def check_sys_exit_import(code, log):
