@@ -114,15 +114,19 @@ def simulation_grid(values):
     return TrivialProducer(registrationName=values.channel)
 
 
-def request_fields(data_description, values, extra=()):
+def request_fields(data_description, values, extra=(), every_field_when_empty=True):
     """For a script's RequestDataDescription: ask Canopy for the grid with only the
-    fields in the 'fields' setting (plus `extra`); every field when it is empty."""
+    fields in the 'fields' setting plus `extra` (fields the script itself reads).
+    When the setting is empty: every field, or, with every_field_when_empty=False,
+    only `extra` (a script that draws one field need not wrap the others)."""
     from paraview.vtk import vtkDataObject
     source = data_description.GetInputDescriptionByName(values.channel)
     if source is None:
         return
     source.GenerateMeshOn()
-    names = values.list("fields") + [name for name in extra if name]
+    names = values.list("fields")
+    if names or not every_field_when_empty:
+        names = names + [name for name in extra if name]
     if not names:
         source.AllFieldsOn()
         return

@@ -1,7 +1,9 @@
 # script-version: 2
 """Canopy pipeline: cells selected by location, id, value range, box or frustum,
 written as an unstructured grid of lines/quads/hexahedra with the cell fields and
-original ids (.pvtu), or as a masked hypertree grid (.phtg) with preserve_topology.
+original ids (.pvtu), or, with preserve_topology, as the grid itself with every
+cell that is not selected masked (the grid extracts of data_extracts.py: VTKHDF
+and/or ParaView 5.11's .pvd series of .htg pieces).
 
 Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   frequency          run every N steps (1)
@@ -23,15 +25,20 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
                      in front of the camera, as a render view resets its clipping range)
   allow_masked       masked cells may be selected (false)
   preserve_topology  write a masked hypertree grid instead of cells (false)
+  format             preserve_topology's grid: vtkhdf, htg or both (both)
   fields             fields Canopy wraps for this script ('' : every field)
-  file_prefix        the files' names: <prefix>_<step>.pvtu, ... ("selection")
+  file_prefix        the files' names: <prefix>_<step>.pvtu, <prefix>.pvd, ... ("selection")
 
 Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI rank):
   <prefix>_<step>.pvtu                          the selected cells, listing its pieces,
   <prefix>_<step>/<prefix>_<step>_<rank>.vtu      one per rank that selected cells
-  <prefix>_<step>.phtg                          preserve_topology, instead: the masked grid,
-  <prefix>_<step>/<prefix>_<step>_<rank>.htg      one piece per rank (open these: ParaView
-                                                  5.11 crashes on the .phtg)
+  <prefix>.vtkhdf                               preserve_topology, instead (format vtkhdf):
+                                                  the masked grid, every step in one file
+                                                  (VTK 9.5+: ParaView 6.0 and later)
+  <prefix>.pvd                                  preserve_topology (format htg): the masked
+                                                  grid's steps (ParaView 5.11: open this),
+  <prefix>_<step>.vtm                             one step, listing its pieces,
+  <prefix>_<step>/<prefix>_<step>_<rank>.htg      one per rank
 """
 import canopy_catalyst as canopy
 
@@ -40,7 +47,7 @@ settings = canopy.settings(selection="points", points="", ids="", value_field=""
                            camera_position="", camera_focal_point="", camera_view_up="",
                            parallel_scale=0.0, view_angle=30.0, image_size="800x600",
                            clipping_range="", allow_masked=False, preserve_topology=False,
-                           file_prefix="selection")
+                           format="both", file_prefix="selection")
 options = canopy.catalyst_options(settings)
 canopy.load_canopy_plugin(globals())
 
@@ -113,21 +120,31 @@ def camera_frustum_planes(grid_bounds):
     return planes
 
 
-if settings.selection == "frustum" and not corners:
-    @canopy.collective
-    def catalyst_execute(info):
-        # Each step: near and far follow the grid (local bounds, no collective call).
-        bounds = grid.GetClientSideObject().GetOutputDataObject(0).GetBounds()
-        if bounds[0] > bounds[1]:
-            bounds = [0.0, 1.0, 0.0, 1.0, 0.0, 1.0]  # a rank without trees
-        selection.FrustumPlanes = camera_frustum_planes(bounds)
-
+camera_frustum = settings.selection == "frustum" and not corners
+writers = []
 if settings.preserve_topology:
-    canopy.data_extractor("HTG", selection, "selection_data",
-                          settings.file_prefix + "_{timestep:06d}.phtg", settings)
+    # Canopy's grid writers: ParaView's own HTG extractor writes a .phtg whose
+    # reader crashes ParaView 5.11 (docs/insitu.md).
+    writers = canopy.grid_writers(selection, settings)
 else:
     canopy.data_extractor("VTU", selection, "selection_data",
                           settings.file_prefix + "_{timestep:06d}.pvtu", settings)
+
+
+@canopy.collective
+def update_camera_frustum():
+    # Each step: near and far follow the grid (local bounds, no collective call).
+    bounds = grid.GetClientSideObject().GetOutputDataObject(0).GetBounds()
+    if bounds[0] > bounds[1]:
+        bounds = [0.0, 1.0, 0.0, 1.0, 0.0, 1.0]  # a rank without trees
+    selection.FrustumPlanes = camera_frustum_planes(bounds)
+
+
+def catalyst_execute(info):
+    if camera_frustum:
+        update_camera_frustum()
+    # Collective: every rank writes its piece; a failure raises on every rank.
+    canopy.write_grid(writers, info)
 
 
 def RequestDataDescription(datadescription):

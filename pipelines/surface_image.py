@@ -10,7 +10,8 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   frequency         run every N steps (1)
   image_size        WIDTHxHEIGHT (800x600)
   color_by          cell field to color by ('' : solid color)
-  fields            fields Canopy wraps for this script ('' : every field)
+  fields            fields Canopy wraps for this script, besides color_by ('' : color_by
+                    alone; the surface extract carries these)
   pixel_threshold   stop refining below this many pixels (1.0)
   show_edges        draw the cells' edges: the mesh the camera sees (false)
   camera_position, camera_focal_point, camera_view_up   'x,y,z' ('' : frame the grid)
@@ -77,7 +78,8 @@ if settings.surface_extract:
 
 
 def RequestDataDescription(datadescription):
-    canopy.request_fields(datadescription, settings, extra=[settings.color_by])
+    canopy.request_fields(datadescription, settings, extra=[settings.color_by],
+                          every_field_when_empty=False)
 
 
 legend = canopy.color_legend(view, settings.color_by) if settings.legend else None

@@ -55,7 +55,8 @@ image.Trigger.StartTimeStep = int(settings.start)
 
 
 def RequestDataDescription(datadescription):
-    canopy.request_fields(datadescription, settings, extra=[settings.color_by])
+    canopy.request_fields(datadescription, settings, extra=[settings.color_by],
+                          every_field_when_empty=False)
 
 
 legend = canopy.color_legend(view, settings.color_by) if settings.legend else None

@@ -72,6 +72,37 @@ def total_masked(forest):
     return sum(tree["mask"].count("1") for tree in forest["trees"])
 
 
+def selected_by_level(forest, low, high):
+    """The forest as vtkCanopyExtractSelection's preserve-topology output shows a
+    value-range selection on a field equal to each cell's depth (the stand-in's
+    refinementLevel): the visible leaves with low <= depth <= high stay visible with
+    their ancestors, every other cell is masked (brute force over every node)."""
+    children = children_per_node(forest)
+    selected = dict(forest)
+    selected["trees"] = []
+    for tree in forest["trees"]:
+        refinement = tree["refinement"]
+        mask = tree["mask"] or "0" * len(refinement)
+        parent, depth, hidden = [-1] * len(refinement), [0] * len(refinement), [False] * len(refinement)
+        first_child = 1
+        for node, refined in enumerate(refinement):
+            hidden[node] = hidden[node] or mask[node] == "1"
+            if refined == "1":
+                for child in range(first_child, first_child + children):
+                    parent[child], depth[child], hidden[child] = node, depth[node] + 1, hidden[node]
+                first_child += children
+        visible = [False] * len(refinement)
+        for node, refined in enumerate(refinement):
+            if refined == "0" and not hidden[node] and low <= depth[node] <= high:
+                while node >= 0 and not visible[node]:
+                    visible[node] = True
+                    node = parent[node]
+        copy = dict(tree)
+        copy["mask"] = "".join("0" if v else "1" for v in visible)
+        selected["trees"].append(copy)
+    return selected
+
+
 def same_value(got, want):
     """Values are written exactly: equal, or both NaN."""
     if isinstance(want, float) and math.isnan(want):

@@ -8,6 +8,10 @@ usage: python3 grid_extracts_check.py CHECK OUTPUT_DIR [ARGUMENT] -- COMMAND...
   vtkhdf                    the VTKHDF file holds every step
   paraview511 PVPYTHON      ParaView 5.11 opens the .pvd and .vtm files right
   paraview511_render PVPYTHON WITH_XVFB (no COMMAND) ParaView 5.11 draws OUTPUT_DIR's series
+  selection PVPYTHON        selection_extract.py --preserve-topology=1 --selection=range
+                            --value-field=refinementLevel --value-range=4,5 (format both):
+                            selection.vtkhdf (h5py) and selection.pvd (pvpython) hold the
+                            forest with exactly the brute-force selection left unmasked
   disk_full SIZE            OUTPUT_DIR/tmpfs is a tmpfs of SIZE (mounted here when
                             possible, else the test is skipped): steps that do not
                             fit fail, the file keeps the others
@@ -22,7 +26,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
-from grid_extract_expectations import failed_steps, load_forests  # noqa: E402
+from grid_extract_expectations import failed_steps, load_forests, selected_by_level  # noqa: E402
 from output_checks import expect, finish, run_command  # noqa: E402
 from vtkhdf_check import verify  # noqa: E402
 
@@ -52,6 +56,25 @@ def check_paraview511(code, log, output, pvpython):
     print(data.stdout[-6000:])
     expect(data.returncode == 0, "ParaView 5.11 (pvpython) opens the series and every step "
            "with the simulation's cells and values (exit code %d)" % data.returncode)
+
+
+def check_selection(code, log, output, pvpython):
+    expect(code == 0, "the simulation exits normally")
+    expect(failed_steps(log) == [], "no step failed (%s)" % failed_steps(log))
+    forests = [selected_by_level(forest, 4, 5) for forest in load_forests(output)]
+    expect(len(forests) >= 2, "%d steps to check" % len(forests))
+    visible = [sum(tree["mask"].count("0") for tree in forest["trees"]) for forest in forests]
+    expect(all(0 < v < sum(len(t["refinement"]) for t in f["trees"])
+               for v, f in zip(visible, forests)),
+           "the selection keeps some cells and masks others (%s visible)" % visible)
+    verify(os.path.join(output, "selection.vtkhdf"), forests, expect)
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview511_open.py")
+    data = subprocess.run([pvpython, script, output, "data", "selection", "4,5"],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          env={k: v for k, v in os.environ.items() if k != "DISPLAY"})
+    print(data.stdout[-6000:])
+    expect(data.returncode == 0, "ParaView 5.11 (pvpython) opens selection.pvd with the "
+           "selection's mask and the simulation's values (exit code %d)" % data.returncode)
 
 
 def render_paraview511(output, pvpython, with_xvfb):

@@ -3,16 +3,19 @@ checks it against the forests the simulation wrote (forest_<step>.json): the
 .pvd series and each step's .vtm, one block per rank, cell and leaf counts,
 masks, field names and components, values at sampled cells; then renders it.
 
-Run with pvpython: paraview511_open.py OUTPUT_DIR data|render (render: with an
-X display; it draws the series and checks the image shows the grid)
+Run with pvpython: paraview511_open.py OUTPUT_DIR data|render [PREFIX [LOW,HIGH]]
+(render: with an X display; it draws the series and checks the image shows the
+grid). PREFIX: the files' prefix (grid); LOW,HIGH: the series is selection_extract.py's
+preserve-topology output for a value range on refinementLevel (the cell's depth).
 """
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
-from grid_extract_expectations import (load_forests, same_value, total_cells,  # noqa: E402
-                                       total_leaves, total_masked)
+from grid_extract_expectations import (load_forests, same_value,  # noqa: E402
+                                       selected_by_level, total_cells, total_leaves,
+                                       total_masked)
 
 from paraview import servermanager  # noqa: E402
 from paraview.simple import (ColorBy, CreateRenderView, Delete, Hide,  # noqa: E402
@@ -76,25 +79,30 @@ def check_step(data, forest, label):
 
 def main():
     output, mode = sys.argv[1], sys.argv[2]
+    prefix = sys.argv[3] if len(sys.argv) > 3 else "grid"
     forests = load_forests(output)
-    series = OpenDataFile(os.path.join(output, "grid.pvd"))
-    expect(series is not None, "ParaView 5.11 has a reader for grid.pvd")
+    if len(sys.argv) > 4:
+        low, high = (int(v) for v in sys.argv[4].split(","))
+        forests = [selected_by_level(forest, low, high) for forest in forests]
+    series = OpenDataFile(os.path.join(output, prefix + ".pvd"))
+    expect(series is not None, "ParaView 5.11 has a reader for %s.pvd" % prefix)
     if mode == "render":
         render(series, output)
     else:
-        check_data(series, forests, output)
+        check_data(series, forests, output, prefix)
     print("%d check(s) failed" % len(FAILURES) if FAILURES else "all checks passed")
     sys.exit(1 if FAILURES else 0)
 
 
-def check_data(series, forests, output):
+def check_data(series, forests, output, prefix):
     times = list(series.TimestepValues) if len(forests) > 1 else [forests[0]["time"]]
     expect(all(math.isclose(t, f["time"], abs_tol=1e-12) for t, f in zip(times, forests)) and
            len(times) == len(forests), "the series has the steps' times %s" % times)
     for forest in forests:
         series.UpdatePipeline(forest["time"])
-        check_step(servermanager.Fetch(series), forest, "grid.pvd at time %g" % forest["time"])
-        name = "grid_%06d.vtm" % forest["step"]
+        check_step(servermanager.Fetch(series), forest,
+                   "%s.pvd at time %g" % (prefix, forest["time"]))
+        name = "%s_%06d.vtm" % (prefix, forest["step"])
         step = OpenDataFile(os.path.join(output, name))
         step.UpdatePipeline()
         check_step(servermanager.Fetch(step), forest, name)
