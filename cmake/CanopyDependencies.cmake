@@ -22,6 +22,16 @@ if(CANOPY_FINDING_PACKAGE)
   include(CMakeFindDependencyMacro)
 endif()
 
+# FindMPI's and FindHDF5's C parts compile C test programs: a consumer project
+# that enabled only CXX gets C enabled here (file scope: find_package's caller).
+if(CANOPY_FINDING_PACKAGE)
+  get_property(_canopy_languages GLOBAL PROPERTY ENABLED_LANGUAGES)
+  if(NOT "C" IN_LIST _canopy_languages)
+    enable_language(C)
+  endif()
+  unset(_canopy_languages)
+endif()
+
 # ParaView ships Find modules (FindNetCDF, ...) next to its VTK config; use
 # them for this discovery only, then restore the caller's module path.
 set(_canopy_saved_module_path "${CMAKE_MODULE_PATH}")

@@ -56,7 +56,8 @@ struct SurfaceArrays
 /// Two passes over the trees (in parallel with vtkSMPTools): count, then write
 /// each tree's cells at its offset. The output is allocated once, in its final
 /// place; its order is the tree order for any number of threads. A full 1D/2D
-/// surface of a kept access is not counted (the access knows its leaves); a 3D
+/// surface of a kept access is not counted (the access knows its leaves) and is
+/// written by a walk of its own (no view to test: the cost is the output); a 3D
 /// surface is walked once, its cells kept per tree and copied.
 class GridSection;
 

@@ -2,6 +2,8 @@
 
 #include <vtkAOSDataArrayTemplate.h>
 #include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
 #include <vtkSMPTools.h>
 
 #include <cstring>
@@ -39,13 +41,13 @@ vtkSmartPointer<vtkDataArray> gatherTuples(vtkDataArray* source, const vtkIdType
       }
       else
       {
-        for (vtkIdType i = 0; i < count; ++i)
-        {
-          for (int c = 0; c < nc; ++c)
-          {
-            to[i * nc + c] = static_cast<VTK_TT>(source->GetComponent(ids[i], c));
-          }
-        }
+        // Through the source's own GetTuples: typed for VTK's array classes (its
+        // dispatch) and for Canopy's simulation arrays (their override), a
+        // virtual call per value only for arrays neither knows.
+        vtkNew<vtkIdList> list;
+        list->SetArray(const_cast<vtkIdType*>(ids), count, /*save=*/true);
+        source->GetTuples(list, out);
+        list->Release(); // the ids stay the caller's
       }
     });
   default:

@@ -13,7 +13,8 @@ namespace canopy
 /// Fills `out` (a fresh array of the source's type when null) with the tuples
 /// of `source` at `ids`, in order, and names it like the source. Contiguous
 /// (AoS) sources are copied tuple by tuple with memcpy, in parallel; other
-/// arrays (Canopy's borrowed ones, SoA) are read through the generic interface.
+/// arrays through their own GetTuples (typed for SoA and for Canopy's
+/// simulation arrays).
 vtkSmartPointer<vtkDataArray> gatherTuples(vtkDataArray* source, const vtkIdType* ids,
                                            vtkIdType count,
                                            vtkSmartPointer<vtkDataArray> out = nullptr);

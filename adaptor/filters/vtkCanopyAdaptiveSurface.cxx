@@ -127,6 +127,40 @@ vtkSmartPointer<ArrayType> vtkCanopyAdaptiveSurface::ReusableArray(const std::st
   return ArrayType::SafeDownCast(slot);
 }
 
+vtkSmartPointer<vtkIdTypeArray>
+vtkCanopyAdaptiveSurface::ArithmeticIds(const std::string& key, vtkIdType count, vtkIdType step)
+{
+  KeptSequence& kept = this->Sequences[key];
+  const bool reusable = kept.Array && kept.Array->GetReferenceCount() == 1 && kept.Step == step &&
+                        kept.Array->GetMTime() == kept.Time && !storageShared(kept.Array);
+  if (!reusable)
+  {
+    kept.Array = vtkSmartPointer<vtkIdTypeArray>::New();
+    kept.Step = step;
+    kept.Valid = 0;
+  }
+  // Within its allocation, resizing keeps the values; beyond it, VTK allocates
+  // afresh (vtkGenericDataArray::Allocate) and every value is written again.
+  if (count > kept.Array->GetSize())
+  {
+    kept.Valid = 0;
+  }
+  kept.Array->SetNumberOfTuples(count);
+  vtkIdType* value = kept.Array->GetPointer(0);
+  vtkSMPTools::For(std::min(kept.Valid, count), count,
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType i = begin; i < end; ++i)
+                     {
+                       value[i] = step * i;
+                     }
+                   });
+  kept.Valid = count;
+  kept.Array->Modified();
+  kept.Time = kept.Array->GetMTime();
+  return kept.Array;
+}
+
 vtkPolyData* vtkCanopyAdaptiveSurface::GetPolyDataOutput()
 {
   return vtkPolyData::SafeDownCast(this->GetOutput());
@@ -272,28 +306,8 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   vtkNew<vtkPoints> points;
   points->SetData(coordinates);
 
-  auto offsets = this->ReusableArray<vtkIdTypeArray>("offsets", VTK_ID_TYPE);
-  offsets->SetNumberOfTuples(quads + 1);
-  auto connectivity = this->ReusableArray<vtkIdTypeArray>("connectivity", VTK_ID_TYPE);
-  connectivity->SetNumberOfTuples(perCell * quads);
-  vtkIdType* offset = offsets->GetPointer(0);
-  vtkIdType* connection = connectivity->GetPointer(0);
-  vtkSMPTools::For(0, quads + 1,
-                   [&](vtkIdType begin, vtkIdType end)
-                   {
-                     for (vtkIdType q = begin; q < end; ++q)
-                     {
-                       offset[q] = perCell * q;
-                     }
-                   });
-  vtkSMPTools::For(0, perCell * quads,
-                   [&](vtkIdType begin, vtkIdType end)
-                   {
-                     for (vtkIdType p = begin; p < end; ++p)
-                     {
-                       connection[p] = p;
-                     }
-                   });
+  auto offsets = this->ArithmeticIds("offsets", quads + 1, perCell);
+  auto connectivity = this->ArithmeticIds("connectivity", perCell * quads, 1);
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, connectivity);
 

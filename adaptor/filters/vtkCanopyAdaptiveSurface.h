@@ -38,6 +38,7 @@
 
 class vtkCamera;
 class vtkDataArray;
+class vtkIdTypeArray;
 class vtkPolyData;
 class vtkRenderer;
 namespace canopy
@@ -164,6 +165,21 @@ private:
   std::map<std::string, vtkSmartPointer<vtkDataArray>> Reusable;
   template <typename ArrayType>
   vtkSmartPointer<ArrayType> ReusableArray(const std::string& key, int dataType);
+  /// Offsets and connectivity are arithmetic sequences (cell q's points are
+  /// perCell q, perCell q + 1, ...), the same at every execution: kept with how
+  /// many values are already right, so an execution writes only the values a
+  /// longer output adds. Kept only while nobody else holds the array and its
+  /// modification time is the one it was left with.
+  struct KeptSequence
+  {
+    vtkSmartPointer<vtkIdTypeArray> Array;
+    vtkIdType Step = 0;
+    vtkIdType Valid = 0;
+    vtkMTimeType Time = 0;
+  };
+  std::map<std::string, KeptSequence> Sequences;
+  vtkSmartPointer<vtkIdTypeArray> ArithmeticIds(const std::string& key, vtkIdType count,
+                                                vtkIdType step);
   /// What the input's topology costs to read (index tables, masked-descendant
   /// flags), kept while the topology is unchanged: a camera move does not pay it.
   std::unique_ptr<canopy::HyperTreeAccessCache> Topology;

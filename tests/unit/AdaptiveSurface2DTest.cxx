@@ -14,11 +14,13 @@
 #include <vtkActor.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkDoubleArray.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
+#include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
@@ -371,6 +373,134 @@ TEST(AdaptiveSurface2D, EveryQuadSitsOnItsCellInAnyStorageOrder)
       }
     }
   }
+}
+
+TEST(AdaptiveSurface2D, FullSurfaceFieldsAreTheSimulationsValuesInEveryLayout)
+{
+  // Depth-first storage: every field reads through the slot map (Canopy's own
+  // array class), AoS, SoA, strided and of an integer type. Each quad's values
+  // must be the simulation's at its cell's slot (value = 10 slot + component).
+  for (int f : {2, 3})
+  {
+    RandomForestOptions o;
+    o.dimension = 2;
+    o.branchFactor = f;
+    o.rootCells = {{3, 2, 1}};
+    o.maxLevels = f == 2 ? 6 : 4;
+    o.order = StorageOrder::DepthFirst;
+    o.maskProbability = 0.1;
+    o.seed = 31 + f;
+    RandomForest forest(o);
+    const std::size_t slots = forest.numberOfNodes();
+    std::vector<double> vector3(3 * slots);
+    std::vector<double> soa0(slots);
+    std::vector<double> soa1(slots);
+    struct Record
+    {
+      float pad;
+      float value;
+    };
+    std::vector<Record> records(slots);
+    std::vector<std::int32_t> integers(slots);
+    for (std::size_t slot = 0; slot < slots; ++slot)
+    {
+      for (int c = 0; c < 3; ++c)
+        vector3[3 * slot + c] = 10.0 * slot + c;
+      soa0[slot] = 10.0 * slot;
+      soa1[slot] = 10.0 * slot + 1;
+      records[slot] = {-1.0f, static_cast<float>(10 * slot)};
+      integers[slot] = static_cast<std::int32_t>(10 * slot);
+    }
+    ForestDescription& d = forest.description();
+    d.fields.push_back(FieldDescription::aos("vector", vector3.data(), slots, 3));
+    d.fields.push_back(FieldDescription::soa<double>("pair", {soa0.data(), soa1.data()}, slots));
+    d.fields.push_back(
+        FieldDescription::strided("strided", &records[0].value, sizeof(Record), slots));
+    d.fields.push_back(FieldDescription::aos("integer", integers.data(), slots));
+    auto htg = buildHyperTreeGrid(d);
+    vtkNew<vtkCanopyAdaptiveSurface> filter;
+    filter->SetInputData(htg);
+    filter->ViewDependentOff();
+    filter->Update();
+    vtkPolyData* surface = filter->GetPolyDataOutput();
+    std::map<vtkIdType, std::int64_t> slotOfCell;
+    for (std::size_t t = 0; t < forest.nodes().size(); ++t)
+      for (std::size_t n = 0; n < forest.nodes()[t].size(); ++n)
+        slotOfCell[forest.cellOf(t, n)] = forest.nodes()[t][n].slot;
+    auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
+    ASSERT_NE(ids, nullptr);
+    ASSERT_GT(surface->GetNumberOfCells(), 20);
+    for (const char* name : {"vector", "pair", "strided", "integer"})
+    {
+      vtkDataArray* values = surface->GetCellData()->GetArray(name);
+      ASSERT_NE(values, nullptr) << name;
+      ASSERT_EQ(values->GetNumberOfTuples(), surface->GetNumberOfCells()) << name;
+      for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
+      {
+        const double slot = static_cast<double>(slotOfCell.at(ids->GetValue(q)));
+        for (int c = 0; c < values->GetNumberOfComponents(); ++c)
+        {
+          ASSERT_EQ(values->GetComponent(q, c), 10.0 * slot + c)
+              << name << " quad " << q << " component " << c << " (f = " << f << ")";
+        }
+      }
+    }
+  }
+}
+
+TEST(AdaptiveSurface2D, CellsStayRightAcrossExecutionsThatGrowAndShrink)
+{
+  // The filter keeps its offsets and connectivity between executions and writes
+  // only what a longer output adds: after every execution, whatever the order of
+  // sizes, each quad must use its own four points and sit on its cell.
+  RandomForestOptions o;
+  o.dimension = 2;
+  o.rootCells = {{4, 4, 1}};
+  o.maxLevels = 6;
+  o.refineProbability = 0.6;
+  o.seed = 5;
+  RandomForest forest(o);
+  auto htg = buildHyperTreeGrid(forest.description());
+  std::map<vtkIdType, LeafBox> byId;
+  for (const LeafBox& leaf : visibleLeafBoxes(htg))
+  {
+    byId[leaf.global] = leaf;
+  }
+  vtkNew<vtkCanopyAdaptiveSurface> filter;
+  filter->SetInputData(htg);
+  filter->SetLevelOfDetail(false);
+  filter->SetViewportSize(400, 400);
+  filter->SetCameraPosition(2, 2, 10);
+  filter->SetCameraFocalPoint(2, 2, 0);
+  std::set<vtkIdType> sizes;
+  for (double scale : {0.3, 2.5, 0.7, 0.2, 1.2, 2.5})
+  {
+    filter->SetParallelScale(scale);
+    filter->Update();
+    vtkPolyData* surface = filter->GetPolyDataOutput();
+    const vtkIdType quads = surface->GetNumberOfCells();
+    sizes.insert(quads);
+    auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
+    ASSERT_NE(ids, nullptr);
+    vtkNew<vtkIdList> points;
+    for (vtkIdType q = 0; q < quads; ++q)
+    {
+      surface->GetPolys()->GetCellAtId(q, points);
+      ASSERT_EQ(points->GetNumberOfIds(), 4) << "scale " << scale << " quad " << q;
+      for (vtkIdType k = 0; k < 4; ++k)
+      {
+        ASSERT_EQ(points->GetId(k), 4 * q + k) << "scale " << scale << " quad " << q;
+      }
+      double b[6];
+      surface->GetCell(q)->GetBounds(b);
+      const LeafBox& leaf = byId.at(ids->GetValue(q));
+      for (int i = 0; i < 6; ++i)
+      {
+        ASSERT_NEAR(b[i], leaf.bounds[i], 1e-12) << "scale " << scale << " quad " << q;
+      }
+    }
+  }
+  EXPECT_GE(sizes.size(), 4u) << "the views must give outputs of different sizes";
 }
 
 TEST(AdaptiveSurface2D, RandomViewsEmitExactlyTheOverlappingLeaves)
