@@ -4,6 +4,7 @@
 #include "SimulationFieldArray.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 namespace canopy
@@ -68,28 +69,63 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
   std::vector<T> computed((1 + map.numberOfCoarse) * nc);
   std::fill(computed.begin(), computed.begin() + static_cast<std::ptrdiff_t>(nc), absentValue<T>());
   const std::size_t children = childrenPerNode(forest);
-  std::vector<std::size_t> elderChild;
   std::vector<double> sum(nc);
+  // The value of a child, leaf (borrowed) or coarse (computed before it: see below).
+  const auto value = [&](std::int64_t tuple, std::size_t c)
+  {
+    return tuple >= 0 ? static_cast<double>(leaves.at<T>(static_cast<std::size_t>(tuple), c))
+                      : static_cast<double>(computed[computedIndexOf(tuple) * nc + c]);
+  };
 
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
   {
     const TreeDescription& tree = forest.trees[t];
     const TreeLayout& shape = layout.trees[t];
-    // Breadth-first numbering: the k-th refined node's children start at 1 + k * children.
-    elderChild.assign(shape.descriptorBits, 0);
-    std::size_t refinedSoFar = 0;
+    // Breadth-first numbering: the k-th refined node's children start at
+    // 1 + k * children. Children come after their parent, so a sweep from the
+    // last refined node back sees them first.
+    std::size_t refined = 0;
     for (std::size_t n = 0; n < shape.descriptorBits; ++n)
     {
-      if (tree.refinement[n])
-      {
-        elderChild[n] = 1 + refinedSoFar++ * children;
-      }
+      refined += tree.refinement[n] != 0;
     }
-    // Children come after their parent, so a reverse sweep sees them first.
+    // Without masked or absent children every child counts: the loop the
+    // unchanged steps of a leaves-only field pay for (docs/benchmarks.md).
+    const bool everyChild = !tree.masked && !tree.absent;
     for (std::size_t n = shape.descriptorBits; n-- > 0;)
     {
       if (!tree.refinement[n])
       {
+        continue;
+      }
+      const std::size_t first = 1 + --refined * children;
+      const std::int64_t* entry = &table[cellIndex(shape, first)];
+      const std::size_t target = computedIndexOf(table[cellIndex(shape, n)]);
+      if (everyChild && !leaves.tupleAddress)
+      {
+        // Strided leaves (AoS, SoA, records): the address arithmetic in locals,
+        // which the compiler cannot hoist past the writes into `computed`.
+        for (std::size_t c = 0; c < nc; ++c)
+        {
+          const unsigned char* base = leaves.componentBase[c];
+          const std::size_t stride = leaves.strideBytes;
+          double total = 0.0;
+          for (std::size_t k = 0; k < children; ++k)
+          {
+            const std::int64_t tuple = entry[k];
+            if (tuple >= 0)
+            {
+              T leaf;
+              std::memcpy(&leaf, base + static_cast<std::size_t>(tuple) * stride, sizeof(T));
+              total += static_cast<double>(leaf);
+            }
+            else
+            {
+              total += static_cast<double>(computed[computedIndexOf(tuple) * nc + c]);
+            }
+          }
+          computed[target * nc + c] = static_cast<T>(total / static_cast<double>(children));
+        }
         continue;
       }
       std::fill(sum.begin(), sum.end(), 0.0);
@@ -99,22 +135,18 @@ std::vector<T> restrictToCoarse(const ForestDescription& forest, const ForestLay
         // Pass 0: unmasked children only; pass 1 (all masked): every present child.
         for (std::size_t k = 0; k < children; ++k)
         {
-          const std::size_t child = elderChild[n] + k;
+          const std::size_t child = first + k;
           if (isAbsent(tree, child) || (pass == 0 && tree.masked && tree.masked[child]))
           {
             continue;
           }
-          const std::int64_t tuple = table[cellIndex(shape, child)];
           for (std::size_t c = 0; c < nc; ++c)
           {
-            sum[c] += tuple >= 0
-                          ? static_cast<double>(leaves.at<T>(static_cast<std::size_t>(tuple), c))
-                          : static_cast<double>(computed[computedIndexOf(tuple) * nc + c]);
+            sum[c] += value(entry[k], c);
           }
           ++used;
         }
       }
-      const std::size_t target = computedIndexOf(table[cellIndex(shape, n)]);
       for (std::size_t c = 0; c < nc; ++c)
       {
         // No present child at all: nothing of this node is here.
