@@ -1,5 +1,6 @@
 #include "AdaptiveSurfaceBuilder.h"
 
+#include "FullSurfaceWalk.h"
 #include "GridSection.h"
 #include "TreeTraversal.h"
 
@@ -517,115 +518,6 @@ struct TreeWalk
   }
 };
 
-/// The full surface of a 1D or 2D tree (no view: no culling, no level of
-/// detail): one cell per visible leaf, in the shared walk's order (depth first,
-/// children in order), so the output is the same cell for cell. Dedicated
-/// because this is the case whose cost is the output itself: no frames, no
-/// per-node box, and each refined node computes its children's boundaries once
-/// (f + 1 per axis, with nodeBounds' formula, so the coordinates are the same
-/// bits).
-class FullSurfaceWalk
-{
-public:
-  FullSurfaceWalk(const HyperTreeAccess& grid, const TreeAccess& tree, CellSink& out)
-      : Grid(grid), Tree(tree), Out(out), U(grid.activeAxes()[0]),
-        V(grid.dimension() == 2 ? grid.activeAxes()[1] : -1), F(grid.branchFactor())
-  {
-  }
-
-  void run()
-  {
-    Vec3 lo;
-    Vec3 hi;
-    Grid.nodeBounds(Tree, 0, {{0, 0, 0}}, lo, hi);
-    Base = lo; // the flat axes' coordinates
-    visit(0, 0, 0, 0, lo[U], hi[U], V >= 0 ? lo[V] : 0.0, V >= 0 ? hi[V] : 0.0);
-  }
-
-private:
-  /// The node's integer position (i along U, j along V) and its box along U and V.
-  void visit(vtkIdType node, int level, std::int64_t i, std::int64_t j, double ulo, double uhi,
-             double vlo, double vhi)
-  {
-    if (Grid.hasMask() && Grid.isMasked(Tree.globalIndex(node)))
-    {
-      return; // a masked node hides its subtree
-    }
-    if (Tree.isLeaf(node))
-    {
-      emit(node, level, ulo, uhi, vlo, vhi);
-      return;
-    }
-    // Children's boundaries k = 0 .. F along each axis (2D: F <= 3, so 4 each).
-    double ub[4];
-    double vb[4];
-    boundaries(level + 1, U, i * F, ub);
-    if (V >= 0)
-    {
-      boundaries(level + 1, V, j * F, vb);
-    }
-    const vtkIdType first = Tree.firstChild(node);
-    const int children = Grid.childrenPerNode();
-    for (int c = 0; c < children; ++c)
-    {
-      const int du = c % F;
-      const int dv = c / F; // 0 in 1D
-      visit(first + c, level + 1, i * F + du, j * F + dv, ub[du], ub[du + 1], V >= 0 ? vb[dv] : 0.0,
-            V >= 0 ? vb[dv + 1] : 0.0);
-    }
-  }
-
-  /// Lower bounds of positions first .. first + F - 1 at `level` along `axis`, and
-  /// the upper bound of the last (nodeBounds' formula: the row's end is exact).
-  void boundaries(int level, int axis, std::int64_t first, double* b) const
-  {
-    const std::int64_t cells = Grid.cellsPerRootAt(level);
-    const double count = static_cast<double>(cells);
-    const double origin = Tree.origin[axis];
-    const double size = Tree.size[axis];
-    for (int k = 0; k <= F; ++k)
-    {
-      b[k] = first + k == cells ? origin + size
-                                : origin + size * (static_cast<double>(first + k) / count);
-    }
-  }
-
-  void emit(vtkIdType node, int level, double ulo, double uhi, double vlo, double vhi)
-  {
-    if (Out.next < Out.limit)
-    {
-      const std::size_t corners = V >= 0 ? 4 : 2;
-      double* p = Out.arrays.points + 3 * corners * Out.next;
-      // Corner order as emitPlaneQuad (lo, +u, +u+v, +v) and the 1D segment (lo, +u).
-      const double us[4] = {ulo, uhi, uhi, ulo};
-      const double vs[4] = {vlo, vlo, vhi, vhi};
-      for (std::size_t k = 0; k < corners; ++k)
-      {
-        p[0] = Base[0];
-        p[1] = Base[1];
-        p[2] = Base[2];
-        p[U] = us[k];
-        if (V >= 0)
-        {
-          p[V] = vs[k];
-        }
-        p += 3;
-      }
-      Out.arrays.cellIds[Out.next] = Tree.globalIndex(node);
-      Out.arrays.levels[Out.next] = static_cast<unsigned char>(level);
-    }
-    ++Out.next;
-  }
-
-  const HyperTreeAccess& Grid;
-  const TreeAccess& Tree;
-  CellSink& Out;
-  const int U;
-  const int V; ///< -1 in 1D
-  const int F;
-  Vec3 Base{{0, 0, 0}};
-};
-
 } // namespace
 
 AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
@@ -724,7 +616,7 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
                        const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
                        if (full)
                        {
-                         FullSurfaceWalk(Grid, tree, sink).run();
+                         sink.next = writeFullSurface(Grid, tree, sink.arrays, sink.limit);
                        }
                        else
                        {
