@@ -245,11 +245,38 @@ public:
     }
     const vtkIdType* ids = tupleIds->GetPointer(0);
     ValueType* to = out->GetPointer(0);
-    for (vtkIdType i = 0; i < count; ++i)
+    if (!this->Borrowing || this->View.tupleAddress)
     {
-      for (int c = 0; c < nc; ++c)
+      for (vtkIdType i = 0; i < count; ++i)
       {
-        to[i * nc + c] = this->GetTypedComponent(ids[i], c);
+        for (int c = 0; c < nc; ++c)
+        {
+          to[i * nc + c] = this->GetTypedComponent(ids[i], c);
+        }
+      }
+    }
+    else
+    {
+      // Strided simulation memory, possibly through the tuple map: the
+      // addressing in locals (GetTypedComponent re-decides it per value).
+      const std::vector<const unsigned char*>& base = this->View.componentBase;
+      const std::size_t stride = this->View.strideBytes;
+      const TupleMap* map = this->Map.get();
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        const std::int64_t tuple = map ? (*map)[static_cast<std::size_t>(ids[i])] : ids[i];
+        ValueType* value = to + i * nc;
+        if (tuple < 0)
+        {
+          std::copy_n(this->Computed.data() + computedIndexOf(tuple) * static_cast<std::size_t>(nc),
+                      nc, value);
+          continue;
+        }
+        const std::size_t offset = static_cast<std::size_t>(tuple) * stride;
+        for (int c = 0; c < nc; ++c)
+        {
+          std::memcpy(value + c, base[static_cast<std::size_t>(c)] + offset, sizeof(ValueType));
+        }
       }
     }
     out->DataChanged();

@@ -128,6 +128,36 @@ TEST_F(BorrowedArray, NewInstanceIsAnOrdinaryWritableArray)
   expectSimulationUntouched();
 }
 
+TEST_F(BorrowedArray, GetTuplesGathersWhatGetComponentReads)
+{
+  // The typed gather (the filters' output fields) against the generic reads, for
+  // a strided field and a leaves-only one (its coarse cells read computed means),
+  // every cell in reverse order, into an AoS array of the same type.
+  for (const char* name : {"u", "leafPair"})
+  {
+    vtkDataArray* source = array(name);
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType cell = source->GetNumberOfTuples(); cell-- > 0;)
+    {
+      ids->InsertNextId(cell);
+    }
+    vtkSmartPointer<vtkDataArray> picked =
+        vtkSmartPointer<vtkDataArray>::Take(source->NewInstance());
+    picked->SetNumberOfComponents(source->GetNumberOfComponents());
+    picked->SetNumberOfTuples(ids->GetNumberOfIds());
+    source->GetTuples(ids, picked);
+    for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+    {
+      for (int c = 0; c < source->GetNumberOfComponents(); ++c)
+      {
+        ASSERT_EQ(picked->GetComponent(i, c), source->GetComponent(ids->GetId(i), c))
+            << name << " cell " << ids->GetId(i) << " component " << c;
+      }
+    }
+  }
+  expectSimulationUntouched();
+}
+
 TEST_F(BorrowedArray, ReshapingAndGrowingDetachWithoutTouchingTheSimulation)
 {
   vtkDataArray* u = array("u");
