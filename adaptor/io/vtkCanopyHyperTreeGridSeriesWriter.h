@@ -8,76 +8,44 @@
  * <name>_<step>/<name>_<step>_<rank>.htg next to it (<step>: 6 digits; -1:
  * the number of steps written before). Vector fields are kept (VTK 9.2's own
  * .htg writer loses them, see canopy/io/HtgFileWriter.h). A failed Write()
- * returns 0 on every rank with the same LastError; the step is then not in
- * the series. See canopy::io::HtgSeriesWriter for the C++ API.
+ * (errors: vtkCanopyHyperTreeGridStepWriter) leaves the step out of the
+ * series. See canopy::io::HtgSeriesWriter for the C++ API.
  */
 #pragma once
 
-#include "CanopyIOModule.h"
+#include "vtkCanopyHyperTreeGridStepWriter.h"
 
-#include <vtkWriter.h>
+#include <memory>
 
-#include <string>
-#include <vector>
+namespace canopy
+{
+namespace io
+{
+class HtgSeriesWriter; // the plain C++ writer (VTK\'s wrappers parse this header: no nested
+                       // namespace syntax)
+}
+} // namespace canopy
 
-class vtkMultiProcessController;
-
-class CANOPYIO_EXPORT vtkCanopyHyperTreeGridSeriesWriter : public vtkWriter
+class CANOPYIO_EXPORT vtkCanopyHyperTreeGridSeriesWriter : public vtkCanopyHyperTreeGridStepWriter
 {
 public:
   static vtkCanopyHyperTreeGridSeriesWriter* New();
-  vtkTypeMacro(vtkCanopyHyperTreeGridSeriesWriter, vtkWriter);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
+  vtkTypeMacro(vtkCanopyHyperTreeGridSeriesWriter, vtkCanopyHyperTreeGridStepWriter);
 
-  ///@{
-  /// The series' .pvd file. Changing it starts a new series at the next Write().
-  vtkSetStdStringFromCharMacro(FileName);
-  vtkGetCharFromStdStringMacro(FileName);
-  ///@}
-
-  ///@{
-  /// Cell arrays to write; none listed: every numeric cell array.
-  void AddCellArray(const char* name);
-  void ClearCellArrays();
-  ///@}
-
-  ///@{
-  /// The step's number (names its files) and its time when the input carries none.
-  vtkSetMacro(TimeStep, vtkIdType);
-  vtkGetMacro(TimeStep, vtkIdType);
-  vtkSetMacro(TimeValue, double);
-  vtkGetMacro(TimeValue, double);
-  ///@}
-
-  ///@{
-  /// The ranks that write together (unset: the global controller).
-  virtual void SetController(vtkMultiProcessController*);
-  vtkGetObjectMacro(Controller, vtkMultiProcessController);
-  ///@}
-
-  /// Why the last Write() failed, the same on every rank ("" after a success).
-  const char* GetLastError() const { return this->LastError.c_str(); }
   /// Steps in the series so far.
-  vtkIdType GetNumberOfSteps() const;
+  vtkIdType GetNumberOfSteps() const override;
 
 protected:
   vtkCanopyHyperTreeGridSeriesWriter();
   ~vtkCanopyHyperTreeGridSeriesWriter() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  void WriteData() override;
-
-  std::string FileName;
-  std::vector<std::string> CellArrays;
-  vtkIdType TimeStep = -1;
-  double TimeValue = 0.0;
-  vtkMultiProcessController* Controller = nullptr;
-  std::string LastError;
+  void OpenFile(MPI_Comm communicator) override;
+  /// TimeStep names the step's files (-1: the number of steps written before).
+  void WriteStep(vtkHyperTreeGrid* htg, double time) override;
 
 private:
   vtkCanopyHyperTreeGridSeriesWriter(const vtkCanopyHyperTreeGridSeriesWriter&) = delete;
   void operator=(const vtkCanopyHyperTreeGridSeriesWriter&) = delete;
 
-  struct Internals;
-  Internals* Internal;
+  std::unique_ptr<canopy::io::HtgSeriesWriter> Writer;
 };
