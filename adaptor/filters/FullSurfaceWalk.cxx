@@ -24,17 +24,21 @@ public:
 
   std::size_t run()
   {
-    if (hidden(0))
+    const vtkIdType rootCell = Tree.globalIndex(0);
+    if (hidden(rootCell))
     {
       return 0;
     }
     Vec3 lo;
     Vec3 hi;
     Grid.nodeBounds(Tree, 0, {{0, 0, 0}}, lo, hi);
-    Base = lo;
+    for (int a = 0; a < 3; ++a)
+    {
+      Base[a] = lo[a];
+    }
     if (Tree.isLeaf(0))
     {
-      emit(0, 0, lo[U], hi[U], V >= 0 ? lo[V] : 0.0, V >= 0 ? hi[V] : 0.0);
+      emit(rootCell, 0, lo[U], hi[U], V >= 0 ? lo[V] : 0.0, V >= 0 ? hi[V] : 0.0);
     }
     else
     {
@@ -44,7 +48,7 @@ public:
   }
 
 private:
-  bool hidden(vtkIdType node) const { return Masked && Grid.isMasked(Tree.globalIndex(node)); }
+  bool hidden(vtkIdType cell) const { return Masked && Grid.isMasked(cell); }
 
   /// Lower bounds of positions first .. first + F - 1 at `level` along `axis`,
   /// and the upper bound of the last (the row's end is exact, as in nodeBounds).
@@ -76,7 +80,8 @@ private:
     for (int c = 0; c < Children; ++c)
     {
       const vtkIdType child = first + c;
-      if (hidden(child))
+      const vtkIdType cell = Tree.globalIndex(child);
+      if (hidden(cell))
       {
         continue; // a masked node hides its subtree
       }
@@ -84,7 +89,7 @@ private:
       const int dv = c / F; // 0 in 1D
       if (Tree.isLeaf(child))
       {
-        emit(child, level + 1, ub[du], ub[du + 1], vb[dv], vb[dv + 1]);
+        emit(cell, level + 1, ub[du], ub[du + 1], vb[dv], vb[dv + 1]);
       }
       else
       {
@@ -94,25 +99,23 @@ private:
   }
 
   /// Corner order as the shared walk's: 2D (lo, +u, +u+v, +v), 1D (lo, +u).
-  void emit(vtkIdType node, int level, double ulo, double uhi, double vlo, double vhi)
+  void emit(vtkIdType cell, int level, double ulo, double uhi, double vlo, double vhi)
   {
     if (Next < Limit)
     {
       double* p = Arrays.points + 3 * Corners * Next;
       const double us[4] = {ulo, uhi, uhi, ulo};
       const double vs[4] = {vlo, vlo, vhi, vhi};
+      // The other axes' coordinates in locals: stores through p could alias a member.
+      const double base[3] = {Base[0], Base[1], Base[2]};
       for (int k = 0; k < Corners; ++k, p += 3)
       {
-        p[0] = Base[0];
-        p[1] = Base[1];
-        p[2] = Base[2];
-        p[U] = us[k];
-        if constexpr (V >= 0)
+        for (int a = 0; a < 3; ++a)
         {
-          p[V] = vs[k];
+          p[a] = a == U ? us[k] : (a == V ? vs[k] : base[a]);
         }
       }
-      Arrays.cellIds[Next] = Tree.globalIndex(node);
+      Arrays.cellIds[Next] = cell;
       Arrays.levels[Next] = static_cast<unsigned char>(level);
     }
     ++Next;
@@ -123,7 +126,7 @@ private:
   const SurfaceArrays& Arrays;
   const std::size_t Limit;
   const bool Masked;
-  Vec3 Base{{0, 0, 0}};
+  double Base[3] = {0, 0, 0}; ///< the root's lower corner: the other axes' coordinates
   std::size_t Next = 0;
 };
 
