@@ -120,7 +120,7 @@ int main(int argc, char** argv)
       pieces.push_back(htg);
     else if (auto* partitioned = vtkPartitionedDataSet::SafeDownCast(data))
       for (unsigned int p = 0; p < partitioned->GetNumberOfPartitions(); ++p)
-        pieces.push_back(vtkHyperTreeGrid::SafeDownCast(partitioned->GetPartition(p)));
+        pieces.push_back(vtkHyperTreeGrid::SafeDownCast(partitioned->GetPartitionAsDataObject(p)));
     std::cout << "{\"step\": " << step << ", \"steps\": " << steps
               << ", \"time\": " << number(reader->GetTimeValue()) << ", \"output\": \""
               << (data ? data->GetClassName() : "none") << "\", \"pieces\": [";
