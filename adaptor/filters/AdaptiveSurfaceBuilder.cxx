@@ -533,16 +533,21 @@ AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
 
 AdaptiveSurfaceBuilder::~AdaptiveSurfaceBuilder() = default;
 
+bool AdaptiveSurfaceBuilder::fullPlanarSurface() const
+{
+  return Grid.dimension() < 3 && Grid.branchFactor() <= 3 &&
+         (!Options.view || (!Options.cullOutsideView && !Options.levelOfDetail));
+}
+
 std::size_t AdaptiveSurfaceBuilder::count()
 {
   const auto& trees = Grid.trees();
   std::vector<std::size_t> counts(trees.size(), 0);
   // A full 1D/2D surface has one cell per visible leaf: a kept access knows how
   // many per tree, so one walk (the writing one) suffices.
-  const bool full = !Options.view || (!Options.cullOutsideView && !Options.levelOfDetail);
   const bool known = std::all_of(trees.begin(), trees.end(),
                                  [](const TreeAccess& t) { return t.visibleLeaves >= 0; });
-  if (full && known && Grid.dimension() < 3)
+  if (fullPlanarSurface() && known)
   {
     std::transform(trees.begin(), trees.end(), counts.begin(),
                    [](const TreeAccess& t) { return static_cast<std::size_t>(t.visibleLeaves); });
@@ -599,8 +604,7 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
                      });
     return;
   }
-  const bool full = Grid.dimension() < 3 && Grid.branchFactor() <= 3 &&
-                    (!Options.view || (!Options.cullOutsideView && !Options.levelOfDetail));
+  const bool full = fullPlanarSurface();
   std::atomic<bool> mismatch{false};
   vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
                    [&](vtkIdType begin, vtkIdType end)

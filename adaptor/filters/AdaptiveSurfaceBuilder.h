@@ -85,6 +85,10 @@ public:
   void write(const SurfaceArrays& arrays) const;
 
 private:
+  /// A 1D or 2D surface with neither culling nor level of detail: every visible
+  /// leaf, counted by the access and written by FullSurfaceWalk.
+  bool fullPlanarSurface() const;
+
   const HyperTreeAccess& Grid;
   SurfaceOptions Options;
   std::unique_ptr<GridSection> Region; ///< 1D/2D culling region, built once for both passes

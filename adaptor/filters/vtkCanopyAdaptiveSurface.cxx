@@ -131,22 +131,21 @@ vtkSmartPointer<vtkIdTypeArray>
 vtkCanopyAdaptiveSurface::ArithmeticIds(const std::string& key, vtkIdType count, vtkIdType step)
 {
   KeptSequence& kept = this->Sequences[key];
-  const bool reusable = kept.Array && kept.Array->GetReferenceCount() == 1 && kept.Step == step &&
-                        kept.Array->GetMTime() == kept.Time && !storageShared(kept.Array);
-  if (!reusable)
-  {
-    kept.Array = vtkSmartPointer<vtkIdTypeArray>::New();
-    kept.Step = step;
-    kept.Valid = 0;
-  }
+  // The values are right if ReusableArray hands back the array this wrote last,
+  // unmodified since. (A replaced array is created before the old one is
+  // released, so the two never share an address.)
+  vtkDataArray* previous = this->Reusable[key];
+  const bool unmodified = previous && previous->GetMTime() == kept.Time && kept.Step == step;
+  auto array = this->ReusableArray<vtkIdTypeArray>(key, VTK_ID_TYPE);
   // Within its allocation, resizing keeps the values; beyond it, VTK allocates
   // afresh (vtkGenericDataArray::Allocate) and every value is written again.
-  if (count > kept.Array->GetSize())
+  if (!unmodified || array.Get() != previous || count > array->GetSize())
   {
     kept.Valid = 0;
   }
-  kept.Array->SetNumberOfTuples(count);
-  vtkIdType* value = kept.Array->GetPointer(0);
+  kept.Step = step;
+  array->SetNumberOfTuples(count);
+  vtkIdType* value = array->GetPointer(0);
   vtkSMPTools::For(std::min(kept.Valid, count), count,
                    [&](vtkIdType begin, vtkIdType end)
                    {
@@ -156,9 +155,9 @@ vtkCanopyAdaptiveSurface::ArithmeticIds(const std::string& key, vtkIdType count,
                      }
                    });
   kept.Valid = count;
-  kept.Array->Modified();
-  kept.Time = kept.Array->GetMTime();
-  return kept.Array;
+  array->Modified();
+  kept.Time = array->GetMTime();
+  return array;
 }
 
 vtkPolyData* vtkCanopyAdaptiveSurface::GetPolyDataOutput()

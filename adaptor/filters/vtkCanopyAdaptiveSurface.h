@@ -166,13 +166,12 @@ private:
   template <typename ArrayType>
   vtkSmartPointer<ArrayType> ReusableArray(const std::string& key, int dataType);
   /// Offsets and connectivity are arithmetic sequences (cell q's points are
-  /// perCell q, perCell q + 1, ...), the same at every execution: kept with how
-  /// many values are already right, so an execution writes only the values a
-  /// longer output adds. Kept only while nobody else holds the array and its
-  /// modification time is the one it was left with.
+  /// perCell q, perCell q + 1, ...), the same at every execution: their reusable
+  /// arrays (ReusableArray) are kept with how many values are already right, so an
+  /// execution writes only the values a longer output adds. Trusted only while
+  /// the array's modification time is the one it was left with.
   struct KeptSequence
   {
-    vtkSmartPointer<vtkIdTypeArray> Array;
     vtkIdType Step = 0;
     vtkIdType Valid = 0;
     vtkMTimeType Time = 0;
