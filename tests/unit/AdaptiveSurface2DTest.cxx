@@ -332,21 +332,27 @@ RandomCase randomCase(std::uint64_t seed)
   return c;
 }
 
+/// A 3 x 2 forest in the z = 0 plane, some cells masked: the full-surface tests'.
+RandomForestOptions smallPlaneForest(int branchFactor, StorageOrder order, std::uint64_t seed)
+{
+  RandomForestOptions o;
+  o.dimension = 2;
+  o.branchFactor = branchFactor;
+  o.rootCells = {{3, 2, 1}};
+  o.maxLevels = branchFactor == 2 ? 6 : 4;
+  o.order = order;
+  o.maskProbability = 0.1;
+  o.seed = seed;
+  return o;
+}
+
 TEST(AdaptiveSurface2D, EveryQuadSitsOnItsCellInAnyStorageOrder)
 {
   for (StorageOrder order : {StorageOrder::BreadthFirst, StorageOrder::DepthFirst})
   {
     for (int f : {2, 3})
     {
-      RandomForestOptions o;
-      o.dimension = 2;
-      o.branchFactor = f;
-      o.rootCells = {{3, 2, 1}};
-      o.maxLevels = f == 2 ? 6 : 4;
-      o.order = order;
-      o.maskProbability = 0.1;
-      o.seed = 11 + f;
-      RandomForest forest(o);
+      RandomForest forest(smallPlaneForest(f, order, 11 + f));
       auto htg = buildHyperTreeGrid(forest.description());
       vtkNew<vtkCanopyAdaptiveSurface> filter;
       filter->SetInputData(htg);
@@ -382,15 +388,7 @@ TEST(AdaptiveSurface2D, FullSurfaceFieldsAreTheSimulationsValuesInEveryLayout)
   // must be the simulation's at its cell's slot (value = 10 slot + component).
   for (int f : {2, 3})
   {
-    RandomForestOptions o;
-    o.dimension = 2;
-    o.branchFactor = f;
-    o.rootCells = {{3, 2, 1}};
-    o.maxLevels = f == 2 ? 6 : 4;
-    o.order = StorageOrder::DepthFirst;
-    o.maskProbability = 0.1;
-    o.seed = 31 + f;
-    RandomForest forest(o);
+    RandomForest forest(smallPlaneForest(f, StorageOrder::DepthFirst, 31 + f));
     const std::size_t slots = forest.numberOfNodes();
     std::vector<double> vector3(3 * slots);
     std::vector<double> soa0(slots);

@@ -383,24 +383,31 @@ TEST(AdaptiveSurface3D, WholeGridInViewEqualsTheFullSurface)
   }
 }
 
+/// View v of the random views around case B: odd views parallel, even perspective.
+vtkSmartPointer<vtkCamera> randomCaseBCamera(std::mt19937_64& random, int v)
+{
+  std::uniform_real_distribution<double> unit(0, 1);
+  auto camera = vtkSmartPointer<vtkCamera>::New();
+  camera->SetFocalPoint(4.5 * unit(random), 3 * unit(random), 1.4 * unit(random));
+  camera->SetPosition(10 * unit(random) - 3, 10 * unit(random) - 3, 6 * unit(random) - 2);
+  camera->SetViewUp(0, 0, 1);
+  camera->OrthogonalizeViewUp();
+  camera->SetParallelProjection(v % 2);
+  camera->SetParallelScale(0.2 + unit(random));
+  camera->SetViewAngle(15 + 30 * unit(random));
+  return camera;
+}
+
 TEST(AdaptiveSurface3D, CulledSurfaceIsASubsetOfTheFullSurface)
 {
   DescriptorForest forest(paperCaseB(true));
   auto htg = buildHyperTreeGrid(forest.description());
   const auto full = quadKeys(fullSurface(htg));
   std::mt19937_64 random(42);
-  std::uniform_real_distribution<double> unit(0, 1);
   int partial = 0;
   for (int v = 0; v < 20; ++v)
   {
-    vtkNew<vtkCamera> camera;
-    camera->SetFocalPoint(4.5 * unit(random), 3 * unit(random), 1.4 * unit(random));
-    camera->SetPosition(10 * unit(random) - 3, 10 * unit(random) - 3, 6 * unit(random) - 2);
-    camera->SetViewUp(0, 0, 1);
-    camera->OrthogonalizeViewUp();
-    camera->SetParallelProjection(v % 2);
-    camera->SetParallelScale(0.2 + unit(random));
-    camera->SetViewAngle(15 + 30 * unit(random));
+    vtkSmartPointer<vtkCamera> camera = randomCaseBCamera(random, v);
     const auto seen = quadKeys(viewSurface(htg, camera, 640, 480, false));
     std::vector<QuadKey> extra;
     std::set_difference(seen.begin(), seen.end(), full.begin(), full.end(),
@@ -447,18 +454,10 @@ TEST(AdaptiveSurface3D, CulledSurfaceIsExactlyTheFullSurfaceInsideTheView)
     auto htg = buildHyperTreeGrid(forest.description());
     const auto fullQuads = quadsOf(fullSurface(htg));
     std::mt19937_64 random(7);
-    std::uniform_real_distribution<double> unit(0, 1);
     int culled = 0;
     for (int v = 0; v < 20; ++v)
     {
-      vtkNew<vtkCamera> camera;
-      camera->SetFocalPoint(4.5 * unit(random), 3 * unit(random), 1.4 * unit(random));
-      camera->SetPosition(10 * unit(random) - 3, 10 * unit(random) - 3, 6 * unit(random) - 2);
-      camera->SetViewUp(0, 0, 1);
-      camera->OrthogonalizeViewUp();
-      camera->SetParallelProjection(v % 2);
-      camera->SetParallelScale(0.2 + unit(random));
-      camera->SetViewAngle(15 + 30 * unit(random));
+      vtkSmartPointer<vtkCamera> camera = randomCaseBCamera(random, v);
       const auto seen = quadKeys(viewSurface(htg, camera, 640, 480, false));
       const auto inner = frustumPlanes(camera, 640.0 / 480.0, -1e-9);
       const auto outer = frustumPlanes(camera, 640.0 / 480.0, 1e-9);
