@@ -9,6 +9,7 @@
 // (DUPLICATECELL, 1, where absent), for tests/support/vtkhdf_check.py.
 //
 // Usage: mpirun -np N canopy_split_forest_write --output DIR
+#include "ForestJson.h"
 #include "PartitionedForest.h"
 #include "RandomForest.h"
 
@@ -150,20 +151,8 @@ std::string forestJson(const canopy::ForestDescription& whole, int ranks, int st
 {
   std::ostringstream json;
   const std::size_t children = RankPart::childrenOf(whole);
-  json << "{\"step\": " << step << ", \"time\": " << time << ", \"ranks\": " << ranks
-       << ", \"dimension\": " << whole.dimension << ", \"branch_factor\": " << whole.branchFactor
-       << ", \"coordinates\": [";
-  const double* axes[3] = {whole.rootGrid.x, whole.rootGrid.y, whole.rootGrid.z};
-  const std::size_t points[3] = {whole.rootGrid.pointsX, whole.rootGrid.pointsY,
-                                 whole.rootGrid.pointsZ};
-  for (int a = 0; a < 3; ++a)
-  {
-    json << (a ? ", [" : "[");
-    for (std::size_t i = 0; i < points[a]; ++i)
-      json << (i ? ", " : "") << number(axes[a][i]);
-    json << "]";
-  }
-  json << "], \"fields\": {\"node\": {\"components\": 1, \"leaves_only\": false}, "
+  canopy::testing::writeForestJsonHeader(json, whole, step, time, ranks);
+  json << ", \"fields\": {\"node\": {\"components\": 1, \"leaves_only\": false}, "
           "\"vector\": {\"components\": 3, \"leaves_only\": false}, "
           "\"leaf\": {\"components\": 1, \"leaves_only\": true}}, \"trees\": [";
   std::ostringstream samples;

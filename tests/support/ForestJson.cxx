@@ -144,11 +144,10 @@ double fieldAt(const ForestDescription& f, const Structure& s, const FieldDescri
 
 } // namespace
 
-std::string forestJson(const ForestDescription& whole, const std::vector<int>& owners, int step,
-                       double time, int ranks, int samples)
+void writeForestJsonHeader(std::ostream& json, const ForestDescription& whole, int step,
+                           double time, int ranks)
 {
-  std::ostringstream json;
-  json << std::setprecision(17);
+  const auto precision = json.precision(17);
   json << "{\"step\": " << step << ", \"time\": " << time << ", \"ranks\": " << ranks
        << ", \"dimension\": " << whole.dimension << ", \"branch_factor\": " << whole.branchFactor
        << ", \"coordinates\": [";
@@ -162,7 +161,17 @@ std::string forestJson(const ForestDescription& whole, const std::vector<int>& o
       json << (i ? ", " : "") << axes[a][i];
     json << "]";
   }
-  json << "], \"fields\": {";
+  json << "]";
+  json.precision(precision);
+}
+
+std::string forestJson(const ForestDescription& whole, const std::vector<int>& owners, int step,
+                       double time, int ranks, int samples)
+{
+  std::ostringstream json;
+  json << std::setprecision(17);
+  writeForestJsonHeader(json, whole, step, time, ranks);
+  json << ", \"fields\": {";
   for (std::size_t i = 0; i < whole.fields.size(); ++i)
   {
     const auto& field = whole.fields[i];

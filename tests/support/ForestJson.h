@@ -8,11 +8,18 @@
 
 #include "canopy/ForestDescription.h"
 
+#include <ostream>
 #include <string>
 #include <vector>
 
 namespace canopy::testing
 {
+
+/// The opening of a forest's JSON, up to and including its root grid:
+/// {"step": .., "time": .., "ranks": .., "dimension": .., "branch_factor": ..,
+/// "coordinates": [[x...], [y...], [z...]] (the caller goes on with ", ...").
+void writeForestJsonHeader(std::ostream& json, const ForestDescription& whole, int step,
+                           double time, int ranks);
 
 /// `owners[t]`: the rank that writes tree t (-1: several ranks). About
 /// `samples` cells are sampled, spread over the forest, coarse and leaves.
