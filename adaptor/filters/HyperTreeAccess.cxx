@@ -13,7 +13,8 @@
 namespace canopy
 {
 
-HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables) : IndexTables(indexTables)
+HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables, bool maskedDescendants)
+    : IndexTables(indexTables), MaskedDescendants(maskedDescendants)
 {
   Dimension = static_cast<int>(htg->GetDimension());
   BranchFactor = static_cast<int>(htg->GetBranchFactor());
@@ -139,7 +140,7 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables) : Inde
   }
   // Masked descendants: only the 3D surface needs them (to skip solid subtrees).
   // Absent descendants: level of detail must not stop above them.
-  const bool masked = Mask && Dimension == 3;
+  const bool masked = Mask && Dimension == 3 && MaskedDescendants;
   if (masked || AnyAbsent || IndexTables)
   {
     vtkSMPTools::For(0, static_cast<vtkIdType>(Trees.size()),

@@ -94,12 +94,16 @@ class HyperTreeAccess
 public:
   /// `indexTables`: read every explicit global-index table once, here (worth it
   /// when the access is kept across executions: VTK's per-node virtual lookup is
-  /// slow). Masked-descendant flags (3D with a mask) and absent-descendant flags
-  /// are always computed.
-  explicit HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables = false);
+  /// slow). `maskedDescendants`: flag the nodes with a masked descendant (3D grids
+  /// with a mask; a pass over every node, which only the 3D surface needs).
+  /// Absent-descendant flags are always computed for grids with absent cells.
+  explicit HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables = false,
+                           bool maskedDescendants = true);
 
   /// Whether explicit global indices were read into tables.
   bool hasIndexTables() const { return IndexTables; }
+  /// Whether masked-descendant flags were asked for (hasMaskedDescendant answers).
+  bool hasMaskedDescendantFlags() const { return MaskedDescendants; }
 
   int dimension() const { return Dimension; }
   int branchFactor() const { return BranchFactor; }
@@ -228,6 +232,7 @@ private:
   void countVisibleLeaves(TreeAccess& access) const;
 
   bool IndexTables = false;
+  bool MaskedDescendants = true;
 
   int Dimension = 0;
   int BranchFactor = 2;

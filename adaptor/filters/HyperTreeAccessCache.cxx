@@ -50,16 +50,17 @@ HyperTreeAccessCache::Key HyperTreeAccessCache::keyOf(vtkHyperTreeGrid* grid)
   return key;
 }
 
-std::shared_ptr<const HyperTreeAccess> HyperTreeAccessCache::get(vtkHyperTreeGrid* grid,
-                                                                 bool indexTables)
+std::shared_ptr<const HyperTreeAccess>
+HyperTreeAccessCache::get(vtkHyperTreeGrid* grid, bool indexTables, bool maskedDescendants)
 {
   Key key = keyOf(grid);
-  if (Access && key == Kept && (Access->hasIndexTables() || !indexTables))
+  if (Access && key == Kept && (Access->hasIndexTables() || !indexTables) &&
+      (Access->hasMaskedDescendantFlags() || !maskedDescendants))
   {
     return Access;
   }
   clear();
-  Access = std::make_shared<const HyperTreeAccess>(grid, indexTables);
+  Access = std::make_shared<const HyperTreeAccess>(grid, indexTables, maskedDescendants);
   Kept = std::move(key);
   return Access;
 }

@@ -26,9 +26,10 @@ class HyperTreeAccessCache
 {
 public:
   /// The access for this grid: the kept one if its topology is unchanged (and
-  /// it has index tables when asked for), else a new one, which is kept.
-  /// Throws as HyperTreeAccess does.
-  std::shared_ptr<const HyperTreeAccess> get(vtkHyperTreeGrid* grid, bool indexTables);
+  /// it has index tables and masked-descendant flags when asked for), else a new
+  /// one, which is kept. Throws as HyperTreeAccess does.
+  std::shared_ptr<const HyperTreeAccess> get(vtkHyperTreeGrid* grid, bool indexTables,
+                                             bool maskedDescendants = true);
   /// Forget the kept access (and the grid's trees it points into).
   void clear();
 

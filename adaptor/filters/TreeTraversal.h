@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace canopy
@@ -32,9 +33,12 @@ enum class WalkStep
 };
 
 /// Calls enter(WalkNode&) on every node reached from the root; enter may set
-/// `inherited` for the children. Returns false when enter stopped the walk.
-template <typename Enter>
-bool walkTree(const HyperTreeAccess& grid, const TreeAccess& tree, Enter&& enter)
+/// `inherited` for the children. Only children c of a node n for which
+/// acceptChild(n, c) holds are entered (a slice enters only the children its
+/// plane crosses). Returns false when enter stopped the walk.
+template <typename Enter, typename AcceptChild>
+bool walkTree(const HyperTreeAccess& grid, const TreeAccess& tree, Enter&& enter,
+              AcceptChild&& acceptChild)
 {
   std::vector<WalkNode> stack{{0, 0, {{0, 0, 0}}, false}};
   while (!stack.empty())
@@ -54,10 +58,21 @@ bool walkTree(const HyperTreeAccess& grid, const TreeAccess& tree, Enter&& enter
     // Pushed in reverse: children are entered in order.
     for (int c = grid.childrenPerNode(); c-- > 0;)
     {
-      stack.push_back({first + c, n.level + 1, grid.childPosition(n.ijk, c), n.inherited});
+      if (acceptChild(n, c))
+      {
+        stack.push_back({first + c, n.level + 1, grid.childPosition(n.ijk, c), n.inherited});
+      }
     }
   }
   return true;
+}
+
+/// Every child of every node the walk descends into.
+template <typename Enter>
+bool walkTree(const HyperTreeAccess& grid, const TreeAccess& tree, Enter&& enter)
+{
+  return walkTree(grid, tree, std::forward<Enter>(enter),
+                  [](const WalkNode&, int) { return true; });
 }
 
 } // namespace canopy

@@ -3,7 +3,7 @@
 // (per-axis area equal to the exposed voxel faces, every quad with an occupied
 // voxel behind it and an empty one in front, closed-surface volume identity),
 // and culling must only ever remove pieces of that surface.
-#include "ConvexClip.h"
+#include "CameraPlanes.h"
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
@@ -423,25 +423,6 @@ TEST(AdaptiveSurface3D, CulledSurfaceIsASubsetOfTheFullSurface)
   EXPECT_GE(partial, 5) << "most views should cull something";
 }
 
-/// VTK's own side planes of a camera's frustum (for perspective, they meet at the
-/// camera and keep only what is in front of it): an implementation independent
-/// of the filter's separating-axis test.
-std::vector<ClipPlane> frustumPlanes(vtkCamera* camera, double aspect, double slack)
-{
-  const double distance = camera->GetDistance();
-  camera->SetClippingRange(distance / 1e9, distance * 1e9);
-  double planes[24];
-  camera->GetFrustumPlanes(aspect, planes);
-  std::vector<ClipPlane> result;
-  for (int p = 0; p < 4; ++p) // left, right, bottom, top (near and far are far away)
-  {
-    const double* h = planes + 4 * p;
-    const double norm = std::sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
-    result.push_back({{h[0], h[1], h[2], h[3] + slack * norm}});
-  }
-  return result;
-}
-
 TEST(AdaptiveSurface3D, CulledSurfaceIsExactlyTheFullSurfaceInsideTheView)
 {
   // A face of a visible node is drawn only if it overlaps the view with positive
@@ -459,8 +440,8 @@ TEST(AdaptiveSurface3D, CulledSurfaceIsExactlyTheFullSurfaceInsideTheView)
     {
       vtkSmartPointer<vtkCamera> camera = randomCaseBCamera(random, v);
       const auto seen = quadKeys(viewSurface(htg, camera, 640, 480, false));
-      const auto inner = frustumPlanes(camera, 640.0 / 480.0, -1e-9);
-      const auto outer = frustumPlanes(camera, 640.0 / 480.0, 1e-9);
+      const auto inner = cameraSidePlanes(camera, 640.0 / 480.0, -1e-9);
+      const auto outer = cameraSidePlanes(camera, 640.0 / 480.0, 1e-9);
       std::set<QuadKey> surely;
       std::set<QuadKey> maybe;
       for (const Quad& q : fullQuads)

@@ -1,0 +1,225 @@
+#include "AdaptiveSliceBuilder.h"
+
+#include "TreeTraversal.h"
+
+#include <vtkSMPTools.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace canopy
+{
+
+std::string AdaptiveSliceBuilder::validate(const HyperTreeAccess& grid,
+                                           const std::vector<SlicePlane>& planes)
+{
+  std::ostringstream out;
+  if (grid.dimension() != 3)
+  {
+    out << "slices need a 3D grid, this one is " << grid.dimension() << "D";
+    return out.str();
+  }
+  for (std::size_t i = 0; i < planes.size(); ++i)
+  {
+    if (planes[i].axis < 0 || planes[i].axis > 2)
+    {
+      out << (out.tellp() > 0 ? "; " : "") << "plane " << i << ": axis " << planes[i].axis
+          << " is not 0 (x), 1 (y) or 2 (z)";
+    }
+    else if (!std::isfinite(planes[i].position))
+    {
+      out << (out.tellp() > 0 ? "; " : "") << "plane " << i << ": position " << planes[i].position
+          << " is not finite";
+    }
+  }
+  return out.str();
+}
+
+AdaptiveSliceBuilder::AdaptiveSliceBuilder(const HyperTreeAccess& grid,
+                                           std::vector<SlicePlane> planes,
+                                           const SliceOptions& options)
+    : Grid(grid), Planes(std::move(planes)), Options(options)
+{
+}
+
+std::size_t AdaptiveSliceBuilder::count()
+{
+  // The trees each plane cuts: the root cells of one layer of the root grid.
+  Pieces.clear();
+  for (std::size_t p = 0; p < Planes.size(); ++p)
+  {
+    const int axis = Planes[p].axis;
+    const double position = Planes[p].position;
+    const std::vector<double>& coordinates = Grid.coordinates(axis);
+    if (position < coordinates.front() || position > coordinates.back())
+    {
+      continue; // outside the grid
+    }
+    // Half-open root cells, the last one closed (the face rule).
+    const long layer = std::min<long>(
+        static_cast<long>(std::upper_bound(coordinates.begin(), coordinates.end(), position) -
+                          coordinates.begin()) -
+            1,
+        static_cast<long>(coordinates.size()) - 2);
+    const int b = (axis + 1) % 3;
+    const int c = (axis + 2) % 3;
+    const auto& roots = Grid.rootCells();
+    for (long j = 0; j < static_cast<long>(roots[c]); ++j)
+    {
+      for (long i = 0; i < static_cast<long>(roots[b]); ++i)
+      {
+        std::array<long, 3> ijk{{0, 0, 0}};
+        ijk[axis] = layer;
+        ijk[b] = i;
+        ijk[c] = j;
+        if (const TreeAccess* tree = Grid.treeAt(ijk[0], ijk[1], ijk[2]))
+        {
+          Pieces.push_back({tree, p});
+        }
+      }
+    }
+  }
+  Kept.assign(Pieces.size(), TreeCells());
+  std::vector<std::size_t> visited(Pieces.size(), 0);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(Pieces.size()),
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType i = begin; i < end; ++i)
+                     {
+                       const auto k = static_cast<std::size_t>(i);
+                       slice(Pieces[k], Kept[k], visited[k]);
+                     }
+                   });
+  Offsets.assign(Pieces.size() + 1, 0);
+  Visited = 0;
+  for (std::size_t k = 0; k < Pieces.size(); ++k)
+  {
+    Offsets[k + 1] = Offsets[k] + Kept[k].cellIds.size();
+    Visited += visited[k];
+  }
+  return Offsets.back();
+}
+
+void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size_t& visited) const
+{
+  const TreeAccess& tree = *piece.tree;
+  const int axis = Planes[piece.plane].axis;
+  const double position = Planes[piece.plane].position;
+  const int f = Grid.branchFactor();
+  const ViewVolume* view = Options.view;
+  const bool cull = view && Options.cullOutsideView;
+  const bool lod = view && Options.levelOfDetail;
+  // Child digit along the axis at each level (the children the plane cuts):
+  // the number of inner boundaries between the node's children at or below the
+  // plane. Every node the walk enters at a level has the same index along the
+  // axis, so one digit per level, found on first need.
+  std::vector<int> digit{0};
+  auto digitAt = [&](const WalkNode& parent)
+  {
+    const auto level = static_cast<std::size_t>(parent.level) + 1;
+    if (digit.size() <= level)
+    {
+      const std::int64_t first = parent.ijk[axis] * f;
+      int d = 0;
+      while (d + 1 < f && Grid.nodeLower(tree, parent.level + 1, axis, first + d + 1) <= position)
+      {
+        ++d;
+      }
+      digit.push_back(d);
+    }
+    return digit[level];
+  };
+
+  Vec3 lo{{0, 0, 0}};
+  Vec3 hi{{0, 0, 0}};
+  const int b = (axis + 1) % 3;
+  const int c = (axis + 2) % 3;
+  walkTree(
+      Grid, tree,
+      [&](WalkNode& n)
+      {
+        ++visited;
+        vtkIdType global = -1;
+        if (Grid.hasMask())
+        {
+          global = tree.globalIndex(n.node);
+          if (Grid.isMasked(global))
+          {
+            return WalkStep::Skip; // masked, or another rank's part
+          }
+        }
+        Grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
+        lo[axis] = hi[axis] = position; // the cross-section
+        if (cull && !n.inherited)
+        {
+          switch (view->classifyBox(lo, hi))
+          {
+          case ViewVolume::BoxSide::Outside:
+            return WalkStep::Skip;
+          case ViewVolume::BoxSide::Inside:
+            n.inherited = true; // so is every cut below it
+            break;
+          default:
+            if (!view->overlapsBox(lo, hi))
+            {
+              return WalkStep::Skip;
+            }
+          }
+        }
+        bool stop = tree.isLeaf(n.node);
+        if (!stop && lod && !tree.hasAbsentDescendant(n.node))
+        {
+          std::array<Vec3, 4> corners;
+          corners.fill(lo);
+          corners[1][b] = hi[b];
+          corners[2][b] = hi[b];
+          corners[2][c] = hi[c];
+          corners[3][c] = hi[c];
+          stop = view->footprintInPixels(corners) <= Options.pixelThreshold;
+        }
+        if (!stop)
+        {
+          return WalkStep::Descend;
+        }
+        if (global < 0)
+        {
+          global = tree.globalIndex(n.node);
+        }
+        // Counter-clockwise seen from +axis: the quad's normal is +axis.
+        const double corner[4][2] = {
+            {lo[b], lo[c]}, {hi[b], lo[c]}, {hi[b], hi[c]}, {lo[b], hi[c]}};
+        for (const auto& uv : corner)
+        {
+          Vec3 p;
+          p[axis] = position;
+          p[b] = uv[0];
+          p[c] = uv[1];
+          cells.points.insert(cells.points.end(), p.begin(), p.end());
+        }
+        cells.cellIds.push_back(global);
+        cells.levels.push_back(static_cast<unsigned char>(n.level));
+        return WalkStep::Skip;
+      },
+      [&](const WalkNode& parent, int child)
+      { return Grid.childDigits(child)[axis] == digitAt(parent); });
+}
+
+void AdaptiveSliceBuilder::write(const SurfaceArrays& arrays) const
+{
+  vtkSMPTools::For(
+      0, static_cast<vtkIdType>(Kept.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          const TreeCells& cells = Kept[static_cast<std::size_t>(i)];
+          const std::size_t first = Offsets[static_cast<std::size_t>(i)];
+          std::copy(cells.points.begin(), cells.points.end(), arrays.points + 12 * first);
+          std::copy(cells.cellIds.begin(), cells.cellIds.end(), arrays.cellIds + first);
+          std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
+        }
+      });
+}
+
+} // namespace canopy

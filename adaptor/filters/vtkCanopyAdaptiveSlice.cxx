@@ -1,0 +1,146 @@
+#include "vtkCanopyAdaptiveSlice.h"
+
+#include "AdaptiveSliceBuilder.h"
+#include "HyperTreeAccess.h"
+#include "HyperTreeAccessCache.h"
+#include "ViewVolume.h"
+
+#include <vtkDoubleArray.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkIdTypeArray.h>
+#include <vtkObjectFactory.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+
+vtkStandardNewMacro(vtkCanopyAdaptiveSlice);
+
+vtkCanopyAdaptiveSlice::vtkCanopyAdaptiveSlice() = default;
+
+vtkCanopyAdaptiveSlice::~vtkCanopyAdaptiveSlice() = default;
+
+void vtkCanopyAdaptiveSlice::AddPlane(int axis, double position)
+{
+  if (axis >= 0 && axis < 3)
+  {
+    this->Positions[static_cast<std::size_t>(axis)].push_back(position);
+  }
+  else
+  {
+    this->InvalidAxes.push_back(axis);
+  }
+  this->Modified();
+}
+
+void vtkCanopyAdaptiveSlice::ClearPlanes()
+{
+  for (auto& positions : this->Positions)
+  {
+    positions.clear();
+  }
+  this->InvalidAxes.clear();
+  this->Modified();
+}
+
+void vtkCanopyAdaptiveSlice::ClearAxis(int axis)
+{
+  this->Positions[static_cast<std::size_t>(axis)].clear();
+  this->Modified();
+}
+
+int vtkCanopyAdaptiveSlice::GetNumberOfPlanes() const
+{
+  std::size_t planes = this->InvalidAxes.size();
+  for (const auto& positions : this->Positions)
+  {
+    planes += positions.size();
+  }
+  return static_cast<int>(planes);
+}
+
+int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outputObject)
+{
+  this->LastVisited = 0;
+  vtkPolyData* output = vtkPolyData::SafeDownCast(outputObject);
+  if (!output)
+  {
+    vtkErrorMacro("output is not a vtkPolyData");
+    return 0;
+  }
+  canopy::CameraParameters camera;
+  if (!this->CurrentView(camera))
+  {
+    return 0;
+  }
+  std::vector<canopy::SlicePlane> planes;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    for (double position : this->Positions[static_cast<std::size_t>(axis)])
+    {
+      planes.push_back({axis, position});
+    }
+  }
+  for (int axis : this->InvalidAxes)
+  {
+    planes.push_back({axis, 0.0});
+  }
+
+  output->Initialize();
+  const CellArrays arrays = this->NewCellArrays();
+  vtkIdType quads = 0;
+  try
+  {
+    // No index tables and no masked-descendant flags: both cost a pass over
+    // every node, and a slice reads only the nodes it cuts.
+    const std::shared_ptr<const canopy::HyperTreeAccess> access =
+        this->Topology->get(input, false, false);
+    const std::string problem = canopy::AdaptiveSliceBuilder::validate(*access, planes);
+    if (!problem.empty())
+    {
+      vtkErrorMacro("cannot slice: " << problem);
+      return 0;
+    }
+    std::unique_ptr<canopy::ViewVolume> view;
+    canopy::SliceOptions options;
+    if (this->ViewDependent)
+    {
+      view = std::make_unique<canopy::ViewVolume>(camera);
+      options.view = view.get();
+    }
+    options.cullOutsideView = this->ViewCulling;
+    options.levelOfDetail = this->LevelOfDetail;
+    options.pixelThreshold = this->PixelThreshold;
+    canopy::AdaptiveSliceBuilder builder(*access, std::move(planes), options);
+    quads = static_cast<vtkIdType>(builder.count());
+    this->LastVisited = static_cast<vtkIdType>(builder.visited());
+    arrays.Points->SetNumberOfTuples(4 * quads);
+    arrays.Ids->SetNumberOfTuples(quads);
+    arrays.Levels->SetNumberOfTuples(quads);
+    builder.write(
+        {arrays.Points->GetPointer(0), arrays.Ids->GetPointer(0), arrays.Levels->GetPointer(0)});
+  }
+  catch (const std::exception& e)
+  {
+    this->Topology->clear();
+    vtkErrorMacro("cannot build the slices: " << e.what());
+    return 0;
+  }
+  this->AssembleOutput(input, output, arrays, quads, 4);
+  return 1;
+}
+
+void vtkCanopyAdaptiveSlice::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  const char* names[3] = {"XPlanes", "YPlanes", "ZPlanes"};
+  for (std::size_t axis = 0; axis < 3; ++axis)
+  {
+    os << indent << names[axis] << ":";
+    for (double position : this->Positions[axis])
+    {
+      os << " " << position;
+    }
+    os << "\n";
+  }
+  os << indent << "InvalidAxes: " << this->InvalidAxes.size() << "\n"
+     << indent << "LastVisited: " << this->LastVisited << "\n";
+}

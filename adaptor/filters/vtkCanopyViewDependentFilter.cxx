@@ -1,0 +1,327 @@
+#include "vtkCanopyViewDependentFilter.h"
+
+#include "GatherTuples.h"
+#include "HyperTreeAccessCache.h"
+#include "ViewVolume.h"
+
+#include <vtkAOSDataArrayTemplate.h>
+#include <vtkBuffer.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInformation.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkRenderer.h>
+#include <vtkSMPTools.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <algorithm>
+#include <cmath>
+
+void vtkCanopyViewDependentFilter::SetRenderer(vtkRenderer* renderer)
+{
+  if (this->Renderer != renderer)
+  {
+    this->Renderer = renderer;
+    this->Modified();
+  }
+}
+
+vtkRenderer* vtkCanopyViewDependentFilter::GetRenderer()
+{
+  return this->Renderer;
+}
+
+vtkCxxSetObjectMacro(vtkCanopyViewDependentFilter, Camera, vtkCamera);
+
+vtkCanopyViewDependentFilter::vtkCanopyViewDependentFilter()
+    : Topology(std::make_unique<canopy::HyperTreeAccessCache>())
+{
+  this->AppropriateOutput = true;
+}
+
+vtkCanopyViewDependentFilter::~vtkCanopyViewDependentFilter()
+{
+  this->SetCamera(nullptr);
+}
+
+void vtkCanopyViewDependentFilter::AddField(const char* name)
+{
+  if (name && std::find(this->Fields.begin(), this->Fields.end(), name) == this->Fields.end())
+  {
+    this->Fields.emplace_back(name);
+    this->Modified();
+  }
+}
+
+void vtkCanopyViewDependentFilter::ClearFields()
+{
+  if (!this->Fields.empty())
+  {
+    this->Fields.clear();
+    this->Modified();
+  }
+}
+
+vtkPolyData* vtkCanopyViewDependentFilter::GetPolyDataOutput()
+{
+  return vtkPolyData::SafeDownCast(this->GetOutput());
+}
+
+vtkMTimeType vtkCanopyViewDependentFilter::GetMTime()
+{
+  vtkMTimeType time = this->Superclass::GetMTime();
+  vtkCamera* camera = this->Camera;
+  if (this->Renderer)
+  {
+    time = std::max(time, this->Renderer->GetMTime());
+    const int* size = this->Renderer->GetSize();
+    if (size[0] != this->LastRendererSize[0] || size[1] != this->LastRendererSize[1])
+    {
+      this->LastRendererSize[0] = size[0];
+      this->LastRendererSize[1] = size[1];
+      this->RendererSizeTime.Modified();
+    }
+    time = std::max(time, this->RendererSizeTime.GetMTime());
+    // Do not create a camera just to ask for its time.
+    camera = this->Renderer->IsActiveCameraCreated() ? this->Renderer->GetActiveCamera() : nullptr;
+  }
+  if (camera != this->LastCamera)
+  {
+    this->LastCamera = camera;
+    this->CameraSwapTime.Modified();
+  }
+  time = std::max(time, this->CameraSwapTime.GetMTime());
+  if (camera)
+  {
+    time = std::max(time, camera->GetMTime());
+  }
+  return time;
+}
+
+int vtkCanopyViewDependentFilter::FillOutputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkPolyData");
+  return 1;
+}
+
+bool vtkCanopyViewDependentFilter::CurrentView(canopy::CameraParameters& camera)
+{
+  if (!(this->PixelThreshold > 0) || !std::isfinite(this->PixelThreshold))
+  {
+    vtkErrorMacro("PixelThreshold must be a positive finite number of pixels, got "
+                  << this->PixelThreshold);
+    return false;
+  }
+  if (!this->ViewDependent)
+  {
+    return true;
+  }
+  vtkCamera* source = this->Renderer ? this->Renderer->GetActiveCamera() : this->Camera;
+  if (source)
+  {
+    source->GetPosition(camera.position.data());
+    source->GetFocalPoint(camera.focalPoint.data());
+    source->GetViewUp(camera.viewUp.data());
+    camera.parallelProjection = source->GetParallelProjection() != 0;
+    camera.parallelScale = source->GetParallelScale();
+    camera.viewAngle = source->GetViewAngle();
+    if (!camera.parallelProjection && source->GetUseHorizontalViewAngle())
+    {
+      vtkErrorMacro("cameras with a horizontal view angle are not supported");
+      return false;
+    }
+  }
+  else
+  {
+    std::copy(this->CameraPosition, this->CameraPosition + 3, camera.position.begin());
+    std::copy(this->CameraFocalPoint, this->CameraFocalPoint + 3, camera.focalPoint.begin());
+    std::copy(this->CameraViewUp, this->CameraViewUp + 3, camera.viewUp.begin());
+    camera.parallelProjection = this->ParallelProjection;
+    camera.parallelScale = this->ParallelScale;
+    camera.viewAngle = this->ViewAngle;
+  }
+  const int* size = this->Renderer ? this->Renderer->GetSize() : this->ViewportSize;
+  camera.viewportWidth = size[0];
+  camera.viewportHeight = size[1];
+  const std::string problem = canopy::ViewVolume::validate(camera);
+  if (!problem.empty())
+  {
+    vtkErrorMacro("invalid view: " << problem);
+    return false;
+  }
+  return true;
+}
+
+namespace
+{
+
+/// Reads an AoS array's protected storage buffer (a pointer to member formed in
+/// a derived class is a pointer to the base's member: well defined).
+template <typename T>
+struct BufferOf : vtkAOSDataArrayTemplate<T>
+{
+  static vtkBuffer<T>* get(vtkAOSDataArrayTemplate<T>* array)
+  {
+    vtkBuffer<T>* vtkAOSDataArrayTemplate<T>::*member = &BufferOf::Buffer;
+    return array->*member;
+  }
+};
+
+/// True when the array's memory is also held elsewhere (ShallowCopy shares the
+/// buffer, not the array object): then it must not be overwritten.
+bool storageShared(vtkDataArray* array)
+{
+  switch (array->GetDataType())
+  {
+    vtkTemplateMacro({
+      auto* aos = vtkAOSDataArrayTemplate<VTK_TT>::FastDownCast(array);
+      return !aos || BufferOf<VTK_TT>::get(aos)->GetReferenceCount() > 1;
+    });
+  }
+  return true;
+}
+
+} // namespace
+
+template <typename ArrayType>
+vtkSmartPointer<ArrayType> vtkCanopyViewDependentFilter::ReusableArray(const std::string& key,
+                                                                       int dataType)
+{
+  // Fresh memory is expensive (first-touch page faults cost more than writing
+  // the output); an array only this filter still holds is reused instead.
+  auto& slot = this->Reusable[key];
+  if (slot && slot->GetReferenceCount() == 1 && slot->GetDataType() == dataType &&
+      !storageShared(slot))
+  {
+    if (auto* typed = ArrayType::SafeDownCast(slot))
+    {
+      typed->Modified(); // its values change: drop cached ranges
+      return typed;
+    }
+  }
+  slot = vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(dataType));
+  return ArrayType::SafeDownCast(slot);
+}
+
+vtkSmartPointer<vtkIdTypeArray>
+vtkCanopyViewDependentFilter::ArithmeticIds(const std::string& key, vtkIdType count, vtkIdType step)
+{
+  KeptSequence& kept = this->Sequences[key];
+  // The values are right if ReusableArray hands back the array this wrote last,
+  // unmodified since. (A replaced array is created before the old one is
+  // released, so the two never share an address.)
+  vtkDataArray* previous = this->Reusable[key];
+  const bool unmodified = previous && previous->GetMTime() == kept.Time && kept.Step == step;
+  auto array = this->ReusableArray<vtkIdTypeArray>(key, VTK_ID_TYPE);
+  // Within its allocation, resizing keeps the values; beyond it, VTK allocates
+  // afresh (vtkGenericDataArray::Allocate) and every value is written again.
+  if (!unmodified || array.Get() != previous || count > array->GetSize())
+  {
+    kept.Valid = 0;
+  }
+  kept.Step = step;
+  array->SetNumberOfTuples(count);
+  vtkIdType* value = array->GetPointer(0);
+  vtkSMPTools::For(std::min(kept.Valid, count), count,
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType i = begin; i < end; ++i)
+                     {
+                       value[i] = step * i;
+                     }
+                   });
+  kept.Valid = count;
+  array->Modified();
+  kept.Time = array->GetMTime();
+  return array;
+}
+
+vtkCanopyViewDependentFilter::CellArrays vtkCanopyViewDependentFilter::NewCellArrays()
+{
+  CellArrays arrays;
+  arrays.Points = this->ReusableArray<vtkDoubleArray>("points", VTK_DOUBLE);
+  arrays.Points->SetNumberOfComponents(3);
+  arrays.Ids = this->ReusableArray<vtkIdTypeArray>("OriginalCellId", VTK_ID_TYPE);
+  arrays.Ids->SetName("OriginalCellId");
+  arrays.Levels = this->ReusableArray<vtkUnsignedCharArray>("Level", VTK_UNSIGNED_CHAR);
+  arrays.Levels->SetName("Level");
+  return arrays;
+}
+
+void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output,
+                                                  const CellArrays& arrays, vtkIdType cells,
+                                                  vtkIdType perCell)
+{
+  vtkNew<vtkPoints> points;
+  points->SetData(arrays.Points);
+
+  auto offsets = this->ArithmeticIds("offsets", cells + 1, perCell);
+  auto connectivity = this->ArithmeticIds("connectivity", perCell * cells, 1);
+  vtkNew<vtkCellArray> cellArray;
+  cellArray->SetData(offsets, connectivity);
+
+  output->SetPoints(points);
+  if (perCell == 2)
+  {
+    output->SetLines(cellArray); // two-point lines: VTK_LINE cells
+  }
+  else
+  {
+    output->SetPolys(cellArray);
+  }
+
+  vtkCellData* in = input->GetCellData();
+  vtkCellData* out = output->GetCellData();
+  for (int a = 0; a < in->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = in->GetArray(a);
+    if (!array || !array->GetName())
+    {
+      continue;
+    }
+    if (!this->Fields.empty() &&
+        std::find(this->Fields.begin(), this->Fields.end(), array->GetName()) == this->Fields.end())
+    {
+      continue;
+    }
+    vtkSmartPointer<vtkDataArray> target = this->ReusableArray<vtkDataArray>(
+        std::string("field:") + array->GetName(), array->GetDataType());
+    out->AddArray(canopy::gatherTuples(array, arrays.Ids->GetPointer(0), cells, target));
+  }
+  out->AddArray(arrays.Ids);
+  out->AddArray(arrays.Levels);
+}
+
+void vtkCanopyViewDependentFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Renderer: " << this->Renderer.GetPointer() << "\n"
+     << indent << "Camera: " << this->Camera << "\n"
+     << indent << "CameraPosition: " << this->CameraPosition[0] << " " << this->CameraPosition[1]
+     << " " << this->CameraPosition[2] << "\n"
+     << indent << "CameraFocalPoint: " << this->CameraFocalPoint[0] << " "
+     << this->CameraFocalPoint[1] << " " << this->CameraFocalPoint[2] << "\n"
+     << indent << "CameraViewUp: " << this->CameraViewUp[0] << " " << this->CameraViewUp[1] << " "
+     << this->CameraViewUp[2] << "\n"
+     << indent << "ParallelProjection: " << this->ParallelProjection << "\n"
+     << indent << "ParallelScale: " << this->ParallelScale << "\n"
+     << indent << "ViewAngle: " << this->ViewAngle << "\n"
+     << indent << "ViewportSize: " << this->ViewportSize[0] << " x " << this->ViewportSize[1]
+     << "\n"
+     << indent << "ViewDependent: " << this->ViewDependent << "\n"
+     << indent << "ViewCulling: " << this->ViewCulling << "\n"
+     << indent << "LevelOfDetail: " << this->LevelOfDetail << "\n"
+     << indent << "PixelThreshold: " << this->PixelThreshold << "\n"
+     << indent << "Fields:";
+  for (const std::string& field : this->Fields)
+  {
+    os << " " << field;
+  }
+  os << (this->Fields.empty() ? " (all)\n" : "\n");
+}

@@ -1,0 +1,195 @@
+/**
+ * @class vtkCanopyViewDependentFilter
+ * @brief What Canopy's view-dependent hypertree-grid filters share: the view
+ * (a renderer, a camera or explicit camera properties, and a viewport size),
+ * culling and level-of-detail switches, the fields to pass, and the assembly of
+ * a polydata output from the cells a builder wrote.
+ *
+ * Subclasses (vtkCanopyAdaptiveSurface, vtkCanopyAdaptiveSlice) implement
+ * ProcessTrees: they read the view with CurrentView(), run their builder into
+ * the arrays of NewCellArrays() and hand them to AssembleOutput().
+ *
+ * The view comes from, in order of precedence: a renderer (camera and viewport
+ * size follow it), a camera plus ViewportSize, or the explicit Camera*
+ * properties. With ViewDependent off neither culling nor level of detail apply.
+ * Re-executes only when the input, the camera, the viewport size or a property
+ * changed (GetMTime).
+ */
+#pragma once
+
+#include "CanopyFiltersModule.h"
+
+#include <vtkHyperTreeGridAlgorithm.h>
+
+#include <vtkSmartPointer.h>
+#include <vtkWeakPointer.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+class vtkCamera;
+class vtkDataArray;
+class vtkDoubleArray;
+class vtkIdTypeArray;
+class vtkPolyData;
+class vtkRenderer;
+class vtkUnsignedCharArray;
+namespace canopy
+{
+struct CameraParameters;
+class HyperTreeAccessCache;
+} // namespace canopy
+
+class CANOPYFILTERS_EXPORT vtkCanopyViewDependentFilter : public vtkHyperTreeGridAlgorithm
+{
+public:
+  vtkTypeMacro(vtkCanopyViewDependentFilter, vtkHyperTreeGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Take the view from a renderer (its active camera and its size in pixels).
+  /// Held weakly: the renderer usually holds (through its actors) this filter.
+  void SetRenderer(vtkRenderer* renderer);
+  vtkRenderer* GetRenderer();
+  ///@}
+
+  ///@{
+  /// Take the view from a camera; the viewport size comes from ViewportSize.
+  void SetCamera(vtkCamera* camera);
+  vtkGetObjectMacro(Camera, vtkCamera);
+  ///@}
+
+  ///@{
+  /// Explicit view, used when neither a renderer nor a camera is set.
+  vtkSetVector3Macro(CameraPosition, double);
+  vtkGetVector3Macro(CameraPosition, double);
+  vtkSetVector3Macro(CameraFocalPoint, double);
+  vtkGetVector3Macro(CameraFocalPoint, double);
+  vtkSetVector3Macro(CameraViewUp, double);
+  vtkGetVector3Macro(CameraViewUp, double);
+  vtkSetMacro(ParallelProjection, bool);
+  vtkGetMacro(ParallelProjection, bool);
+  vtkBooleanMacro(ParallelProjection, bool);
+  vtkSetMacro(ParallelScale, double);
+  vtkGetMacro(ParallelScale, double);
+  vtkSetMacro(ViewAngle, double);
+  vtkGetMacro(ViewAngle, double);
+  ///@}
+
+  ///@{
+  /// Viewport size in pixels, used unless a renderer is set.
+  vtkSetVector2Macro(ViewportSize, int);
+  vtkGetVector2Macro(ViewportSize, int);
+  ///@}
+
+  ///@{
+  /// Off: ignore the view (no culling, no level of detail).
+  vtkSetMacro(ViewDependent, bool);
+  vtkGetMacro(ViewDependent, bool);
+  vtkBooleanMacro(ViewDependent, bool);
+  ///@}
+
+  ///@{
+  /// Skip subtrees outside the view (default on).
+  vtkSetMacro(ViewCulling, bool);
+  vtkGetMacro(ViewCulling, bool);
+  vtkBooleanMacro(ViewCulling, bool);
+  ///@}
+
+  ///@{
+  /// Stop descending at nodes that project to at most PixelThreshold pixels
+  /// (default on, threshold 1 pixel).
+  vtkSetMacro(LevelOfDetail, bool);
+  vtkGetMacro(LevelOfDetail, bool);
+  vtkBooleanMacro(LevelOfDetail, bool);
+  vtkSetMacro(PixelThreshold, double);
+  vtkGetMacro(PixelThreshold, double);
+  ///@}
+
+  ///@{
+  /// Cell fields to pass. None added: every input cell field.
+  void AddField(const char* name);
+  void ClearFields();
+  ///@}
+
+  /// The output, typed.
+  vtkPolyData* GetPolyDataOutput();
+
+  /// Includes the camera's and the renderer's modification times, and notices a
+  /// change of the renderer's size or of its active camera.
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkCanopyViewDependentFilter();
+  ~vtkCanopyViewDependentFilter() override;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+
+  /// The view of this execution (only meaningful with ViewDependent on). False,
+  /// with the error reported, when the view or PixelThreshold is unusable.
+  bool CurrentView(canopy::CameraParameters& camera);
+
+  /// The arrays a builder writes: coordinates (3 components), original cell ids
+  /// and levels, reused from the previous execution when nothing else holds
+  /// them. Call after releasing the previous output (output->Initialize()).
+  struct CellArrays
+  {
+    vtkSmartPointer<vtkDoubleArray> Points;
+    vtkSmartPointer<vtkIdTypeArray> Ids;
+    vtkSmartPointer<vtkUnsignedCharArray> Levels;
+  };
+  CellArrays NewCellArrays();
+
+  /// Makes `output` from `cells` cells of `perCell` points each (2: lines,
+  /// otherwise polygons), written into `arrays`, with the input's selected cell
+  /// fields gathered at the cells' original ids.
+  void AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output, const CellArrays& arrays,
+                      vtkIdType cells, vtkIdType perCell);
+
+  vtkWeakPointer<vtkRenderer> Renderer;
+  vtkCamera* Camera = nullptr;
+  double CameraPosition[3] = {0, 0, 1};
+  double CameraFocalPoint[3] = {0, 0, 0};
+  double CameraViewUp[3] = {0, 1, 0};
+  bool ParallelProjection = true;
+  double ParallelScale = 1.0;
+  double ViewAngle = 30.0;
+  int ViewportSize[2] = {512, 512};
+  bool ViewDependent = true;
+  bool ViewCulling = true;
+  bool LevelOfDetail = true;
+  double PixelThreshold = 1.0;
+  std::vector<std::string> Fields;
+  /// What the input's topology costs to read (index tables, masked-descendant
+  /// flags), kept while the topology is unchanged: a camera move does not pay it.
+  std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
+
+private:
+  vtkCanopyViewDependentFilter(const vtkCanopyViewDependentFilter&) = delete;
+  void operator=(const vtkCanopyViewDependentFilter&) = delete;
+
+  /// Output arrays of the previous execution, reused when nobody else holds them.
+  std::map<std::string, vtkSmartPointer<vtkDataArray>> Reusable;
+  template <typename ArrayType>
+  vtkSmartPointer<ArrayType> ReusableArray(const std::string& key, int dataType);
+  /// Offsets and connectivity are arithmetic sequences (cell q's points are
+  /// perCell q, perCell q + 1, ...), the same at every execution: their reusable
+  /// arrays (ReusableArray) are kept with how many values are already right, so an
+  /// execution writes only the values a longer output adds. Trusted only while
+  /// the array's modification time is the one it was left with.
+  struct KeptSequence
+  {
+    vtkIdType Step = 0;
+    vtkIdType Valid = 0;
+    vtkMTimeType Time = 0;
+  };
+  std::map<std::string, KeptSequence> Sequences;
+  vtkSmartPointer<vtkIdTypeArray> ArithmeticIds(const std::string& key, vtkIdType count,
+                                                vtkIdType step);
+  vtkCamera* LastCamera = nullptr; ///< only compared, to notice a camera swap
+  vtkTimeStamp CameraSwapTime;
+  int LastRendererSize[2] = {0, 0};
+  vtkTimeStamp RendererSizeTime;
+};
