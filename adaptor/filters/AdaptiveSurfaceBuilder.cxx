@@ -94,14 +94,31 @@ void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellI
   ++out.next;
 }
 
-/// Shared traversal state of one tree.
-struct TreeWalk
+/// What lies across a face of a 3D node, a topology fact.
+enum FaceState : std::uint32_t
+{
+  Unknown = 0,
+  Covered = 1, ///< nothing to draw: unmasked cells (or, without remote faces, another rank's)
+  Whole = 2,   ///< the whole face is drawn: masked, or the grid's boundary
+  Parts = 3,   ///< a same-level unmasked neighbour with masked descendants: parts may show
+  Remote = 4   ///< (remote faces) another rank's part: the owner says what shows
+};
+
+/// A node as the face queries see it: its root cell, level and integer
+/// position (no tree needed: the rank answering for the other side has none).
+struct FacePosition
+{
+  std::array<long, 3> root;
+  int level;
+  Index3 ijk;
+};
+
+/// The other side of a node's faces, in whichever tree holds it: shared by the
+/// walk (its own faces) and by a rank answering another rank's remote faces.
+struct FaceSide
 {
   const HyperTreeAccess& grid;
-  const TreeAccess& tree;
   const SurfaceOptions& options;
-  const GridSection* region; ///< 1D and 2D culling, when a view is given
-  CellSink& out;
 
   bool lodStops(const Vec3& lo, const Vec3& hi) const
   {
@@ -110,6 +127,150 @@ struct TreeWalk
       return false;
     }
     return options.view->footprintInPixels(boxCorners(lo, hi)) <= options.pixelThreshold;
+  }
+
+  bool lodStops(const TreeAccess& t, const NodeFrame& m) const
+  {
+    if (!options.view || !options.levelOfDetail)
+    {
+      return false;
+    }
+    Vec3 mlo;
+    Vec3 mhi;
+    nodeBox(grid, t, m, mlo, mhi);
+    return lodStops(mlo, mhi);
+  }
+
+  /// The tree holding the same-level position across a face (nullptr when
+  /// outside the grid or without a tree here), and that position in its integer
+  /// coordinates. `elsewhere`: the root cell's tree is on another rank.
+  const TreeAccess* neighbourAcross(const FacePosition& n, int axis, int side, Index3& across,
+                                    bool& elsewhere) const
+  {
+    const std::int64_t cells = grid.cellsPerRootAt(n.level);
+    across = n.ijk;
+    std::array<long, 3> root = n.root;
+    across[axis] += side ? 1 : -1;
+    if (across[axis] < 0)
+    {
+      across[axis] = cells - 1;
+      root[axis] -= 1;
+    }
+    else if (across[axis] >= cells)
+    {
+      across[axis] = 0;
+      root[axis] += 1;
+    }
+    const TreeAccess* tree = grid.treeAt(root[0], root[1], root[2]);
+    elsewhere = !tree && grid.treeElsewhere(root[0], root[1], root[2]);
+    return tree;
+  }
+
+  /// The child of m on the way down to position `target` at level `level`.
+  NodeFrame childToward(const TreeAccess& t, const NodeFrame& m, int level,
+                        const Index3& target) const
+  {
+    const int child = grid.childToward(m.level, level, target);
+    return {t.firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
+  }
+
+  /// What lies across one face of n; for Parts, the same-level neighbour `m` in
+  /// `neighbour`. Another rank's part (an absent cell, or a tree elsewhere) is
+  /// Remote with remote faces on, else Covered (solid: faces between ranks are
+  /// inside the domain).
+  FaceState faceState(const FacePosition& n, int axis, int side, const TreeAccess*& neighbour,
+                      NodeFrame& m) const
+  {
+    const FaceState otherRank = options.remoteFaces ? Remote : Covered;
+    Index3 across;
+    bool elsewhere = false;
+    neighbour = neighbourAcross(n, axis, side, across, elsewhere);
+    if (!neighbour)
+    {
+      return elsewhere ? otherRank : Whole;
+    }
+    // Descend the neighbour tree towards `across` at level n.level.
+    m = NodeFrame{0, 0, {{0, 0, 0}}};
+    while (true)
+    {
+      if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
+      {
+        return grid.isAbsent(neighbour->globalIndex(m.node)) ? otherRank : Whole;
+      }
+      if (m.level == n.level)
+      {
+        // Parts of the face show only where masked descendants of m touch it.
+        return neighbour->isLeaf(m.node) || !neighbour->hasMaskedDescendant(m.node) ? Covered
+                                                                                    : Parts;
+      }
+      if (neighbour->isLeaf(m.node))
+      {
+        return Covered;
+      }
+      // Level of detail is checked at n's level (in exposedParts), not on the
+      // coarser nodes of the path: projecting each costs more than it saves.
+      m = childToward(*neighbour, m, n.level, across);
+    }
+  }
+
+  /// m: an unmasked node across a face (`axis`, `side` of the node we look
+  /// from), at that node's level or finer. Calls masked(child) for each masked
+  /// node touching the face that is not covered (an exposed piece) and
+  /// absent(child) for each absent one (another rank's part), in child order.
+  template <typename Masked, typename Absent>
+  void exposedParts(const TreeAccess& t, const NodeFrame& m, int axis, int side,
+                    const Masked& masked, const Absent& absent) const
+  {
+    if (t.isLeaf(m.node) || !t.hasMaskedDescendant(m.node) || lodStops(t, m))
+    {
+      return; // covered
+    }
+    const int f = grid.branchFactor();
+    const vtkIdType first = t.firstChild(m.node);
+    for (int c = 0; c < grid.childrenPerNode(); ++c)
+    {
+      // Only children touching the face: on the near side along `axis`.
+      if (grid.childDigits(c)[axis] != (side ? 0 : f - 1))
+      {
+        continue;
+      }
+      const NodeFrame child{first + c, m.level + 1, childIndex(m, c, grid)};
+      const vtkIdType global = t.globalIndex(child.node);
+      if (grid.hasMask() && grid.isMasked(global))
+      {
+        if (grid.isAbsent(global))
+        {
+          absent(child);
+        }
+        else
+        {
+          masked(child);
+        }
+        continue;
+      }
+      exposedParts(t, child, axis, side, masked, absent);
+    }
+  }
+};
+
+/// Shared traversal state of one tree.
+struct TreeWalk
+{
+  const HyperTreeAccess& grid;
+  const TreeAccess& tree;
+  const SurfaceOptions& options;
+  const GridSection* region; ///< 1D and 2D culling, when a view is given
+  CellSink& out;
+  FaceSide faces{grid, options};
+
+  bool lodStops(const Vec3& lo, const Vec3& hi) const { return faces.lodStops(lo, hi); }
+
+  FacePosition positionOf(const NodeFrame& n) const
+  {
+    return {{{static_cast<long>(tree.rootIJK[0]), static_cast<long>(tree.rootIJK[1]),
+              static_cast<long>(tree.rootIJK[2])}},
+            n.level,
+            n.ijk};
   }
 
   /// `inside`: set when the whole box is inside the view (3D; then neither it
@@ -142,6 +303,13 @@ struct TreeWalk
     Vec3 lo{{0, 0, 0}};
     Vec3 hi{{0, 0, 0}};
     const bool solid3D = grid.dimension() == 3;
+    if (solid3D && tree.memoRemote != static_cast<int>(options.remoteFaces))
+    {
+      // The memos answer "is another rank's part solid?" one way or the other.
+      tree.exposeMemo.clear();
+      tree.faceMemo.clear();
+      tree.memoRemote = static_cast<int>(options.remoteFaces);
+    }
     walkTree(grid, tree, [&](NodeFrame& n) { return enter(n, solid3D, lo, hi); });
   }
 
@@ -299,83 +467,10 @@ struct TreeWalk
     emitCell(out, q, global, level);
   }
 
-  /// The tree holding the same-level position across a face of n (nullptr when
-  /// outside the grid or without a tree here), and that position in its integer
-  /// coordinates. `elsewhere`: the root cell's tree is on another rank (solid).
-  const TreeAccess* neighbourAcross(const NodeFrame& n, int axis, int side, Index3& across,
-                                    bool& elsewhere) const
-  {
-    const std::int64_t cells = grid.cellsPerRootAt(n.level);
-    across = n.ijk;
-    std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
-                              static_cast<long>(tree.rootIJK[1]),
-                              static_cast<long>(tree.rootIJK[2])}};
-    across[axis] += side ? 1 : -1;
-    if (across[axis] < 0)
-    {
-      across[axis] = cells - 1;
-      root[axis] -= 1;
-    }
-    else if (across[axis] >= cells)
-    {
-      across[axis] = 0;
-      root[axis] += 1;
-    }
-    const TreeAccess* tree = grid.treeAt(root[0], root[1], root[2]);
-    elsewhere = !tree && grid.treeElsewhere(root[0], root[1], root[2]);
-    return tree;
-  }
-
-  /// The child of m on the way down to position `target` at level `level`.
-  NodeFrame childToward(const TreeAccess& t, const NodeFrame& m, int level,
-                        const Index3& target) const
-  {
-    const int child = grid.childToward(m.level, level, target);
-    return {t.firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
-  }
-
-  /// What lies across one face of n, a topology fact: 1 nothing to draw (a
-  /// covering or another rank's region), 2 the whole face is drawn (masked, or
-  /// the grid's boundary), 3 a same-level unmasked neighbour `m` in `neighbour`
-  /// with masked descendants (parts of the face may show).
-  int faceState(const NodeFrame& n, int axis, int side, const TreeAccess*& neighbour,
-                NodeFrame& m) const
-  {
-    // The same-level position across the face, possibly in the next tree.
-    // Another rank's part (an absent cell, or a tree elsewhere) is solid:
-    // faces between ranks are inside the domain and never drawn.
-    Index3 across;
-    bool elsewhere = false;
-    neighbour = neighbourAcross(n, axis, side, across, elsewhere);
-    if (!neighbour)
-    {
-      return elsewhere ? 1 : 2;
-    }
-    // Descend the neighbour tree towards `across` at level n.level.
-    m = NodeFrame{0, 0, {{0, 0, 0}}};
-    while (true)
-    {
-      if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
-      {
-        return grid.isAbsent(neighbour->globalIndex(m.node)) ? 1 : 2;
-      }
-      if (m.level == n.level)
-      {
-        // Parts of the face show only where masked descendants of m touch it.
-        return neighbour->isLeaf(m.node) || !neighbour->hasMaskedDescendant(m.node) ? 1 : 3;
-      }
-      if (neighbour->isLeaf(m.node))
-      {
-        return 1;
-      }
-      // Level of detail is checked at n's level (in emitExposedParts), not on
-      // the coarser nodes of the path: projecting each costs more than it saves.
-      m = childToward(*neighbour, m, n.level, across);
-    }
-  }
-
   /// For each of the six faces of a node where descent stopped: the parts not
-  /// covered by unmasked (or solid-by-level-of-detail) nodes on the other side.
+  /// covered by unmasked (or solid-by-level-of-detail) nodes on the other side;
+  /// with remote faces, the faces whose other side is partly another rank's are
+  /// kept to ask that rank.
   void emitExposedFaces(const NodeFrame& n, const Vec3& lo, const Vec3& hi, vtkIdType global)
   {
     auto& memo = tree.faceMemo;
@@ -383,33 +478,50 @@ struct TreeWalk
     {
       memo.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
     }
-    std::uint16_t& known = memo[static_cast<std::size_t>(n.node)];
+    std::uint32_t& known = memo[static_cast<std::size_t>(n.node)];
+    const FacePosition position = positionOf(n);
     for (int axis = 0; axis < 3; ++axis)
     {
       for (int side = 0; side < 2; ++side)
       {
-        const int shift = 2 * (2 * axis + side);
-        int state = (known >> shift) & 3;
+        const int shift = 3 * (2 * axis + side);
+        auto state = static_cast<FaceState>((known >> shift) & 7);
         const TreeAccess* neighbour = nullptr;
         NodeFrame m{0, 0, {{0, 0, 0}}};
-        if (state == 0)
+        if (state == Unknown)
         {
-          state = faceState(n, axis, side, neighbour, m);
-          known = static_cast<std::uint16_t>(known | (state << shift));
+          state = faces.faceState(position, axis, side, neighbour, m);
+          known |= static_cast<std::uint32_t>(state) << shift;
         }
-        else if (state == 3)
+        else if (state == Parts)
         {
-          faceState(n, axis, side, neighbour, m); // the neighbour itself
+          faces.faceState(position, axis, side, neighbour, m); // the neighbour itself
         }
-        if (state == 2)
+        bool ask = state == Remote;
+        if (state == Whole)
         {
           emitFace(axis, side, lo, hi, lo, hi, global, n.level, n.inherited);
         }
-        else if (state == 3)
+        else if (state == Parts)
         {
           // Same-level neighbour, unmasked: exposed where its descendants touching
-          // the face are masked.
-          emitExposedParts(*neighbour, m, axis, side, lo, hi, global, n.level, n.inherited);
+          // the face are masked; where they are another rank's, that rank says.
+          faces.exposedParts(
+              *neighbour, m, axis, side,
+              [&](const NodeFrame& child)
+              {
+                Vec3 clo;
+                Vec3 chi;
+                nodeBox(grid, *neighbour, child, clo, chi);
+                emitFace(axis, side, lo, hi, clo, chi, global, n.level, n.inherited);
+              },
+              [&](const NodeFrame&) { ask = ask || options.remoteFaces; });
+        }
+        if (ask && out.keep)
+        {
+          const RemoteFace face{
+              {{position.root[0], position.root[1], position.root[2]}}, n.level, n.ijk, axis, side};
+          out.keep->asked.push_back({face, global, n.inherited});
         }
       }
     }
@@ -430,10 +542,11 @@ struct TreeWalk
       {
         Index3 across;
         bool elsewhere = false;
-        const TreeAccess* neighbour = neighbourAcross(n, axis, side, across, elsewhere);
+        const TreeAccess* neighbour =
+            faces.neighbourAcross(positionOf(n), axis, side, across, elsewhere);
         if (!neighbour)
         {
-          if (elsewhere)
+          if (elsewhere && !options.remoteFaces)
           {
             continue; // another rank's tree: solid
           }
@@ -454,67 +567,11 @@ struct TreeWalk
             }
             break; // solid
           }
-          m = childToward(*neighbour, m, n.level, across);
+          m = faces.childToward(*neighbour, m, n.level, across);
         }
       }
     }
     return false;
-  }
-
-  bool lodStops(const TreeAccess& t, const NodeFrame& m) const
-  {
-    if (!options.view || !options.levelOfDetail)
-    {
-      return false;
-    }
-    Vec3 mlo;
-    Vec3 mhi;
-    nodeBox(grid, t, m, mlo, mhi);
-    return lodStops(mlo, mhi);
-  }
-
-  /// m: an unmasked node across the face of our node (same level or finer).
-  void emitExposedParts(const TreeAccess& t, const NodeFrame& m, int axis, int side, const Vec3& lo,
-                        const Vec3& hi, vtkIdType global, int level, bool inside)
-  {
-    if (t.isLeaf(m.node) || !t.hasMaskedDescendant(m.node) || lodStops(t, m))
-    {
-      return; // covered
-    }
-    const int f = grid.branchFactor();
-    const vtkIdType first = t.firstChild(m.node);
-    for (int c = 0; c < grid.childrenPerNode(); ++c)
-    {
-      // Only children touching our face: on the near side along `axis`.
-      int digit = c;
-      int along = 0;
-      for (int a : grid.activeAxes())
-      {
-        if (a == axis)
-        {
-          along = digit % f;
-        }
-        digit /= f;
-      }
-      if (along != (side ? 0 : f - 1))
-      {
-        continue;
-      }
-      const NodeFrame child{first + c, m.level + 1, childIndex(m, c, grid)};
-      if (grid.hasMask() && grid.isMasked(t.globalIndex(child.node)))
-      {
-        if (grid.isAbsent(t.globalIndex(child.node)))
-        {
-          continue; // another rank's part: solid
-        }
-        Vec3 clo;
-        Vec3 chi;
-        nodeBox(grid, t, child, clo, chi);
-        emitFace(axis, side, lo, hi, clo, chi, global, level, inside);
-        continue;
-      }
-      emitExposedParts(t, child, axis, side, lo, hi, global, level, inside);
-    }
   }
 };
 
@@ -572,14 +629,117 @@ std::size_t AdaptiveSurfaceBuilder::count()
           }
         });
   }
+  AskedAt.clear();
+  for (std::size_t t = 0; t < Kept.size(); ++t)
+  {
+    for (std::size_t k = 0; k < Kept[t].asked.size(); ++k)
+    {
+      AskedAt.emplace_back(t, k);
+    }
+  }
+  computeOffsets(counts);
+  return Offsets.back();
+}
+
+void AdaptiveSurfaceBuilder::computeOffsets(const std::vector<std::size_t>& counts)
+{
   // Trees write at prefix-sum offsets: the output order is the tree order, the
   // same for any number of threads.
-  Offsets.assign(trees.size() + 1, 0);
-  for (std::size_t t = 0; t < trees.size(); ++t)
+  Offsets.assign(counts.size() + 1, 0);
+  for (std::size_t t = 0; t < counts.size(); ++t)
   {
     Offsets[t + 1] = Offsets[t] + counts[t];
   }
-  return Offsets.back();
+}
+
+std::vector<RemoteFace> AdaptiveSurfaceBuilder::remoteFaces() const
+{
+  std::vector<RemoteFace> faces;
+  faces.reserve(AskedAt.size());
+  for (const auto& [t, k] : AskedAt)
+  {
+    faces.push_back(Kept[t].asked[k].face);
+  }
+  return faces;
+}
+
+std::vector<RemotePiece>
+AdaptiveSurfaceBuilder::answerRemoteFaces(const std::vector<RemoteFace>& faces) const
+{
+  // The other side of each face, in the trees this rank has: what it masks
+  // there shows; what it does not have (absent, or no tree) another rank answers.
+  std::vector<RemotePiece> pieces;
+  const FaceSide side{Grid, Options};
+  for (std::size_t q = 0; q < faces.size(); ++q)
+  {
+    const RemoteFace& f = faces[q];
+    const FacePosition n{{{static_cast<long>(f.root[0]), static_cast<long>(f.root[1]),
+                           static_cast<long>(f.root[2])}},
+                         static_cast<int>(f.level),
+                         f.ijk};
+    const int axis = static_cast<int>(f.axis);
+    const int towards = static_cast<int>(f.side);
+    if (axis < 0 || axis > 2 || f.level < 0 || f.level > Grid.maxLevel())
+    {
+      continue; // not a face of a grid like this one: nothing of it is here
+    }
+    Index3 across;
+    bool elsewhere = false;
+    if (!side.neighbourAcross(n, axis, towards, across, elsewhere))
+    {
+      continue; // no tree here on the other side
+    }
+    const TreeAccess* neighbour = nullptr;
+    NodeFrame m{0, 0, {{0, 0, 0}}};
+    const FaceState state = side.faceState(n, axis, towards, neighbour, m);
+    if (state == Whole)
+    {
+      pieces.push_back({q, true, {{0, 0, 0}}, {{0, 0, 0}}});
+    }
+    else if (state == Parts)
+    {
+      side.exposedParts(
+          *neighbour, m, axis, towards,
+          [&](const NodeFrame& child)
+          {
+            RemotePiece piece{q, false, {{0, 0, 0}}, {{0, 0, 0}}};
+            nodeBox(Grid, *neighbour, child, piece.lo, piece.hi);
+            pieces.push_back(piece);
+          },
+          [](const NodeFrame&) {});
+    }
+  }
+  return pieces;
+}
+
+void AdaptiveSurfaceBuilder::addRemotePieces(const std::vector<RemotePiece>& pieces)
+{
+  const auto& trees = Grid.trees();
+  for (const RemotePiece& piece : pieces)
+  {
+    if (piece.face >= AskedAt.size())
+    {
+      throw std::invalid_argument("a remote piece answers a face that was not asked");
+    }
+    const auto [t, k] = AskedAt[piece.face];
+    const AskedFace& asked = Kept[t].asked[k];
+    CellSink sink;
+    sink.keep = &Kept[t];
+    TreeWalk walk{Grid, trees[t], Options, Region.get(), sink};
+    const NodeFrame n{0, static_cast<int>(asked.face.level), asked.face.ijk};
+    Vec3 lo;
+    Vec3 hi;
+    nodeBox(Grid, trees[t], n, lo, hi);
+    walk.emitFace(static_cast<int>(asked.face.axis), static_cast<int>(asked.face.side), lo, hi,
+                  piece.whole ? lo : piece.lo, piece.whole ? hi : piece.hi, asked.global, n.level,
+                  asked.inside);
+  }
+  std::vector<std::size_t> counts(Kept.size());
+  for (std::size_t t = 0; t < Kept.size(); ++t)
+  {
+    counts[t] = Kept[t].cellIds.size();
+  }
+  computeOffsets(counts);
 }
 
 void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const

@@ -27,8 +27,10 @@
 
 #include <vtkType.h>
 
+#include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace canopy
@@ -42,6 +44,39 @@ struct SurfaceOptions
   bool levelOfDetail = true;
   double pixelThreshold = 1.0;
   bool skipBackFaces = false; ///< 3D only
+  /// 3D, trees split between ranks or on other ranks: faces whose other side is
+  /// another rank's are not taken as covered but collected (remoteFaces()) for
+  /// the ranks that own that side to answer (answerRemoteFaces()): needed as
+  /// soon as any rank has a mask, since only the owner knows what it masks.
+  /// Off: another rank's part is solid (exact when no rank masks anything).
+  bool remoteFaces = false;
+};
+
+/// A face of a drawn 3D node whose other side is, in part or whole, another
+/// rank's: what the owner needs to find its side (the node's root cell, level
+/// and integer position, the face's axis and side).
+struct RemoteFace
+{
+  std::array<std::int64_t, 3> root;
+  std::int64_t level;
+  std::array<std::int64_t, 3> ijk;
+  std::int64_t axis;
+  std::int64_t side;
+  /// Values per face on the wire (RemoteFace <-> int64).
+  static constexpr std::size_t Values = 9;
+};
+
+/// An owner's answer: a piece of a remote face to draw, because the owner masks
+/// the cells there. `whole`: the asking node's whole face (the owner's masked
+/// node is as large or larger); else the owner's masked node's box on the face.
+struct RemotePiece
+{
+  std::size_t face; ///< index in the asking rank's remoteFaces()
+  bool whole;
+  Vec3 lo;
+  Vec3 hi;
+  /// Values per piece on the wire (RemotePiece <-> double).
+  static constexpr std::size_t Values = 8;
 };
 
 /// Output buffers: 3 doubles per point, pointsPerCell() points per cell (4 for a
@@ -61,13 +96,22 @@ struct SurfaceArrays
 /// surface is walked once, its cells kept per tree and copied.
 class GridSection;
 
+/// A remote face as the asking rank keeps it, to draw the pieces it is sent.
+struct AskedFace
+{
+  RemoteFace face;
+  vtkIdType global;
+  bool inside; ///< the node is inside the view volume
+};
+
 /// One tree's cells, kept by the counting pass when it is cheaper to copy them
-/// than to walk the tree again (3D).
+/// than to walk the tree again (3D), and its faces to ask other ranks about.
 struct TreeCells
 {
   std::vector<double> points;
   std::vector<vtkIdType> cellIds;
   std::vector<unsigned char> levels;
+  std::vector<AskedFace> asked;
 };
 
 class AdaptiveSurfaceBuilder
@@ -77,8 +121,21 @@ public:
   ~AdaptiveSurfaceBuilder();
   AdaptiveSurfaceBuilder(const AdaptiveSurfaceBuilder&) = delete;
   AdaptiveSurfaceBuilder& operator=(const AdaptiveSurfaceBuilder&) = delete;
-  /// Number of cells (quads, or segments in 1D); call before write().
+  /// Number of cells (quads, or segments in 1D); call before write(). With
+  /// remoteFaces, the pieces other ranks send (addRemotePieces) come on top.
   std::size_t count();
+
+  ///@{
+  /// Ranks' exchange (remoteFaces on): after count(), the faces to ask the other
+  /// ranks about; each rank answers every other rank's faces for the parts it
+  /// owns; the asking rank adds the pieces it was sent, then writes. The same
+  /// view, level-of-detail threshold and options must be used on every rank.
+  std::vector<RemoteFace> remoteFaces() const;
+  std::vector<RemotePiece> answerRemoteFaces(const std::vector<RemoteFace>& faces) const;
+  void addRemotePieces(const std::vector<RemotePiece>& pieces);
+  /// Cells in all: count() plus the pieces added since.
+  std::size_t cells() const { return Offsets.empty() ? 0 : Offsets.back(); }
+  ///@}
   /// Points per output cell: 2 (segments) for 1D grids, 4 (quads) otherwise.
   std::size_t pointsPerCell() const { return Grid.dimension() == 1 ? 2 : 4; }
   /// Fills arrays sized for count() cells.
@@ -92,8 +149,12 @@ private:
   const HyperTreeAccess& Grid;
   SurfaceOptions Options;
   std::unique_ptr<GridSection> Region; ///< 1D/2D culling region, built once for both passes
+  void computeOffsets(const std::vector<std::size_t>& counts);
+
   std::vector<std::size_t> Offsets;
   std::vector<TreeCells> Kept; ///< per tree, when the counting pass kept the cells
+  /// Where remoteFaces() entries come from: (tree, position in its asked list).
+  std::vector<std::pair<std::size_t, std::size_t>> AskedAt;
 };
 
 } // namespace canopy

@@ -4,7 +4,9 @@
 #include "GridSection.h"
 #include "TreeTraversal.h"
 
+#include <vtkAOSDataArrayTemplate.h>
 #include <vtkDataArray.h>
+#include <vtkSMPTools.h>
 
 #include <algorithm>
 #include <cmath>
@@ -213,47 +215,130 @@ std::vector<SelectedNode> CellSelection::byId(const std::vector<vtkIdType>& ids,
   return selected;
 }
 
+namespace
+{
+
+/// The value a range selection compares: a component, or the magnitude when
+/// component < 0. Typed for contiguous arrays (a virtual call per leaf costs
+/// more than the rest of the walk); other arrays through GetComponent.
+template <typename Array>
+double valueAt(Array* values, vtkIdType tuple, int component, int components)
+{
+  if (component >= 0)
+  {
+    return static_cast<double>(values->GetComponent(tuple, component));
+  }
+  double sum = 0;
+  for (int c = 0; c < components; ++c)
+  {
+    const double x = static_cast<double>(values->GetComponent(tuple, c));
+    sum += x * x;
+  }
+  return std::sqrt(sum);
+}
+
+/// Runs walk(tree, out) for every tree in parallel, each into its own list,
+/// and joins the lists in tree order (the same for any number of threads).
+template <typename Walk>
+std::vector<SelectedNode> perTree(const HyperTreeAccess& grid, const Walk& walk)
+{
+  const auto& trees = grid.trees();
+  std::vector<std::vector<SelectedNode>> found(trees.size());
+  vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType t = begin; t < end; ++t)
+                     {
+                       walk(trees[static_cast<std::size_t>(t)], found[static_cast<std::size_t>(t)]);
+                     }
+                   });
+  std::size_t total = 0;
+  for (const auto& list : found)
+  {
+    total += list.size();
+  }
+  std::vector<SelectedNode> selected;
+  selected.reserve(total);
+  for (const auto& list : found)
+  {
+    selected.insert(selected.end(), list.begin(), list.end());
+  }
+  return selected;
+}
+
+} // namespace
+
 std::vector<SelectedNode> CellSelection::byValue(vtkDataArray* values, int component, double low,
                                                  double high) const
 {
-  std::vector<SelectedNode> selected;
   const int nc = values->GetNumberOfComponents();
-  for (const TreeAccess& tree : Grid.trees())
+  auto select = [&](auto* typed)
   {
-    walkTree(Grid, tree,
-             [&](WalkNode& n)
-             {
-               if (hidden(tree, n.node))
-               {
-                 return WalkStep::Skip;
-               }
-               if (!tree.isLeaf(n.node))
-               {
-                 return WalkStep::Descend;
-               }
-               const vtkIdType global = tree.globalIndex(n.node);
-               double v = 0;
-               if (component >= 0)
-               {
-                 v = values->GetComponent(global, component);
-               }
-               else
-               {
-                 for (int c = 0; c < nc; ++c)
-                 {
-                   const double x = values->GetComponent(global, c);
-                   v += x * x;
-                 }
-                 v = std::sqrt(v);
-               }
-               if (v >= low && v <= high) // false for NaN
-               {
-                 selected.push_back({&tree, n.node, global, n.level, n.ijk});
-               }
-               return WalkStep::Skip;
-             });
+    return perTree(Grid,
+                   [&](const TreeAccess& tree, std::vector<SelectedNode>& out)
+                   {
+                     walkTree(Grid, tree,
+                              [&](WalkNode& n)
+                              {
+                                if (hidden(tree, n.node))
+                                {
+                                  return WalkStep::Skip;
+                                }
+                                if (!tree.isLeaf(n.node))
+                                {
+                                  return WalkStep::Descend;
+                                }
+                                const vtkIdType global = tree.globalIndex(n.node);
+                                const double v = valueAt(typed, global, component, nc);
+                                if (v >= low && v <= high) // false for NaN
+                                {
+                                  out.push_back({&tree, n.node, global, n.level, n.ijk});
+                                }
+                                return WalkStep::Skip;
+                              });
+                   });
+  };
+  if (auto* doubles = vtkAOSDataArrayTemplate<double>::FastDownCast(values))
+  {
+    return select(doubles);
   }
-  return selected;
+  if (auto* floats = vtkAOSDataArrayTemplate<float>::FastDownCast(values))
+  {
+    return select(floats);
+  }
+  return select(values);
+}
+
+std::vector<SelectedNode> CellSelection::complement(const std::vector<SelectedNode>& selected) const
+{
+  std::vector<unsigned char> chosen(static_cast<std::size_t>(Grid.numberOfCells()), 0);
+  for (const SelectedNode& n : selected)
+  {
+    chosen[static_cast<std::size_t>(n.global)] = 1;
+  }
+  return perTree(Grid,
+                 [&](const TreeAccess& tree, std::vector<SelectedNode>& out)
+                 {
+                   walkTree(Grid, tree,
+                            [&](WalkNode& n)
+                            {
+                              if (hidden(tree, n.node))
+                              {
+                                return WalkStep::Skip;
+                              }
+                              const vtkIdType global = tree.globalIndex(n.node);
+                              if (chosen[static_cast<std::size_t>(global)])
+                              {
+                                return WalkStep::Skip; // selected, and its subtree with it
+                              }
+                              if (tree.isLeaf(n.node))
+                              {
+                                out.push_back({&tree, n.node, global, n.level, n.ijk});
+                                return WalkStep::Skip;
+                              }
+                              return WalkStep::Descend;
+                            });
+                 });
 }
 
 template <typename Overlaps>

@@ -76,6 +76,11 @@ public:
   /// Precondition: frustum.problem() is empty.
   std::vector<SelectedNode> byFrustum(const Frustum& frustum, SelectionReport& report) const;
 
+  /// The visible leaves (selectable: unmasked, or masked with allowMasked; never
+  /// absent) that are neither one of `selected` nor below one: what an inverted
+  /// selection selects. In tree order.
+  std::vector<SelectedNode> complement(const std::vector<SelectedNode>& selected) const;
+
   /// Lower and upper corners of a selected node.
   void bounds(const SelectedNode& n, Vec3& lo, Vec3& hi) const;
 

@@ -49,12 +49,13 @@ struct TreeAccess
   vtkIdType numberOfVertices = 0;
   int childrenPerNode = 0;
   /// 3D surface memos, filled on first use and kept with the access (they depend
-  /// on the topology only, not on the view). Written only by the thread walking
-  /// this tree. exposeMemo: 0 unknown, 1 nothing inside can be exposed, 2 may be.
-  /// faceMemo: 2 bits per face (axis * 2 + side): 0 unknown, 1 nothing to draw,
-  /// 2 drawn whole, 3 a same-level unmasked neighbour with masked descendants.
+  /// on the topology only, not on the view, and on whether other ranks' parts
+  /// are asked: memoRemote). Written only by the thread walking this tree.
+  /// exposeMemo: 0 unknown, 1 nothing inside can be exposed, 2 may be.
+  /// faceMemo: 3 bits per face (axis * 2 + side), AdaptiveSurfaceBuilder's FaceState.
   mutable std::vector<unsigned char> exposeMemo;
-  mutable std::vector<std::uint16_t> faceMemo;
+  mutable std::vector<std::uint32_t> faceMemo;
+  mutable int memoRemote = -1;
   /// Unmasked leaves without a masked ancestor: the cells of a full 1D/2D
   /// surface. Counted only with index tables (a kept access); -1 otherwise.
   vtkIdType visibleLeaves = -1;
@@ -214,6 +215,8 @@ public:
   /// and a node with absent descendants is never drawn as one piece (its
   /// pixels belong to several ranks).
   bool hasAbsent() const { return AnyAbsent; }
+  /// Whether root cells without a tree have it on another rank.
+  bool hasTreesElsewhere() const { return MissingTreesElsewhere; }
   bool isAbsent(vtkIdType globalIndex) const
   {
     return Ghosts != nullptr && globalIndex < GhostsSize &&

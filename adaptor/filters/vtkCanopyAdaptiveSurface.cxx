@@ -3,20 +3,30 @@
 #include "AdaptiveSurfaceBuilder.h"
 #include "HyperTreeAccess.h"
 #include "HyperTreeAccessCache.h"
+#include "RemoteFaceExchange.h"
 #include "ViewVolume.h"
 
 #include <vtkDoubleArray.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdTypeArray.h>
+#include <vtkMultiProcessController.h>
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
 #include <vtkUnsignedCharArray.h>
 
 vtkStandardNewMacro(vtkCanopyAdaptiveSurface);
 
-vtkCanopyAdaptiveSurface::vtkCanopyAdaptiveSurface() = default;
+vtkCxxSetObjectMacro(vtkCanopyAdaptiveSurface, Controller, vtkMultiProcessController);
 
-vtkCanopyAdaptiveSurface::~vtkCanopyAdaptiveSurface() = default;
+vtkCanopyAdaptiveSurface::vtkCanopyAdaptiveSurface()
+{
+  this->SetController(vtkMultiProcessController::GetGlobalController());
+}
+
+vtkCanopyAdaptiveSurface::~vtkCanopyAdaptiveSurface()
+{
+  this->SetController(nullptr);
+}
 
 int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outputObject)
 {
@@ -33,8 +43,40 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     return 0;
   }
   canopy::CameraParameters camera;
-  if (!this->CurrentView(camera))
+  const bool viewUsable = this->CurrentView(camera);
+  // Split 3D grids: every rank agrees whether to go on and whether faces
+  // between ranks must be asked about, before anything collective.
+  vtkMultiProcessController* controller = this->Controller;
+  const bool collective =
+      input->GetDimension() == 3 && controller && controller->GetNumberOfProcesses() > 1;
+  std::shared_ptr<const canopy::HyperTreeAccess> access;
+  std::string problem;
+  try
   {
+    access = this->Topology->get(input, true);
+  }
+  catch (const std::exception& e)
+  {
+    this->Topology->clear();
+    problem = e.what();
+  }
+  int local[3] = {!viewUsable || !access ? 1 : 0, access && access->hasMask() ? 1 : 0,
+                  access && (access->hasAbsent() || access->hasTreesElsewhere()) ? 1 : 0};
+  int agreed[3] = {local[0], local[1], local[2]};
+  if (collective)
+  {
+    controller->AllReduce(local, agreed, 3, vtkCommunicator::MAX_OP);
+  }
+  if (agreed[0])
+  {
+    if (!problem.empty())
+    {
+      vtkErrorMacro("cannot build the surface: " << problem);
+    }
+    else if (viewUsable)
+    {
+      vtkErrorMacro("cannot build the surface: another process failed");
+    }
     return 0;
   }
 
@@ -45,7 +87,6 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   vtkIdType perCell = 4;
   try
   {
-    const std::shared_ptr<const canopy::HyperTreeAccess> access = this->Topology->get(input, true);
     std::unique_ptr<canopy::ViewVolume> view;
     canopy::SurfaceOptions options;
     if (this->ViewDependent)
@@ -57,8 +98,14 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     options.levelOfDetail = this->LevelOfDetail;
     options.pixelThreshold = this->PixelThreshold;
     options.skipBackFaces = this->SkipBackFaces;
+    options.remoteFaces = collective && agreed[1] && agreed[2];
     canopy::AdaptiveSurfaceBuilder builder(*access, options);
-    quads = static_cast<vtkIdType>(builder.count());
+    builder.count();
+    if (options.remoteFaces)
+    {
+      canopy::exchangeRemoteFaces(builder, controller);
+    }
+    quads = static_cast<vtkIdType>(builder.cells());
     perCell = static_cast<vtkIdType>(builder.pointsPerCell());
     // Allocated once, written in place by the trees in parallel.
     arrays.Points->SetNumberOfTuples(perCell * quads);
@@ -80,5 +127,6 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
 void vtkCanopyAdaptiveSurface::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "SkipBackFaces: " << this->SkipBackFaces << "\n";
+  os << indent << "SkipBackFaces: " << this->SkipBackFaces << "\n"
+     << indent << "Controller: " << this->Controller << "\n";
 }

@@ -16,6 +16,13 @@
  * The view and the shared properties: vtkCanopyViewDependentFilter. With
  * ViewDependent off the output is the full surface.
  *
+ * 3D grids split between processes (absent cells, or trees on other ranks):
+ * with a mask on any rank, a face between this rank's part and another's is
+ * drawn where the other rank masks its side, which only that rank knows: the
+ * ranks exchange those faces through the Controller (RemoteFaceExchange.h), so
+ * the execution is then collective, as VTK's parallel filters are. Without any
+ * mask other ranks' parts are solid and nothing is exchanged.
+ *
  * Output: vtkPolyData of quads (lines in 1D) with double-precision points, the selected input
  * cell fields (all by default), "OriginalCellId" (the input's global cell index)
  * and "Level". Re-executes only when the input, the camera, the viewport size
@@ -26,12 +33,22 @@
 #include "CanopyFiltersModule.h"
 #include "vtkCanopyViewDependentFilter.h"
 
+class vtkMultiProcessController;
+
 class CANOPYFILTERS_EXPORT vtkCanopyAdaptiveSurface : public vtkCanopyViewDependentFilter
 {
 public:
   static vtkCanopyAdaptiveSurface* New();
   vtkTypeMacro(vtkCanopyAdaptiveSurface, vtkCanopyViewDependentFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The processes the grid is split between (default: the global controller,
+  /// as ParaView and Catalyst set it). Only 3D grids split between more than
+  /// one process use it.
+  void SetController(vtkMultiProcessController* controller);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  ///@}
 
   ///@{
   /// 3D: skip faces turned away from the camera (default off).
@@ -47,6 +64,7 @@ protected:
   int ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* output) override;
 
   bool SkipBackFaces = false;
+  vtkMultiProcessController* Controller = nullptr;
 
 private:
   vtkCanopyAdaptiveSurface(const vtkCanopyAdaptiveSurface&) = delete;

@@ -4,6 +4,7 @@
 #include "Frustum.h"
 #include "GatherTuples.h"
 #include "HyperTreeAccess.h"
+#include "HyperTreeAccessCache.h"
 #include "PointMerger.h"
 
 #include <vtkBitArray.h>
@@ -25,12 +26,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <unordered_set>
 
 vtkStandardNewMacro(vtkCanopyExtractSelection);
 
 vtkCanopyExtractSelection::vtkCanopyExtractSelection()
+    : Topology(std::make_unique<canopy::HyperTreeAccessCache>())
 {
   this->SetNumberOfInputPorts(2);
 }
@@ -120,42 +123,63 @@ namespace
 {
 
 /// A masked copy of the input: visible are the selected nodes, their
-/// ancestors and the subtrees of selected coarse nodes.
+/// ancestors and the subtrees of selected coarse nodes, except what stays
+/// hidden there (`stays(global)`: absent cells, and masked ones unless they may
+/// be selected). The mask is written a byte at a time where it can be: all set,
+/// then cleared along each selected node's path and subtree, so the cost is a
+/// pass over N / 8 bytes plus the selected nodes and their ancestors.
+template <typename StaysHidden>
 void maskAllBut(const canopy::HyperTreeAccess& grid, const std::vector<canopy::SelectedNode>& nodes,
-                vtkHyperTreeGrid* output)
+                const StaysHidden& stays, vtkHyperTreeGrid* output)
 {
   vtkNew<vtkBitArray> mask;
   mask->SetName("vtkHyperTreeGridMask");
   mask->SetNumberOfValues(grid.numberOfCells());
-  for (vtkIdType i = 0; i < grid.numberOfCells(); ++i)
-  {
-    mask->SetValue(i, 1);
-  }
+  unsigned char* bits = mask->GetPointer(0);
+  const auto bytes = static_cast<std::size_t>((grid.numberOfCells() + 7) / 8);
+  std::memset(bits, 0xFF, bytes);
+  // vtkBitArray keeps the most significant bit first.
+  auto show = [bits](vtkIdType global)
+  { bits[global >> 3] &= static_cast<unsigned char>(~(0x80u >> (global & 7))); };
+  std::vector<vtkIdType> stack;
   for (const canopy::SelectedNode& n : nodes)
   {
     // Ancestors, from the root down along the node's integer position.
     vtkIdType node = 0;
     for (int level = 0; level < n.level; ++level)
     {
-      mask->SetValue(n.tree->globalIndex(node), 0);
+      show(n.tree->globalIndex(node));
       node = n.tree->firstChild(node) + grid.childToward(level, n.level, n.ijk);
     }
-    // The node and its whole subtree.
-    std::vector<vtkIdType> stack{n.node};
+    // The node and its subtree, but for what stays hidden.
+    show(n.global);
+    if (n.tree->isLeaf(n.node))
+    {
+      continue;
+    }
+    stack.assign(1, n.node);
     while (!stack.empty())
     {
       const vtkIdType m = stack.back();
       stack.pop_back();
-      mask->SetValue(n.tree->globalIndex(m), 0);
-      if (!n.tree->isLeaf(m))
+      const vtkIdType first = n.tree->firstChild(m);
+      for (int c = 0; c < grid.childrenPerNode(); ++c)
       {
-        for (int c = 0; c < grid.childrenPerNode(); ++c)
+        const vtkIdType child = first + c;
+        const vtkIdType global = n.tree->globalIndex(child);
+        if (stays(global))
         {
-          stack.push_back(n.tree->firstChild(m) + c);
+          continue;
+        }
+        show(global);
+        if (!n.tree->isLeaf(child))
+        {
+          stack.push_back(child);
         }
       }
     }
   }
+  mask->Modified();
   output->SetMask(mask);
 }
 
@@ -450,9 +474,25 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     }
   }
 
+  // A selection node's INVERSE key inverts once more (as in VTK).
+  bool invert = this->Invert;
+  if (selectionInput && selectionInput->GetNumberOfNodes() > 0)
+  {
+    vtkInformation* properties = selectionInput->GetNode(0)->GetProperties();
+    if (properties->Has(vtkSelectionNode::INVERSE()) &&
+        properties->Get(vtkSelectionNode::INVERSE()) != 0)
+    {
+      invert = !invert;
+    }
+  }
+
   try
   {
-    const canopy::HyperTreeAccess grid(input);
+    // Neither index tables nor masked-descendant flags: selections read only
+    // the nodes they walk.
+    const std::shared_ptr<const canopy::HyperTreeAccess> access =
+        this->Topology->get(input, false, false);
+    const canopy::HyperTreeAccess& grid = *access;
     const canopy::CellSelection selection(grid, this->AllowMasked);
     canopy::SelectionReport report;
     std::vector<canopy::SelectedNode> nodes;
@@ -481,11 +521,20 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     this->LastOutOfRange = static_cast<vtkIdType>(report.outOfRange);
     this->LastDuplicates = static_cast<vtkIdType>(report.duplicates);
     this->LastVisited = static_cast<vtkIdType>(report.visited);
+    if (invert)
+    {
+      nodes = selection.complement(nodes);
+    }
     if (this->PreserveTopology)
     {
       auto* output = vtkHyperTreeGrid::SafeDownCast(outputObject);
       output->ShallowCopy(input);
-      maskAllBut(grid, nodes, output);
+      const bool allowMasked = this->AllowMasked;
+      maskAllBut(
+          grid, nodes,
+          [&grid, allowMasked](vtkIdType global)
+          { return grid.isAbsent(global) || (!allowMasked && grid.isMasked(global)); },
+          output);
     }
     else
     {
@@ -496,6 +545,7 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
   }
   catch (const std::exception& e)
   {
+    this->Topology->clear();
     vtkErrorMacro("cannot extract the selection: " << e.what());
     return 0;
   }
@@ -520,6 +570,7 @@ void vtkCanopyExtractSelection::PrintSelf(ostream& os, vtkIndent indent)
   }
   os << "\n"
      << indent << "FrustumCorners: " << this->FrustumCorners.size() / 3 << "\n"
+     << indent << "Invert: " << this->Invert << "\n"
      << indent << "AllowMasked: " << this->AllowMasked << "\n"
      << indent << "PreserveTopology: " << this->PreserveTopology << "\n"
      << indent << "LastOutside: " << this->LastOutside << "\n"

@@ -34,6 +34,12 @@
  * Masked cells are selectable only with AllowMasked on. Absent cells (parts of
  * split trees other ranks own: masked and marked DUPLICATECELL) never are.
  *
+ * Invert (or the selection node's INVERSE key, as VTK's vtkExtractSelection
+ * reads it): select instead the selectable leaves that are neither selected nor
+ * below a selected cell. A box with Invert cuts that box away (an octant removed
+ * to look inside); two filters chained (a value range, then an inverted box)
+ * select their intersection.
+ *
  * PreserveTopology on: a vtkHyperTreeGrid sharing the input's trees and arrays
  * with a new mask leaving visible the selected cells, their ancestors (needed to
  * reach them) and the subtrees of selected coarse cells. Off: a
@@ -47,8 +53,14 @@
 
 #include <vtkDataObjectAlgorithm.h>
 
+#include <memory>
 #include <string>
 #include <vector>
+
+namespace canopy
+{
+class HyperTreeAccessCache;
+}
 
 class CANOPYFILTERS_EXPORT vtkCanopyExtractSelection : public vtkDataObjectAlgorithm
 {
@@ -115,6 +127,14 @@ public:
   ///@}
 
   ///@{
+  /// Select the complement instead (see above). A selection input's INVERSE key
+  /// inverts once more.
+  vtkSetMacro(Invert, bool);
+  vtkGetMacro(Invert, bool);
+  vtkBooleanMacro(Invert, bool);
+  ///@}
+
+  ///@{
   vtkSetMacro(AllowMasked, bool);
   vtkGetMacro(AllowMasked, bool);
   vtkBooleanMacro(AllowMasked, bool);
@@ -150,6 +170,7 @@ protected:
   double Box[6] = {0, 0, 0, 0, 0, 0};
   double FrustumPlanes[24] = {};
   std::vector<double> FrustumCorners;
+  bool Invert = false;
   bool AllowMasked = false;
   bool PreserveTopology = false;
   vtkIdType LastOutside = 0;
@@ -159,6 +180,9 @@ protected:
   vtkIdType LastVisited = 0;
 
 private:
+  /// The input's topology read once while it is unchanged (a value range that
+  /// changes every step re-reads nothing but the values).
+  std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
   vtkCanopyExtractSelection(const vtkCanopyExtractSelection&) = delete;
   void operator=(const vtkCanopyExtractSelection&) = delete;
 };

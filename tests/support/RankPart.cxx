@@ -64,6 +64,7 @@ RankPart::RankPart(const ForestDescription& whole, int rank, int ranks, bool dep
   {
     const double value = wholeValue(trees[t].wholeTree, trees[t].wholeNode[n]);
     nodeValues.push_back(value);
+    hashValues.push_back(wholeHash(trees[t].wholeTree, trees[t].wholeNode[n]));
     if (!trees[t].refinement[n])
     {
       leafValues.push_back(value);
@@ -79,6 +80,7 @@ RankPart::RankPart(const ForestDescription& whole, int rank, int ranks, bool dep
   // Every root cell of the whole forest has its tree on some rank.
   description.missingTreesAreElsewhere = true;
   description.fields.push_back(FieldDescription::aos("node", nodeValues.data(), nodeValues.size()));
+  description.fields.push_back(FieldDescription::aos("hash", hashValues.data(), hashValues.size()));
   description.fields.push_back(FieldDescription::aos("leaf", leafValues.data(), leafValues.size(),
                                                      1, Centering::LeavesOnly));
 }
