@@ -80,9 +80,9 @@ RankPart::RankPart(const ForestDescription& whole, int rank, int ranks, bool dep
   // Every root cell of the whole forest has its tree on some rank.
   description.missingTreesAreElsewhere = true;
   description.fields.push_back(FieldDescription::aos("node", nodeValues.data(), nodeValues.size()));
-  description.fields.push_back(FieldDescription::aos("hash", hashValues.data(), hashValues.size()));
   description.fields.push_back(FieldDescription::aos("leaf", leafValues.data(), leafValues.size(),
                                                      1, Centering::LeavesOnly));
+  description.fields.push_back(FieldDescription::aos("hash", hashValues.data(), hashValues.size()));
 }
 
 } // namespace canopy::testing
