@@ -23,9 +23,12 @@
 namespace
 {
 
-/// The default pipelines: images of the adaptive surface, a selection of the
-/// blob (scalar above 0.5) and full data extracts (the grid as VTKHDF for current
-/// ParaView and as the .pvd series ParaView 5.11 opens), from Canopy's pipelines/.
+/// The default pipelines. 2D: images of the adaptive surface and a zoomed view;
+/// 3D: images of three slices through the domain's centre and of the blob's
+/// region (scalar >= 0.5) with the octant towards the camera cut away, so the
+/// inside shows. Then a selection of the blob (scalar above 0.5) and full data
+/// extracts (the grid as VTKHDF for current ParaView and as the .pvd series
+/// ParaView 5.11 opens), from Canopy's pipelines/.
 std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOptions& o)
 {
   std::vector<canopy::PipelineScript> scripts;
@@ -36,25 +39,42 @@ std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOption
     return scripts;
   }
   const std::string dir = CANOPY_MINIAPP_PIPELINES_DIR;
-  const std::string every = "--frequency=";
-  scripts.push_back({dir + "/surface_image.py",
-                     {every + std::to_string(o.imageEvery), "--color-by=scalar", "--fields=scalar",
-                      "--image-size=1024x1024", "--show-edges=1", "--pixel-threshold=3"}});
-  // A zoomed view of the refined region: the surface culls what is outside it and
-  // coarsens what recedes from the camera.
-  auto zoomed = miniamr::zoomedViewCamera(o);
-  if (!zoomed.empty())
+  const std::string every = "--frequency=" + std::to_string(o.imageEvery);
+  const std::vector<std::string> image{every,
+                                       "--color-by=scalar",
+                                       "--fields=scalar",
+                                       "--image-size=1024x1024",
+                                       "--show-edges=1",
+                                       "--pixel-threshold=3"};
+  if (o.dimension == 3)
   {
-    zoomed.insert(zoomed.end(), {every + std::to_string(o.imageEvery), "--color-by=scalar",
-                                 "--fields=scalar", "--image-size=1024x768", "--show-edges=1",
-                                 "--pixel-threshold=5", "--file-prefix=zoom"});
-    scripts.push_back({dir + "/surface_image_second_view.py", zoomed});
+    auto slices = image;
+    slices.push_back("--file-prefix=slices");
+    scripts.push_back({dir + "/slice_image.py", slices});
+    auto region = image;
+    region.insert(region.end(), {"--select-field=scalar", "--select-range=0.5,1e30",
+                                 "--cut-away=octant", "--file-prefix=region"});
+    scripts.push_back({dir + "/surface_image.py", region});
+  }
+  else
+  {
+    scripts.push_back({dir + "/surface_image.py", image});
+    // A zoomed view of the refined region: the surface culls what is outside it and
+    // coarsens what recedes from the camera.
+    auto zoomed = miniamr::zoomedViewCamera(o);
+    if (!zoomed.empty())
+    {
+      zoomed.insert(zoomed.end(),
+                    {every, "--color-by=scalar", "--fields=scalar", "--image-size=1024x768",
+                     "--show-edges=1", "--pixel-threshold=5", "--file-prefix=zoom"});
+      scripts.push_back({dir + "/surface_image_second_view.py", zoomed});
+    }
   }
   scripts.push_back({dir + "/selection_extract.py",
-                     {every + std::to_string(o.selectionEvery), "--selection=range",
+                     {"--frequency=" + std::to_string(o.selectionEvery), "--selection=range",
                       "--value-field=scalar", "--value-range=0.5,1e30"}});
-  scripts.push_back(
-      {dir + "/data_extracts.py", {every + std::to_string(o.extractEvery), "--format=both"}});
+  scripts.push_back({dir + "/data_extracts.py",
+                     {"--frequency=" + std::to_string(o.extractEvery), "--format=both"}});
   return scripts;
 }
 

@@ -190,7 +190,20 @@ def follow_view(surface, view):
 def frame_grid(view, grid, values):
     """Points the view's camera at the whole grid (the same on every rank: the
     bounds are gathered over ranks), unless the settings give a camera."""
-    position = values.list("camera_position", float) if values.get("camera_position") else []
+    if not camera_given(values):
+        frame_bounds(view, grid_bounds(grid), values)
+    else:
+        frame_bounds(view, None, values)
+
+
+def camera_given(values):
+    return bool(values.get("camera_position"))
+
+
+def frame_bounds(view, bounds, values):
+    """Points the view's camera at `bounds` (xmin, xmax, ... the same on every
+    rank), unless the settings give a camera (then `bounds` is not used)."""
+    position = values.list("camera_position", float) if camera_given(values) else []
     if position:
         view.CameraPosition = position
         view.CameraFocalPoint = values.list("camera_focal_point", float)
@@ -199,10 +212,6 @@ def frame_grid(view, grid, values):
             view.CameraParallelProjection = 1
             view.CameraParallelScale = values.parallel_scale
         return
-    local = _local_bounds(_local_data(grid))
-    low = _reduce([local[2 * axis] for axis in range(3)], "MIN_OP")
-    high = _reduce([local[2 * axis + 1] for axis in range(3)], "MAX_OP")
-    bounds = [value for axis in range(3) for value in (low[axis], high[axis])]
     lengths = [bounds[2 * axis + 1] - bounds[2 * axis] for axis in range(3)]
     center = [0.5 * (bounds[2 * axis] + bounds[2 * axis + 1]) for axis in range(3)]
     flat = [axis for axis in range(3) if lengths[axis] == 0.0]
@@ -281,6 +290,193 @@ def color_legend(view, field):
     bar.WindowLocation = "Lower Right Corner"
     bar.Visibility = 1
     return bar
+
+
+# ---- what the image scripts (surface_image.py, slice_image.py) share ----
+
+IMAGE_DEFAULTS = dict(
+    image_size="800x600", color_by="", pixel_threshold=1.0, camera_position="",
+    camera_focal_point="", camera_view_up="", parallel_scale=0.0, show_edges=False, legend=True,
+    time_label=True, color_range="", png_compression=3,
+    select_field="", select_range="", cut_away="")
+"""Settings every image script has (see surface_image.py's docstring); select_field,
+select_range and cut_away describe a selected region (selected_region)."""
+
+SURFACE_AMBIENT = 0.45
+"""Lighting of shaded surfaces: one light from the camera (a headlight, no light
+kit), a face's colour is the colour map's times SURFACE_AMBIENT + (1 - SURFACE_AMBIENT)
+cos(angle between its normal and the view): no face darker than 45% of its colour,
+so values stay apart on every face; faces towards the camera at full colour.
+Flat pieces (slices) are unlit: exactly the colour map."""
+
+
+def fixed_color_range(values):
+    """The color_range setting: None (each step's range, or 'first': the first
+    step's, kept), or (low, high)."""
+    if values.color_range in ("", "first"):
+        return None
+    fixed = values.list("color_range", float)
+    if len(fixed) != 2 or not fixed[0] < fixed[1]:
+        raise ValueError("color_range: 'low,high' with low < high, 'first' or '' (got %r)"
+                         % values.color_range)
+    return tuple(fixed)
+
+
+def light_from_camera(view):
+    """One headlight instead of ParaView's light kit (see SURFACE_AMBIENT)."""
+    from paraview.simple import AddLight
+    view.UseLight = 0
+    light = AddLight(view=view)
+    light.Coords = "Headlight"
+    light.Intensity = 1.0
+    return light
+
+
+def shade(display, flat):
+    """Colours that read: flat pieces (slices) unlit, surfaces lit by the
+    headlight with an ambient term (SURFACE_AMBIENT); no specular highlight."""
+    display.Specular = 0.0
+    display.Interpolation = "Flat"
+    display.Ambient = 1.0 if flat else SURFACE_AMBIENT
+    display.Diffuse = 0.0 if flat else 1.0 - SURFACE_AMBIENT
+
+
+CUT_AWAY_HELP = "'' (none), 'octant' (the octant towards the camera) or 'xmin,xmax,ymin,ymax,zmin,zmax'"
+
+
+def selected_region(source, values):
+    """`source` with the selected region's mask (no cell or field copied): the
+    cells whose select_field lies in select_range ('low,high', inclusive), without
+    the cut_away box (see CUT_AWAY_HELP); `source` itself when neither is set.
+    Returns (region, cut) where cut is the cut-away filter (None without one);
+    call cut_away_box(cut, ...) each step when cut_away is 'octant'."""
+    from paraview import simple
+    region = source
+    if values.select_field or values.select_range:
+        bounds = values.list("select_range", float)
+        if not values.select_field or len(bounds) != 2 or not bounds[0] <= bounds[1]:
+            raise ValueError("select_field=<field> and select_range=low,high (low <= high) go "
+                             "together (got %r and %r)" % (values.select_field, values.select_range))
+        region = simple.CanopyExtractSelection(
+            Input=region, SelectionMode="Value Range", ValueArrayName=values.select_field,
+            ValueComponent=0, ValueRange=bounds, PreserveTopology=1)
+    cut = None
+    if values.cut_away:
+        box = [] if values.cut_away == "octant" else values.list("cut_away", float)
+        if values.cut_away != "octant" and len(box) != 6:
+            raise ValueError("cut_away: %s (got %r)" % (CUT_AWAY_HELP, values.cut_away))
+        cut = simple.CanopyExtractSelection(
+            Input=region, SelectionMode="Box", Box=box or [0.0] * 6, Invert=1, PreserveTopology=1)
+        region = cut
+    return region, cut
+
+
+def octant_towards(bounds, camera_position):
+    """The octant of `bounds` nearest the camera, unbounded outward (a box that
+    cuts it away whatever lies beyond the domain)."""
+    box = []
+    for axis in range(3):
+        low, high = bounds[2 * axis], bounds[2 * axis + 1]
+        centre = 0.5 * (low + high)
+        box += [centre, 1e300] if camera_position[axis] >= centre else [-1e300, centre]
+    return box
+
+
+def grid_bounds(grid):
+    """The whole grid's bounds, agreed over ranks (collective)."""
+    local = _local_bounds(_local_data(grid))
+    low = _reduce([local[2 * axis] for axis in range(3)], "MIN_OP")
+    high = _reduce([local[2 * axis + 1] for axis in range(3)], "MAX_OP")
+    return [value for axis in range(3) for value in (low[axis], high[axis])]
+
+
+class ImageScript:
+    """The frame of an image script: settings (IMAGE_DEFAULTS), Catalyst options,
+    the plugin, the simulation's grid, an off-screen view lit for colour maps, a PNG
+    extractor, the colour legend and the time label; show() adds what is drawn, and
+    execute() does each step's work (camera, view-following filters, colours,
+    cut-away box, time). Collective calls happen in execute(), on every rank."""
+
+    def __init__(self, values, cinema=None):
+        from paraview.simple import CreateExtractor
+        self.settings = values
+        self.fixed_range = fixed_color_range(values)
+        self.options = catalyst_options(values, cinema=cinema)
+        load_canopy_plugin()
+        self.grid = simulation_grid(values)
+        self.view = render_view(values)
+        light_from_camera(self.view)
+        self.region, self.cut = selected_region(self.grid, values)
+        self.followers = []
+        self.displays = []
+        image = CreateExtractor("PNG", self.view, registrationName=values.file_prefix + "_image")
+        image.Writer.FileName = values.file_prefix + "_{timestep:06d}.png"
+        image.Writer.ImageResolution = image_size(values)
+        image.Writer.Format.CompressionLevel = str(values.png_compression)
+        set_trigger(image, values)
+        self.legend = color_legend(self.view, values.color_by) if values.legend else None
+        self.label = time_label(self.view) if values.time_label else None
+
+    def show(self, proxy, flat=False, follows_view=True, colored=True):
+        """Shows `proxy` in the view: flat (unlit, slices) or shaded; a filter that
+        follows the view (CanopyAdaptiveSurface, CanopyAdaptiveSlice) gets the
+        view's camera each step; colored by color_by unless colored=False."""
+        from paraview.simple import Show
+        display = Show(proxy, self.view)
+        shade(display, flat)
+        if self.settings.show_edges:
+            display.SetRepresentationType("Surface With Edges")
+            display.EdgeColor = [0.15, 0.15, 0.15]
+        if follows_view:
+            self.followers.append(proxy)
+        if colored:
+            self.displays.append(display)
+        return display
+
+    def fields(self):
+        """The fields this script reads itself: color_by and select_field."""
+        return [self.settings.color_by, self.settings.select_field]
+
+    def request_fields(self, data_description):
+        request_fields(data_description, self.settings, extra=self.fields(),
+                       every_field_when_empty=False)
+
+    def region_bounds(self):
+        """The bounds of what is drawn, agreed over ranks: the selected cells'
+        (before any cut) with a value range, else the whole grid's."""
+        values = self.region
+        while values is not self.grid and values.SelectionMode != "Value Range":
+            values = values.Input
+        if values is self.grid:
+            return grid_bounds(self.grid)
+        _at_step_time(values)
+        values.UpdatePropertyInformation()
+        local = list(values.GetProperty("LastSelectedBounds").GetData())
+        low = _reduce([local[2 * axis] for axis in range(3)], "MIN_OP")
+        high = _reduce([local[2 * axis + 1] for axis in range(3)], "MAX_OP")
+        if not all(low[axis] <= high[axis] for axis in range(3)):
+            return grid_bounds(self.grid)  # nothing selected: show where it would be
+        return [value for axis in range(3) for value in (low[axis], high[axis])]
+
+    def execute(self, info):
+        """A step's work before the image: frame what is drawn (unless the
+        settings give a camera), cut the octant towards the camera, follow the
+        view, colour, time label. Collective: call it on every rank."""
+        bounds = self.region_bounds() if not camera_given(self.settings) or (
+            self.settings.cut_away == "octant") else None
+        frame_bounds(self.view, bounds, self.settings)
+        if self.cut is not None and self.settings.cut_away == "octant":
+            self.cut.Box = octant_towards(bounds, list(self.view.CameraPosition))
+        for proxy in self.followers:
+            follow_view(proxy, self.view)
+        used = self.fixed_range
+        for display in self.displays:
+            # The range is agreed over ranks once; the other displays take it.
+            used = color_by(display, self.view, self.grid, self.settings.color_by, used)
+        if self.settings.color_range == "first" and self.fixed_range is None and used is not None:
+            self.fixed_range = used
+        if self.label is not None:
+            self.label.Text = time_text(info.time)
 
 
 def time_label(view):

@@ -1,5 +1,8 @@
 # script-version: 2
-"""Canopy pipeline: an image of the adaptive surface, colored by a field.
+# canopy-renders: yes
+"""Canopy pipeline: an image of the adaptive surface, colored by a field; in 3D
+optionally of a selected region only (a value range, an octant or a box cut away),
+drawn as the surface of the cells it keeps.
 
 The surface follows the render view: before each image it takes the view's
 camera and viewport size, so only what the camera sees is built, and nothing
@@ -10,12 +13,17 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   frequency         run every N steps (1)
   image_size        WIDTHxHEIGHT (800x600)
   color_by          cell field to color by ('' : solid color)
-  fields            fields Canopy wraps for this script, besides color_by ('' : color_by
-                    alone; the surface extract carries these)
+  fields            fields Canopy wraps for this script, besides color_by and select_field
+                    ('' : those alone; the surface extract carries these)
   pixel_threshold   stop refining below this many pixels (1.0)
   show_edges        draw the cells' edges: the mesh the camera sees (false)
   camera_position, camera_focal_point, camera_view_up   'x,y,z' ('' : frame the grid)
   parallel_scale    > 0: parallel projection with this scale (with camera_position)
+  select_field, select_range   draw only the cells whose field lies in 'low,high'
+                    (inclusive): in 3D the blocky shell around that region ('' : all)
+  cut_away          '' (none), 'octant' (the octant of the domain towards the camera,
+                    to look inside) or 'xmin,xmax,ymin,ymax,zmin,zmax': cells overlapping
+                    that box are not drawn
   surface_extract   also write the surface the camera saw (.pvtp and pieces) (false)
   cinema            write into a Cinema database instead: surface.cdb/ in the output
                     directory, indexed by data.csv at the end (false)
@@ -27,6 +35,9 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   color_range       '' : each step's range over all ranks; 'low,high': that range for the
                     whole run; 'first': the first image's range, kept for the run (a time
                     series then does not flicker)
+
+Lighting: one light from the camera; a face shows its colour times 0.45 + 0.55 cos(angle
+to the view), so no face is darker than 45% of the colour map (canopy_catalyst.SURFACE_AMBIENT).
 
 Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI rank):
   <prefix>_<step>.png                           the image
@@ -40,37 +51,15 @@ Reports "<prefix> quads" (the quads drawn, all ranks) in the step's StepReport::
 """
 import canopy_catalyst as canopy
 from paraview import simple
-from paraview.simple import CreateExtractor, Show
 
-settings = canopy.settings(image_size="800x600", color_by="", pixel_threshold=1.0,
-                           camera_position="", camera_focal_point="", camera_view_up="",
-                           parallel_scale=0.0, surface_extract=False, cinema=False,
-                           show_edges=False, legend=True, time_label=True, color_range="",
-                           png_compression=3,
-                           file_prefix="surface")
-fixed_range = settings.list("color_range", float) if settings.color_range not in ("", "first") \
-    else None
-if fixed_range is not None and (len(fixed_range) != 2 or not fixed_range[0] < fixed_range[1]):
-    raise ValueError("color_range: 'low,high' with low < high, 'first' or '' (got %r)"
-                     % settings.color_range)
-options = canopy.catalyst_options(settings, cinema="surface.cdb" if settings.cinema else None)
-# The plugin's filters go into paraview.simple (see load_canopy_plugin).
-canopy.load_canopy_plugin()
+settings = canopy.settings(**dict(canopy.IMAGE_DEFAULTS, file_prefix="surface"),
+                           surface_extract=False, cinema=False)
+image = canopy.ImageScript(settings, cinema="surface.cdb" if settings.cinema else None)
+options = image.options
 
-grid = canopy.simulation_grid(settings)
-view = canopy.render_view(settings)
-surface = simple.CanopyAdaptiveSurface(Input=grid, PixelThreshold=settings.pixel_threshold,
+surface = simple.CanopyAdaptiveSurface(Input=image.region, PixelThreshold=settings.pixel_threshold,
                                        Fields=settings.list("fields"))
-display = Show(surface, view)
-if settings.show_edges:
-    display.SetRepresentationType("Surface With Edges")
-    display.EdgeColor = [0.15, 0.15, 0.15]
-
-image = CreateExtractor("PNG", view, registrationName="surface_image")
-image.Writer.FileName = settings.file_prefix + "_{timestep:06d}.png"
-image.Writer.ImageResolution = canopy.image_size(settings)
-image.Writer.Format.CompressionLevel = str(settings.png_compression)
-canopy.set_trigger(image, settings)
+image.show(surface)
 
 if settings.surface_extract:
     canopy.data_extractor("VTP", surface, "surface_data",
@@ -78,22 +67,10 @@ if settings.surface_extract:
 
 
 def RequestDataDescription(datadescription):
-    canopy.request_fields(datadescription, settings, extra=[settings.color_by],
-                          every_field_when_empty=False)
-
-
-legend = canopy.color_legend(view, settings.color_by) if settings.legend else None
-time_label = canopy.time_label(view) if settings.time_label else None
+    image.request_fields(datadescription)
 
 
 def catalyst_execute(info):
-    global fixed_range
-    # frame_grid and color_by agree over ranks (collectives): every rank calls them.
-    canopy.frame_grid(view, grid, settings)
-    canopy.follow_view(surface, view)
-    used = canopy.color_by(display, view, grid, settings.color_by, fixed_range)
-    if settings.color_range == "first" and fixed_range is None and used is not None:
-        fixed_range = used
-    if time_label is not None:
-        time_label.Text = canopy.time_text(info.time)
+    # Collective (bounds and colour ranges agree over ranks): every rank calls it.
+    image.execute(info)
     canopy.report(settings.file_prefix + " quads", canopy.output_cells(surface))

@@ -121,6 +121,10 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     return 0;
   }
   this->AssembleOutput(input, output, arrays, quads, perCell);
+  if (input->GetDimension() == 3)
+  {
+    this->AddAxisNormals(output);
+  }
   return 1;
 }
 

@@ -25,8 +25,9 @@
  *
  * Output: vtkPolyData of quads (lines in 1D) with double-precision points, the selected input
  * cell fields (all by default), "OriginalCellId" (the input's global cell index)
- * and "Level". Re-executes only when the input, the camera, the viewport size
- * or a property changed.
+ * and "Level"; in 3D also exact cell "Normals" (outward), for shading that does
+ * not depend on how the grid is split between processes. Re-executes only when the input, the
+ * camera, the viewport size or a property changed.
  */
 #pragma once
 

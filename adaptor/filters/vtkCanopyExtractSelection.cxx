@@ -128,6 +128,11 @@ namespace
 /// be selected). The mask is written a byte at a time where it can be: all set,
 /// then cleared along each selected node's path and subtree, so the cost is a
 /// pass over N / 8 bytes plus the selected nodes and their ancestors.
+///
+/// Nodes with another rank's parts below them (split trees) stay visible, their
+/// own unselected children masked one by one: a masked node then never hides
+/// another rank's cells, which that rank may have selected (the 3D surface takes
+/// a masked node for a hole as large as the node).
 template <typename StaysHidden>
 void maskAllBut(const canopy::HyperTreeAccess& grid, const std::vector<canopy::SelectedNode>& nodes,
                 const StaysHidden& stays, vtkHyperTreeGrid* output)
@@ -142,6 +147,19 @@ void maskAllBut(const canopy::HyperTreeAccess& grid, const std::vector<canopy::S
   auto show = [bits](vtkIdType global)
   { bits[global >> 3] &= static_cast<unsigned char>(~(0x80u >> (global & 7))); };
   std::vector<vtkIdType> stack;
+  if (grid.hasAbsent())
+  {
+    for (const canopy::TreeAccess& tree : grid.trees())
+    {
+      for (vtkIdType node = 0; node < tree.numberOfVertices; ++node)
+      {
+        if (tree.hasAbsentDescendant(node))
+        {
+          show(tree.globalIndex(node));
+        }
+      }
+    }
+  }
   for (const canopy::SelectedNode& n : nodes)
   {
     // Ancestors, from the root down along the node's integer position.
@@ -293,6 +311,11 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
   vtkDataObject* outputObject = vtkDataObject::GetData(outputVector, 0);
   this->LastOutside = this->LastMasked = this->LastOutOfRange = this->LastDuplicates = 0;
   this->LastVisited = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    this->LastSelectedBounds[2 * a] = 1e300;
+    this->LastSelectedBounds[2 * a + 1] = -1e300;
+  }
   if (!input)
   {
     vtkErrorMacro("input 0 must be a vtkHyperTreeGrid");
@@ -525,6 +548,17 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     {
       nodes = selection.complement(nodes);
     }
+    for (const canopy::SelectedNode& n : nodes)
+    {
+      canopy::Vec3 lo;
+      canopy::Vec3 hi;
+      selection.bounds(n, lo, hi);
+      for (int a = 0; a < 3; ++a)
+      {
+        this->LastSelectedBounds[2 * a] = std::min(this->LastSelectedBounds[2 * a], lo[a]);
+        this->LastSelectedBounds[2 * a + 1] = std::max(this->LastSelectedBounds[2 * a + 1], hi[a]);
+      }
+    }
     if (this->PreserveTopology)
     {
       auto* output = vtkHyperTreeGrid::SafeDownCast(outputObject);
@@ -577,5 +611,9 @@ void vtkCanopyExtractSelection::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "LastMasked: " << this->LastMasked << "\n"
      << indent << "LastOutOfRange: " << this->LastOutOfRange << "\n"
      << indent << "LastDuplicates: " << this->LastDuplicates << "\n"
-     << indent << "LastVisited: " << this->LastVisited << "\n";
+     << indent << "LastVisited: " << this->LastVisited << "\n"
+     << indent << "LastSelectedBounds: " << this->LastSelectedBounds[0] << " "
+     << this->LastSelectedBounds[1] << " " << this->LastSelectedBounds[2] << " "
+     << this->LastSelectedBounds[3] << " " << this->LastSelectedBounds[4] << " "
+     << this->LastSelectedBounds[5] << "\n";
 }

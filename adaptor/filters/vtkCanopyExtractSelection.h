@@ -152,6 +152,10 @@ public:
   /// Nodes the last BOX or FRUSTUM selection examined: the roots and the children
   /// of the coarse nodes that overlap the region (what the selection cost).
   vtkGetMacro(LastVisited, vtkIdType);
+  /// Bounds of the cells the last execution selected on this process (xmin, xmax,
+  /// ymin, ymax, zmin, zmax; min > max when none): what a camera frames to show
+  /// the selected region.
+  vtkGetVector6Macro(LastSelectedBounds, double);
 
 protected:
   vtkCanopyExtractSelection();
@@ -178,6 +182,7 @@ protected:
   vtkIdType LastOutOfRange = 0;
   vtkIdType LastDuplicates = 0;
   vtkIdType LastVisited = 0;
+  double LastSelectedBounds[6] = {1, -1, 1, -1, 1, -1};
 
 private:
   /// The input's topology read once while it is unchanged (a value range that

@@ -11,6 +11,7 @@
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
@@ -296,6 +297,36 @@ void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPo
   }
   out->AddArray(arrays.Ids);
   out->AddArray(arrays.Levels);
+}
+
+void vtkCanopyViewDependentFilter::AddAxisNormals(vtkPolyData* output)
+{
+  auto normals = this->ReusableArray<vtkFloatArray>("Normals", VTK_FLOAT);
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  const vtkIdType cells = output->GetNumberOfCells();
+  normals->SetNumberOfTuples(cells);
+  // The builders write quads as 4 consecutive points each.
+  const double* p = vtkDoubleArray::SafeDownCast(output->GetPoints()->GetData())->GetPointer(0);
+  float* n = normals->GetPointer(0);
+  vtkSMPTools::For(0, cells,
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType q = begin; q < end; ++q)
+                     {
+                       const double* c = p + 12 * q;
+                       const double e1[3] = {c[3] - c[0], c[4] - c[1], c[5] - c[2]};
+                       const double e2[3] = {c[9] - c[0], c[10] - c[1], c[11] - c[2]};
+                       const double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1],
+                                                e1[2] * e2[0] - e1[0] * e2[2],
+                                                e1[0] * e2[1] - e1[1] * e2[0]};
+                       for (int a = 0; a < 3; ++a)
+                       {
+                         n[3 * q + a] = cross[a] > 0 ? 1.0f : cross[a] < 0 ? -1.0f : 0.0f;
+                       }
+                     }
+                   });
+  output->GetCellData()->SetNormals(normals);
 }
 
 void vtkCanopyViewDependentFilter::PrintSelf(ostream& os, vtkIndent indent)

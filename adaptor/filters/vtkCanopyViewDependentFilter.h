@@ -148,6 +148,13 @@ protected:
   void AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output, const CellArrays& arrays,
                       vtkIdType cells, vtkIdType perCell);
 
+  /// Gives `output`'s quads exact cell normals (+-x, +-y, +-z: the right-handed
+  /// normal of corners 0, 1, 3), so that their shading does not depend on how
+  /// the renderer rounds the points (VTK otherwise derives flat normals from
+  /// screen-space derivatives of float positions shifted by each process's own
+  /// bounds: images of a grid split between ranks would differ by a few levels).
+  void AddAxisNormals(vtkPolyData* output);
+
   vtkWeakPointer<vtkRenderer> Renderer;
   vtkCamera* Camera = nullptr;
   double CameraPosition[3] = {0, 0, 1};

@@ -31,7 +31,7 @@ Verdict inspectSource(const std::string& text)
     return answer == "no" ? Verdict::DoesNotRender : Verdict::Renders;
   }
   static const std::regex renderingCall(
-      R"((CreateView|GetActiveViewOrCreate|CreateRenderView|SaveScreenshot|render_view)\s*\()"
+      R"((CreateView|GetActiveViewOrCreate|CreateRenderView|SaveScreenshot|render_view|ImageScript)\s*\()"
       R"(|CreateExtractor\s*\(\s*['"](PNG|JPG|RecolorableImage|CinemaVolumetricPNG)['"])");
   return std::regex_search(text, renderingCall) ? Verdict::Renders : Verdict::Unknown;
 }

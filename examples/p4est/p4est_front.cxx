@@ -173,11 +173,20 @@ int main(int argc, char** argv)
   // ---- Canopy glue (2 of 3): open, with the shipped pipelines by name ----
   const std::string frequency = "--frequency=" + std::to_string(every);
   canopy::InSituOptions options;
-  options.scripts = {
-      {"surface_image.py", {frequency, "--color-by=density"}},
+#ifndef P4_TO_P8
+  options.scripts = {{"surface_image.py", {frequency, "--color-by=density"}}};
+#else
+  // 3D: slices through the centre, and the dense region (inside the sphere) with
+  // the octant towards the camera cut away: what is inside shows.
+  options.scripts = {{"slice_image.py", {frequency, "--color-by=density"}},
+                     {"surface_image.py",
+                      {frequency, "--color-by=density", "--select-field=density",
+                       "--select-range=1.5,1e30", "--cut-away=octant", "--file-prefix=region"}}};
+#endif
+  options.scripts.push_back(
       {"selection_extract.py",
-       {frequency, "--selection=range", "--value-field=density", "--value-range=1.9,2.1"}},
-      {"data_extracts.py", {frequency}}};
+       {frequency, "--selection=range", "--value-field=density", "--value-range=1.9,2.1"}});
+  options.scripts.push_back({"data_extracts.py", {frequency}});
   options.outputDirectory = output;
   canopy::InSitu insitu(MPI_COMM_WORLD, options);
 

@@ -8,6 +8,9 @@ shipped pipelines wrote against what the simulation itself counted:
 - the selection holds exactly the quadrants the simulation counts with a density
   in [1.9, 2.1] (p4est_iterate on every rank, reduced);
 - 2D: the full-resolution surface has exactly one quad per quadrant of the forest;
+- images: 2D the adaptive surface (surface_<step>.png), 3D the slices and the dense
+  region's surface (slices_<step>.png, region_<step>.png), each showing the density's
+  colours (not a blank or single-colour picture);
 - with REFERENCE (the same run on one rank): every image is identical to it.
 """
 import os
@@ -34,8 +37,15 @@ steps = [(int(s), int(q), int(d)) for s, q, d in re.findall(
 expect(len(steps) >= 2, "the simulation reported %d executed steps" % len(steps))
 for step, quadrants, dense in steps:
     name = "%06d" % step
-    image = os.path.join(output, "surface_%s.png" % name)
-    expect(os.path.exists(image), "step %d: %s written" % (step, os.path.basename(image)))
+    images = ["surface"] if dimension == 2 else ["slices", "region"]
+    for prefix in images:
+        image = os.path.join(output, "%s_%s.png" % (prefix, name))
+        expect(os.path.exists(image), "step %d: %s written" % (step, os.path.basename(image)))
+        if os.path.exists(image):
+            pixels = read_png(image)
+            colours = len({tuple(p) for p in pixels.reshape(-1, pixels.shape[2])[::7]})
+            expect(colours > 50, "step %d: %s shows the colour map (%d colours sampled)"
+                   % (step, os.path.basename(image), colours))
     selection = read_unstructured(os.path.join(output, "selection_%s.pvtu" % name))
     expect(selection.GetNumberOfCells() == dense,
            "step %d: the selection has %d cells, the simulation counts %d quadrants in range"
@@ -54,10 +64,15 @@ for step, quadrants, dense in steps:
         expect(surface.GetNumberOfCells() == quadrants,
                "step %d: full surface has %d quads for %d quadrants"
                % (step, surface.GetNumberOfCells(), quadrants))
-    if reference:
-        mine = read_png(image)
-        theirs = read_png(os.path.join(reference, "surface_%s.png" % name))
-        differing = int((mine != theirs).any(axis=2).sum()) if mine.shape == theirs.shape else -1
-        expect(differing == 0, "step %d: image identical to the 1-rank run (%d pixels differ)"
-               % (step, differing))
+    for prefix in images if reference else []:
+        image = "%s_%s.png" % (prefix, name)
+        both = [os.path.join(folder, image) for folder in (output, reference)]
+        expect(all(os.path.exists(path) for path in both),
+               "step %d: %s in this run and in the 1-rank run" % (step, image))
+        if all(os.path.exists(path) for path in both):
+            mine, theirs = (read_png(path) for path in both)
+            differing = (int((mine != theirs).any(axis=2).sum()) if mine.shape == theirs.shape
+                         else -1)
+            expect(differing == 0, "step %d: %s identical to the 1-rank run (%d pixels differ)"
+                   % (step, image, differing))
 finish()

@@ -1,0 +1,108 @@
+# script-version: 2
+# canopy-renders: yes
+"""Canopy pipeline: an image of adaptive slices through a 3D grid (up to three
+axis-aligned planes), with the domain's outline and, optionally, the surface of a
+selected region, colored by a field.
+
+The slices and the surface follow the render view: only what the camera sees is
+built, nothing finer than a pixel; a slice enters only the cells its plane cuts.
+A plane on a face between two cells cuts the cell on its upper side.
+
+Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
+  slices            'center' (x, y and z through the domain's centre) or a list such
+                    as 'x=0.5,z=0.25' (at most three planes; positions in the grid's
+                    coordinates) ("center")
+  outline           draw the domain's outline (true)
+  select_field, select_range, cut_away   also draw the surface of a selected region
+                    (as surface_image.py; '' : no surface)
+  slice_extract     also write what was drawn: the slices, and the region's surface,
+                    as .pvtp with their cell fields (false)
+  file_prefix       the files' names: <prefix>_<step>.png, ... ("slices")
+  frequency, image_size, color_by, fields, pixel_threshold, show_edges, camera_position,
+  camera_focal_point, camera_view_up, parallel_scale, legend, time_label, color_range,
+  png_compression   as surface_image.py
+
+Lighting: the slices are unlit (exactly the colour map); the region's surface as in
+surface_image.py.
+
+Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI rank):
+  <prefix>_<step>.png                           the image
+  <prefix>_<step>.pvtp                          slice_extract: the slices as drawn,
+  <prefix>_<step>/<prefix>_<step>_<rank>.vtp      one piece per rank
+  <prefix>_region_<step>.pvtp                   slice_extract with a region: its surface
+  <prefix>_region_<step>/<prefix>_region_<step>_<rank>.vtp
+Reports "<prefix> quads" (slice quads drawn, all ranks) and, with a region,
+"<prefix> region quads" in the step's StepReport::measures.
+"""
+import canopy_catalyst as canopy
+from paraview import simple
+
+settings = canopy.settings(**dict(canopy.IMAGE_DEFAULTS, file_prefix="slices"),
+                           slices="center", outline=True, slice_extract=False)
+
+
+def planes(text):
+    """'center' -> None (the centre, known once the grid is); else [(axis, position)]."""
+    if text == "center":
+        return None
+    found = []
+    for item in (part.strip() for part in text.split(",") if part.strip()):
+        name, _, value = item.partition("=")
+        if name.strip().lower() not in ("x", "y", "z") or not value:
+            raise ValueError("slices: 'center' or a list such as 'x=0.5,z=0.25' (got %r)" % text)
+        found.append(("xyz".index(name.strip().lower()), float(value)))
+    if not 1 <= len(found) <= 3:
+        raise ValueError("slices: one to three planes (got %d)" % len(found))
+    return found
+
+
+given = planes(settings.slices)
+image = canopy.ImageScript(settings)
+options = image.options
+
+slices = simple.CanopyAdaptiveSlice(Input=image.grid, PixelThreshold=settings.pixel_threshold,
+                                    Fields=settings.list("fields"))
+image.show(slices, flat=True)
+region_surface = None
+if image.region is not image.grid:
+    region_surface = simple.CanopyAdaptiveSurface(
+        Input=image.region, PixelThreshold=settings.pixel_threshold, Fields=settings.list("fields"))
+    image.show(region_surface)
+outline = None
+if settings.outline:
+    outline = simple.Box()
+    shown = image.show(outline, flat=True, follows_view=False, colored=False)
+    shown.SetRepresentationType("Outline")
+    shown.AmbientColor = shown.DiffuseColor = [0.2, 0.2, 0.2]
+
+if settings.slice_extract:
+    canopy.data_extractor("VTP", slices, "slices_data",
+                          settings.file_prefix + "_{timestep:06d}.pvtp", settings)
+    if region_surface is not None:
+        canopy.data_extractor("VTP", region_surface, "slices_region_data",
+                              settings.file_prefix + "_region_{timestep:06d}.pvtp", settings)
+
+
+def RequestDataDescription(datadescription):
+    image.request_fields(datadescription)
+
+
+def place(bounds):
+    """Planes and outline from the grid's bounds (the same on every rank)."""
+    chosen = given or [(axis, 0.5 * (bounds[2 * axis] + bounds[2 * axis + 1]))
+                       for axis in range(3)]
+    for axis, name in enumerate(("XPlanes", "YPlanes", "ZPlanes")):
+        setattr(slices, name, [position for a, position in chosen if a == axis])
+    if outline is not None:
+        outline.XLength, outline.YLength, outline.ZLength = (
+            bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4])
+        outline.Center = [0.5 * (bounds[2 * a] + bounds[2 * a + 1]) for a in range(3)]
+
+
+def catalyst_execute(info):
+    # Collective (bounds and colour ranges agree over ranks): every rank calls it.
+    place(canopy.grid_bounds(image.grid))
+    image.execute(info)
+    canopy.report(settings.file_prefix + " quads", canopy.output_cells(slices))
+    if region_surface is not None:
+        canopy.report(settings.file_prefix + " region quads", canopy.output_cells(region_surface))
