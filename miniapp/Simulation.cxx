@@ -399,6 +399,9 @@ canopy::ForestDescription Simulation::describeForCanopy() const
     const auto& t = Forest.trees()[static_cast<std::size_t>(tree)];
     forest.trees.push_back({t.rootIndex, t.refinement.data(), t.nodes.size(), nullptr, nullptr});
   }
+  // Every root cell has a tree, on some rank: faces between ranks' trees are
+  // inside the domain (a 3D surface draws none there unless a mask shows one).
+  forest.missingTreesAreElsewhere = true;
   using canopy::Centering;
   using canopy::FieldDescription;
   const std::size_t leaves = Scalar.size();

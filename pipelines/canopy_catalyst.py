@@ -168,6 +168,9 @@ def render_view(values):
         view.UseColorPaletteForBackground = 0
     except AttributeError:
         pass
+    # FXAA smooths each rank's image before compositing: pixels where ranks' parts
+    # meet would depend on the number of ranks. Images are the same on any number.
+    view.UseFXAA = 0
     return view
 
 
@@ -409,6 +412,7 @@ class ImageScript:
         self.region, self.cut = selected_region(self.grid, values)
         self.followers = []
         self.displays = []
+        self.shaded = []
         image = CreateExtractor("PNG", self.view, registrationName=values.file_prefix + "_image")
         image.Writer.FileName = values.file_prefix + "_{timestep:06d}.png"
         image.Writer.ImageResolution = image_size(values)
@@ -424,6 +428,7 @@ class ImageScript:
         from paraview.simple import Show
         display = Show(proxy, self.view)
         shade(display, flat)
+        self.shaded.append((display, flat))
         if self.settings.show_edges:
             display.SetRepresentationType("Surface With Edges")
             display.EdgeColor = [0.15, 0.15, 0.15]
@@ -462,9 +467,12 @@ class ImageScript:
         """A step's work before the image: frame what is drawn (unless the
         settings give a camera), cut the octant towards the camera, follow the
         view, colour, time label. Collective: call it on every rank."""
-        bounds = self.region_bounds() if not camera_given(self.settings) or (
-            self.settings.cut_away == "octant") else None
+        bounds = self.region_bounds()
         frame_bounds(self.view, bounds, self.settings)
+        # A 2D (or 1D) grid's surface is flat: unlit, exactly the colour map.
+        planar = any(bounds[2 * axis + 1] <= bounds[2 * axis] for axis in range(3))
+        for display, flat in self.shaded:
+            shade(display, flat or planar)
         if self.cut is not None and self.settings.cut_away == "octant":
             self.cut.Box = octant_towards(bounds, list(self.view.CameraPosition))
         for proxy in self.followers:

@@ -14,8 +14,8 @@ import sys
 import numpy
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from output_checks import (cell_array, expect, finish, read_htg_pieces,  # noqa: E402
-                           read_multiblock, read_png, read_polydata, read_unstructured,
+from output_checks import (cell_array, compare_images, expect, finish,  # noqa: E402
+                           read_htg_pieces, read_multiblock, read_png, read_polydata, read_unstructured,
                            run_command, vtkhdf_cells_per_step)
 
 
@@ -30,6 +30,18 @@ def read_dump(path):
             level, x, y, z, value = line.split()
             rows[(int(level), int(x), int(y), int(z))] = float(value)
     return rows
+
+
+def edge_pixels(pixels):
+    """Pixels clearly darker (by 15%) than the brightest of their neighbours two
+    pixels away on either axis: a line drawn over the cells, whatever the lighting."""
+    light = pixels.astype(float).sum(axis=2)
+    around = numpy.zeros_like(light)
+    around[2:, :] = numpy.maximum(around[2:, :], light[:-2, :])
+    around[:-2, :] = numpy.maximum(around[:-2, :], light[2:, :])
+    around[:, 2:] = numpy.maximum(around[:, 2:], light[:, :-2])
+    around[:, :-2] = numpy.maximum(around[:, :-2], light[:, 2:])
+    return int((light < 0.85 * around).sum())
 
 
 def check_insitu(output, command):
@@ -56,10 +68,10 @@ def check_insitu(output, command):
         pixels = read_png(name)
         height, width, _ = pixels.shape
         colors = len(numpy.unique(pixels.reshape(-1, 3), axis=0))
-        dark = int((pixels.max(axis=2) < 100).sum())  # cell edges (the colormap is brighter)
-        expect(colors > 50 and dark > 0.01 * width * height,
-               "%s: the field in %d colors and the mesh's edges (%d dark pixels)"
-               % (os.path.basename(name), colors, dark))
+        edges = edge_pixels(pixels)
+        expect(colors > 50 and edges > 0.01 * width * height,
+               "%s: the field in %d colors and the mesh's edges (%d edge pixels)"
+               % (os.path.basename(name), colors, edges))
 
     # The zoomed view (a camera on the region the sphere sweeps): culled, so it
     # draws fewer quads than the grid has leaves; the step line says both.
@@ -108,6 +120,109 @@ def check_insitu(output, command):
     scalar = cell_array(surface, "scalar")
     expect(abs(float(scalar.sum()) - sum(final.values())) < 1e-9 * max(1.0, sum(final.values())),
            "the surface carries the leaves' values")
+
+
+def quads_of(surface):
+    """Per quad: its bounds (xmin, xmax, ...) and its scalar."""
+    values = cell_array(surface, "scalar")
+    return [(tuple(surface.GetCell(c).GetBounds()), float(values[c]))
+            for c in range(surface.GetNumberOfCells())]
+
+
+def leaf_boxes(final, roots):
+    """(lo, hi, value) of each leaf of a dump of a uniform root grid."""
+    boxes = []
+    for (level, i, j, k), value in final.items():
+        n = roots * 2 ** level
+        lo = (i / n, j / n, k / n)
+        boxes.append((lo, tuple(x + 1.0 / n for x in lo), value))
+    return boxes
+
+
+def check_insitu_3d(output, command):
+    """The 3D mini-app with slices (slice_image.py) and the scalar's region with an
+    octant cut away (surface_image.py), both written as extracts at full resolution:
+    at the last step, against the simulation's own dump. COMMAND's --roots is R
+    (uniform, a power of two: every face exact). With REFERENCE=<dir> in the
+    environment (the 1-rank run's output), every image must equal its own."""
+    shutil.rmtree(output, ignore_errors=True)
+    code, log = run(command + ["--dump", os.path.join(output, "final.txt")])
+    expect(code == 0, "the mini-app exits normally")
+    expect(re.search(r"0 pipeline failure\(s\)", log) is not None, "no pipeline failed")
+    noisy = [line for line in log.splitlines() if re.search(r"WARN|Warning|ERROR", line)]
+    expect(not noisy, "no warning or error in the output (%d line(s)%s)"
+           % (len(noisy), (": " + noisy[0].strip()) if noisy else ""))
+    roots = int(command[command.index("--roots") + 1])
+    steps = [int(s) for s in re.findall(r"^step\s+(\d+)", log, re.M)]
+    last = steps[-1]
+    final = read_dump(os.path.join(output, "final.txt"))
+    leaves = leaf_boxes(final, roots)
+
+    # Slices at x = 0.5 (a face of every level: cells above it), y = 0.3, and z =
+    # 0.5625 (a face of the finest cells only).
+    slices = quads_of(read_polydata(os.path.join(output, "slices_%06d.pvtp" % last)))
+    want = []
+    for axis, p in ((0, 0.5), (1, 0.3), (2, 0.5625)):
+        for lo, hi, value in leaves:
+            if lo[axis] <= p < hi[axis]:
+                bounds = []
+                for a in range(3):
+                    bounds += [p, p] if a == axis else [lo[a], hi[a]]
+                want.append((tuple(bounds), value))
+    expect(sorted(slices) == sorted(want),
+           "slices at step %d: %d quads, the dump's leaves cut by the planes give %d "
+           "(boxes and values equal)" % (last, len(slices), len(want)))
+
+    # The region: scalar >= 0.5 without the octant towards the default camera
+    # (+x, +y, +z) from the region's centre; its surface, voxel by voxel.
+    inside = [(lo, hi) for lo, hi, value in leaves if value >= 0.5]
+    expect(len(inside) > 8, "%d leaves with scalar >= 0.5" % len(inside))
+    centre = [0.5 * (min(lo[a] for lo, _ in inside) + max(hi[a] for _, hi in inside))
+              for a in range(3)]
+    fine = roots * 2 ** max(level for level, _, _, _ in final)
+    occupied = numpy.zeros((fine + 2,) * 3, dtype=bool)  # a margin of empty voxels
+    for lo, hi in inside:
+        if all(hi[a] > centre[a] for a in range(3)):
+            continue  # in the octant cut away
+        i0, i1 = ([int(round(x * fine)) + 1 for x in corner] for corner in (lo, hi))
+        occupied[i0[0]:i1[0], i0[1]:i1[1], i0[2]:i1[2]] = True
+    expected_area = [float(numpy.logical_xor(occupied, numpy.roll(occupied, 1, axis)).sum())
+                     / fine ** 2 for axis in range(3)]
+    region = read_polydata(os.path.join(output, "region_%06d.pvtp" % last))
+    area = [0.0, 0.0, 0.0]
+    misplaced = 0
+    for bounds, _ in quads_of(region):
+        axis = [a for a in range(3) if bounds[2 * a] == bounds[2 * a + 1]][0]
+        sides = [(bounds[2 * a + 1] - bounds[2 * a]) for a in range(3) if a != axis]
+        area[axis] += sides[0] * sides[1]
+        centre_voxel = [int((bounds[2 * a] + bounds[2 * a + 1]) / 2 * fine) + 1 for a in range(3)]
+        plane = int(round(bounds[2 * axis] * fine)) + 1
+        below, above = list(centre_voxel), list(centre_voxel)
+        below[axis], above[axis] = plane - 1, plane
+        misplaced += occupied[tuple(below)] == occupied[tuple(above)]
+    expect(all(abs(area[a] - expected_area[a]) < 1e-9 for a in range(3)) and misplaced == 0,
+           "region at step %d: exposed area %s, the dump's voxels give %s; %d quads not "
+           "between a selected and an unselected voxel" % (
+               last, ["%.6f" % x for x in area], ["%.6f" % x for x in expected_area], misplaced))
+
+    reference = os.environ.get("REFERENCE")
+    images = sorted(glob.glob(os.path.join(output, "*.png")))
+    expect(len(images) >= 4, "%d images (slices and region, two steps)" % len(images))
+    for name in images:
+        pixels = read_png(name)
+        expect(len(numpy.unique(pixels.reshape(-1, 3), axis=0)) > 50,
+               "%s shows the colour map" % os.path.basename(name))
+        if reference:
+            theirs = os.path.join(reference, os.path.basename(name))
+            expect(os.path.exists(theirs), "%s in the 1-rank run too" % os.path.basename(name))
+            if os.path.exists(theirs):
+                # Slices: a few depth ties where planes meet (compare_images).
+                ties = 8 if os.path.basename(name).startswith("slices") else 0
+                differing, unexplained = compare_images(pixels, read_png(theirs), ties)
+                expect(unexplained == 0,
+                       "%s identical to the 1-rank run (%d pixels differ, %d of them not a "
+                       "depth tie where planes meet)"
+                       % (os.path.basename(name), differing, unexplained))
 
 
 def check_same_answer_repartitioning(output, command):

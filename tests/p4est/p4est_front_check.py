@@ -19,7 +19,8 @@ import shutil
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "support"))
-from output_checks import (cell_array, expect, finish, read_htg_pieces, read_png,  # noqa: E402
+from output_checks import (cell_array, compare_images, expect, finish,  # noqa: E402
+                           read_htg_pieces, read_png,
                            read_polydata, read_unstructured, run_command)
 
 separator = sys.argv.index("--")
@@ -70,9 +71,10 @@ for step, quadrants, dense in steps:
         expect(all(os.path.exists(path) for path in both),
                "step %d: %s in this run and in the 1-rank run" % (step, image))
         if all(os.path.exists(path) for path in both):
-            mine, theirs = (read_png(path) for path in both)
-            differing = (int((mine != theirs).any(axis=2).sum()) if mine.shape == theirs.shape
-                         else -1)
-            expect(differing == 0, "step %d: %s identical to the 1-rank run (%d pixels differ)"
-                   % (step, image, differing))
+            # Slices: a few depth ties where planes meet (compare_images).
+            differing, unexplained = compare_images(*(read_png(path) for path in both),
+                                                    ties=8 if prefix == "slices" else 0)
+            expect(unexplained == 0, "step %d: %s identical to the 1-rank run (%d pixels "
+                   "differ, %d of them not a depth tie where planes meet)"
+                   % (step, image, differing, unexplained))
 finish()
