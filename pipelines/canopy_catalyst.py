@@ -16,8 +16,11 @@ COMMON_DEFAULTS = {
     "output_directory": "canopy-output",
     "channel": "grid",
     "frequency": 1,
+    "start": 0,
     "fields": "",
 }
+"""Settings every script has: where its files go, the channel it reads, when it runs
+(steps start, start + frequency, ...) and the fields it asks for."""
 
 
 def _register_arguments(path, arguments):
@@ -86,6 +89,9 @@ def catalyst_options(values, cinema=None):
     options = catalyst.Options()
     options.ExtractsOutputDirectory = values.output_directory
     options.GlobalTrigger.Frequency = int(values.frequency)
+    if int(values.start) > 0:
+        options.GlobalTrigger.UseStartTimeStep = 1
+        options.GlobalTrigger.StartTimeStep = int(values.start)
     if cinema:
         # A Cinema database is a folder named *.cdb holding the images and data.csv.
         options.ExtractsOutputDirectory = os.path.join(values.output_directory, cinema)
@@ -136,6 +142,9 @@ def request_fields(data_description, values, extra=(), every_field_when_empty=Tr
 
 def set_trigger(extractor, values):
     extractor.Trigger.Frequency = int(values.frequency)
+    if int(values.start) > 0:
+        extractor.Trigger.UseStartTimeStep = 1
+        extractor.Trigger.StartTimeStep = int(values.start)
 
 
 def data_extractor(writer, source, name, file_name, values):
@@ -300,7 +309,7 @@ def color_legend(view, field):
 IMAGE_DEFAULTS = dict(
     image_size="800x600", color_by="", pixel_threshold=1.0, camera_position="",
     camera_focal_point="", camera_view_up="", parallel_scale=0.0, show_edges=False, legend=True,
-    time_label=True, color_range="", png_compression=3,
+    time_label=True, color_range="", png_compression=3, skip_back_faces=True,
     select_field="", select_range="", cut_away="")
 """Settings every image script has (see surface_image.py's docstring); select_field,
 select_range and cut_away describe a selected region (selected_region)."""

@@ -6,7 +6,8 @@ view-independent adaptive surface (.pvtp, with .vtp pieces: the grid's exposed
 boundary at full resolution, 2D: every visible leaf).
 
 Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
-  frequency    run every N steps (1)
+  frequency, start
+               run at steps start, start + frequency, ... (1, 0)
   grid         write the grid (true)
   format       the grid's form: vtkhdf, htg or both (both)
   surface      write the surface (true)

@@ -6,7 +6,7 @@ cell that is not selected masked (the grid extracts of data_extracts.py: VTKHDF
 and/or ParaView 5.11's .pvd series of .htg pieces).
 
 Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
-  frequency          run every N steps (1)
+  frequency, start   run at steps start, start + frequency, ... (1, 0)
   selection          points | ids | range | box | frustum ("points")
   points             'x,y,z,x,y,z,...' for 'points'
   ids                'i,j,...' global cell ids for 'ids' (a coarse id selects that cell)

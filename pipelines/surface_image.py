@@ -10,7 +10,7 @@ finer than a pixel (change the camera settings and the culling changes).
 
 Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   output_directory  where images go (the driver sets it from its options)
-  frequency         run every N steps (1)
+  frequency, start  run at steps start, start + frequency, ... (1, 0)
   image_size        WIDTHxHEIGHT (800x600)
   color_by          cell field to color by ('' : solid color)
   fields            fields Canopy wraps for this script, besides color_by and select_field
@@ -24,6 +24,9 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   cut_away          '' (none), 'octant' (the octant of the domain towards the camera,
                     to look inside) or 'xmin,xmax,ymin,ymax,zmin,zmax': cells overlapping
                     that box are not drawn
+  skip_back_faces   3D: leave out the faces turned away from the camera: a closed surface
+                    seen from outside never shows them (true; false for a camera inside
+                    the surface, or an extract of the whole surface)
   surface_extract   also write the surface the camera saw (.pvtp and pieces) (false)
   cinema            write into a Cinema database instead: surface.cdb/ in the output
                     directory, indexed by data.csv at the end (false)
@@ -58,7 +61,8 @@ image = canopy.ImageScript(settings, cinema="surface.cdb" if settings.cinema els
 options = image.options
 
 surface = simple.CanopyAdaptiveSurface(Input=image.region, PixelThreshold=settings.pixel_threshold,
-                                       Fields=settings.list("fields"))
+                                       Fields=settings.list("fields"),
+                                       SkipBackFaces=int(settings.skip_back_faces))
 image.show(surface)
 
 if settings.surface_extract:

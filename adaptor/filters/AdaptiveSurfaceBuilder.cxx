@@ -106,11 +106,16 @@ enum FaceState : std::uint32_t
 
 /// A node as the face queries see it: its root cell, level and integer
 /// position (no tree needed: the rank answering for the other side has none).
+/// The walk that owns the node also gives its tree and its ancestors (path[l]:
+/// the ancestor at level l < level), so that a neighbour in the same tree is
+/// found from their common ancestor rather than from the root.
 struct FacePosition
 {
   std::array<long, 3> root;
   int level;
   Index3 ijk;
+  const TreeAccess* tree = nullptr;
+  const vtkIdType* path = nullptr;
 };
 
 /// The other side of a node's faces, in whichever tree holds it: shared by the
@@ -174,6 +179,28 @@ struct FaceSide
     return {t.firstChild(m.node) + child, m.level + 1, childIndex(m, child, grid)};
   }
 
+  /// Where the descent in `neighbour` towards `across` (at n's level) starts:
+  /// the root, or, in n's own tree with n's ancestors known, their deepest
+  /// ancestor in common (unmasked, as every ancestor of a visited node is).
+  NodeFrame descentStart(const TreeAccess* neighbour, const FacePosition& n, int axis,
+                         const Index3& across) const
+  {
+    if (neighbour != n.tree || !n.path)
+    {
+      return NodeFrame{0, 0, {{0, 0, 0}}};
+    }
+    for (int level = n.level - 1; level > 0; --level)
+    {
+      const std::int64_t scale = grid.cellsPerRootAt(n.level - level);
+      if (across[axis] / scale == n.ijk[axis] / scale)
+      {
+        return NodeFrame{
+            n.path[level], level, {{n.ijk[0] / scale, n.ijk[1] / scale, n.ijk[2] / scale}}};
+      }
+    }
+    return NodeFrame{0, 0, {{0, 0, 0}}};
+  }
+
   /// What lies across one face of n; for Parts, the same-level neighbour `m` in
   /// `neighbour`. Another rank's part (an absent cell, or a tree elsewhere) is
   /// Remote with remote faces on, else Covered (solid: faces between ranks are
@@ -190,7 +217,7 @@ struct FaceSide
       return elsewhere ? otherRank : Whole;
     }
     // Descend the neighbour tree towards `across` at level n.level.
-    m = NodeFrame{0, 0, {{0, 0, 0}}};
+    m = descentStart(neighbour, n, axis, across);
     while (true)
     {
       if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
@@ -265,12 +292,19 @@ struct TreeWalk
 
   bool lodStops(const Vec3& lo, const Vec3& hi) const { return faces.lodStops(lo, hi); }
 
+  /// path[l]: the node last entered at level l; in a depth-first walk, the
+  /// ancestor at level l of the node being entered (for l below its level).
+  std::vector<vtkIdType> path =
+      std::vector<vtkIdType>(static_cast<std::size_t>(grid.maxLevel()) + 1, 0);
+
   FacePosition positionOf(const NodeFrame& n) const
   {
     return {{{static_cast<long>(tree.rootIJK[0]), static_cast<long>(tree.rootIJK[1]),
               static_cast<long>(tree.rootIJK[2])}},
             n.level,
-            n.ijk};
+            n.ijk,
+            &tree,
+            path.data()};
   }
 
   /// `inside`: set when the whole box is inside the view (3D; then neither it
@@ -315,6 +349,7 @@ struct TreeWalk
 
   WalkStep enter(NodeFrame& n, bool solid3D, Vec3& lo, Vec3& hi)
   {
+    path[static_cast<std::size_t>(n.level)] = n.node;
     // The global index costs a virtual call for explicit indices: only when needed.
     vtkIdType global = -1;
     if (grid.hasMask())
@@ -325,9 +360,11 @@ struct TreeWalk
         return WalkStep::Skip;
       }
     }
-    // 3D: a node none of whose faces, nor any inside it, can be exposed draws
-    // nothing, whether descent stops there or not (a topology fact, memoized).
-    if (solid3D && !mayExpose(n))
+    // 3D, a leaf: its faces are looked at when it is drawn, once.
+    const bool leaf = tree.isLeaf(n.node);
+    // 3D, a coarse node none of whose faces, nor any inside it, can be exposed
+    // draws nothing, whether descent stops there or not (a topology fact).
+    if (solid3D && !leaf && !mayExpose(n))
     {
       return WalkStep::Skip;
     }
@@ -344,8 +381,7 @@ struct TreeWalk
     }
     // A node with absent descendants is never drawn whole: other ranks draw
     // their parts of it, so every pixel keeps exactly one owner.
-    const bool stop =
-        tree.isLeaf(n.node) || (haveBox && lodStops(lo, hi) && !tree.hasAbsentDescendant(n.node));
+    const bool stop = leaf || (haveBox && lodStops(lo, hi) && !tree.hasAbsentDescendant(n.node));
     if (stop)
     {
       if (!out.counting || out.keep)
@@ -381,6 +417,10 @@ struct TreeWalk
 
   bool mayExpose(const NodeFrame& n) const
   {
+    if (!options.memoize)
+    {
+      return mayExposeInside(n);
+    }
     auto& memo = tree.exposeMemo;
     if (memo.empty())
     {
@@ -407,6 +447,21 @@ struct TreeWalk
     emitCell(out, c, global, level);
   }
 
+  /// Whether the face normal to `axis` on side `side` at coordinate x is turned
+  /// away from the camera and back faces are skipped.
+  bool turnedAway(int axis, int side, double x) const
+  {
+    if (!options.view || !options.skipBackFaces)
+    {
+      return false;
+    }
+    const double outward = side ? 1.0 : -1.0;
+    const double facing = options.view->parallel()
+                              ? outward * options.view->directionOfProjection()[axis]
+                              : outward * (x - options.view->position()[axis]);
+    return facing >= 0;
+  }
+
   /// Face of [lo, hi] normal to `axis` on side `side` (0 low, 1 high), restricted
   /// on the two other axes to [plo, phi], outward-oriented.
   void emitFace(int axis, int side, const Vec3& lo, const Vec3& hi, const Vec3& plo,
@@ -415,25 +470,9 @@ struct TreeWalk
     const int b = (axis + 1) % 3;
     const int c = (axis + 2) % 3;
     const double x = side ? hi[axis] : lo[axis];
-    if (options.view && options.skipBackFaces)
+    if (turnedAway(axis, side, x))
     {
-      Vec3 normal{{0, 0, 0}};
-      normal[axis] = side ? 1.0 : -1.0;
-      const Vec3& f = options.view->directionOfProjection();
-      double facing = 0;
-      if (options.view->parallel())
-      {
-        facing = normal[0] * f[0] + normal[1] * f[1] + normal[2] * f[2];
-      }
-      else
-      {
-        const Vec3& e = options.view->position();
-        facing = normal[axis] * (x - e[axis]);
-      }
-      if (facing >= 0)
-      {
-        return;
-      }
+      return;
     }
     if (options.view && options.cullOutsideView && !inside)
     {
@@ -473,17 +512,22 @@ struct TreeWalk
   /// kept to ask that rank.
   void emitExposedFaces(const NodeFrame& n, const Vec3& lo, const Vec3& hi, vtkIdType global)
   {
+    std::uint32_t scratch = 0;
     auto& memo = tree.faceMemo;
-    if (memo.empty())
+    if (options.memoize && memo.empty())
     {
       memo.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
     }
-    std::uint32_t& known = memo[static_cast<std::size_t>(n.node)];
+    std::uint32_t& known = options.memoize ? memo[static_cast<std::size_t>(n.node)] : scratch;
     const FacePosition position = positionOf(n);
     for (int axis = 0; axis < 3; ++axis)
     {
       for (int side = 0; side < 2; ++side)
       {
+        if (turnedAway(axis, side, side ? hi[axis] : lo[axis]))
+        {
+          continue; // not drawn, whatever lies across (remote faces: nothing to ask)
+        }
         const int shift = 3 * (2 * axis + side);
         auto state = static_cast<FaceState>((known >> shift) & 7);
         const TreeAccess* neighbour = nullptr;
@@ -542,8 +586,9 @@ struct TreeWalk
       {
         Index3 across;
         bool elsewhere = false;
+        const FacePosition position = positionOf(n);
         const TreeAccess* neighbour =
-            faces.neighbourAcross(positionOf(n), axis, side, across, elsewhere);
+            faces.neighbourAcross(position, axis, side, across, elsewhere);
         if (!neighbour)
         {
           if (elsewhere && !options.remoteFaces)
@@ -552,7 +597,7 @@ struct TreeWalk
           }
           return true;
         }
-        NodeFrame m{0, 0, {{0, 0, 0}}};
+        NodeFrame m = faces.descentStart(neighbour, position, axis, across);
         while (true)
         {
           if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
@@ -578,9 +623,14 @@ struct TreeWalk
 } // namespace
 
 AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
-                                               const SurfaceOptions& options)
-    : Grid(grid), Options(options)
+                                               const SurfaceOptions& options,
+                                               std::vector<TreeCells>* buffers)
+    : Grid(grid), Options(options), Lent(buffers)
 {
+  if (Lent)
+  {
+    Kept.swap(*Lent);
+  }
   if (Grid.dimension() < 3 && Options.view && Options.cullOutsideView)
   {
     Region =
@@ -588,7 +638,13 @@ AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
   }
 }
 
-AdaptiveSurfaceBuilder::~AdaptiveSurfaceBuilder() = default;
+AdaptiveSurfaceBuilder::~AdaptiveSurfaceBuilder()
+{
+  if (Lent)
+  {
+    Lent->swap(Kept);
+  }
+}
 
 bool AdaptiveSurfaceBuilder::fullPlanarSurface() const
 {
@@ -613,7 +669,15 @@ std::size_t AdaptiveSurfaceBuilder::count()
   {
     if (Grid.dimension() == 3)
     {
-      Kept.assign(trees.size(), TreeCells());
+      // Cleared, not freed: lent buffers keep their capacity.
+      Kept.resize(trees.size());
+      for (TreeCells& cells : Kept)
+      {
+        cells.points.clear();
+        cells.cellIds.clear();
+        cells.levels.clear();
+        cells.asked.clear();
+      }
     }
     vtkSMPTools::For(
         0, static_cast<vtkIdType>(trees.size()),

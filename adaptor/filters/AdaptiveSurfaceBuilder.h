@@ -50,6 +50,11 @@ struct SurfaceOptions
   /// soon as any rank has a mask, since only the owner knows what it masks.
   /// Off: another rank's part is solid (exact when no rank masks anything).
   bool remoteFaces = false;
+  /// 3D: keep what each node's faces see (a topology and mask fact) in the
+  /// access, for the next execution on the same access (a camera move). Off for
+  /// an access used once (a new mask each step): the memos would cost more
+  /// fresh memory than they save.
+  bool memoize = true;
 };
 
 /// A face of a drawn 3D node whose other side is, in part or whole, another
@@ -117,7 +122,11 @@ struct TreeCells
 class AdaptiveSurfaceBuilder
 {
 public:
-  AdaptiveSurfaceBuilder(const HyperTreeAccess& grid, const SurfaceOptions& options);
+  /// `buffers`: per-tree cell buffers lent for the builder's life (their
+  /// capacity kept between executions: fresh memory costs page faults); they
+  /// are given back, emptied or not, when the builder is destroyed.
+  AdaptiveSurfaceBuilder(const HyperTreeAccess& grid, const SurfaceOptions& options,
+                         std::vector<TreeCells>* buffers = nullptr);
   ~AdaptiveSurfaceBuilder();
   AdaptiveSurfaceBuilder(const AdaptiveSurfaceBuilder&) = delete;
   AdaptiveSurfaceBuilder& operator=(const AdaptiveSurfaceBuilder&) = delete;
@@ -152,7 +161,8 @@ private:
   void computeOffsets(const std::vector<std::size_t>& counts);
 
   std::vector<std::size_t> Offsets;
-  std::vector<TreeCells> Kept; ///< per tree, when the counting pass kept the cells
+  std::vector<TreeCells> Kept;            ///< per tree, when the counting pass kept the cells
+  std::vector<TreeCells>* Lent = nullptr; ///< where Kept's buffers came from
   /// Where remoteFaces() entries come from: (tree, position in its asked list).
   std::vector<std::pair<std::size_t, std::size_t>> AskedAt;
 };

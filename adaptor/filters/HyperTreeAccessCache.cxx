@@ -57,8 +57,10 @@ HyperTreeAccessCache::get(vtkHyperTreeGrid* grid, bool indexTables, bool maskedD
   if (Access && key == Kept && (Access->hasIndexTables() || !indexTables) &&
       (Access->hasMaskedDescendantFlags() || !maskedDescendants))
   {
+    LastWasKept = true;
     return Access;
   }
+  LastWasKept = false;
   clear();
   Access = std::make_shared<const HyperTreeAccess>(grid, indexTables, maskedDescendants);
   Kept = std::move(key);

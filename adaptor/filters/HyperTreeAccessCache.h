@@ -32,6 +32,8 @@ public:
                                              bool maskedDescendants = true);
   /// Forget the kept access (and the grid's trees it points into).
   void clear();
+  /// Whether the last get() returned the access kept from before.
+  bool lastWasKept() const { return LastWasKept; }
 
 private:
   struct TreeKey
@@ -65,6 +67,7 @@ private:
 
   Key Kept;
   std::shared_ptr<const HyperTreeAccess> Access;
+  bool LastWasKept = false;
 };
 
 } // namespace canopy

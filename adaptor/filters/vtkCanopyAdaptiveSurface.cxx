@@ -99,7 +99,8 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     options.pixelThreshold = this->PixelThreshold;
     options.skipBackFaces = this->SkipBackFaces;
     options.remoteFaces = collective && agreed[1] && agreed[2];
-    canopy::AdaptiveSurfaceBuilder builder(*access, options);
+    options.memoize = this->Topology->lastWasKept();
+    canopy::AdaptiveSurfaceBuilder builder(*access, options, &this->CellBuffers);
     builder.count();
     if (options.remoteFaces)
     {

@@ -34,7 +34,13 @@
 #include "CanopyFiltersModule.h"
 #include "vtkCanopyViewDependentFilter.h"
 
+#include <vector>
+
 class vtkMultiProcessController;
+namespace canopy
+{
+struct TreeCells;
+}
 
 class CANOPYFILTERS_EXPORT vtkCanopyAdaptiveSurface : public vtkCanopyViewDependentFilter
 {
@@ -66,6 +72,8 @@ protected:
 
   bool SkipBackFaces = false;
   vtkMultiProcessController* Controller = nullptr;
+  /// 3D: the builder's per-tree cell buffers, kept between executions.
+  std::vector<canopy::TreeCells> CellBuffers;
 
 private:
   vtkCanopyAdaptiveSurface(const vtkCanopyAdaptiveSurface&) = delete;

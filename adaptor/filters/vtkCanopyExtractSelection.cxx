@@ -6,6 +6,8 @@
 #include "HyperTreeAccess.h"
 #include "HyperTreeAccessCache.h"
 #include "PointMerger.h"
+#include "PureMask.h"
+#include "SelectionMask.h"
 
 #include <vtkBitArray.h>
 #include <vtkCellArray.h>
@@ -13,6 +15,8 @@
 #include <vtkCellType.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkHyperTree.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
@@ -122,83 +126,29 @@ int vtkCanopyExtractSelection::RequestDataObject(vtkInformation*, vtkInformation
 namespace
 {
 
-/// A masked copy of the input: visible are the selected nodes, their
-/// ancestors and the subtrees of selected coarse nodes, except what stays
-/// hidden there (`stays(global)`: absent cells, and masked ones unless they may
-/// be selected). The mask is written a byte at a time where it can be: all set,
-/// then cleared along each selected node's path and subtree, so the cost is a
-/// pass over N / 8 bytes plus the selected nodes and their ancestors.
-///
-/// Nodes with another rank's parts below them (split trees) stay visible, their
-/// own unselected children masked one by one: a masked node then never hides
-/// another rank's cells, which that rank may have selected (the 3D surface takes
-/// a masked node for a hole as large as the node).
-template <typename StaysHidden>
-void maskAllBut(const canopy::HyperTreeAccess& grid, const std::vector<canopy::SelectedNode>& nodes,
-                const StaysHidden& stays, vtkHyperTreeGrid* output)
+/// The input's structure, trees, cell and field data, with another mask. Not
+/// ShallowCopy: in VTK 9.2 it also asks the input for its "pure mask", a cursor
+/// walk over every node whenever the input has a mask (a chained selection's
+/// does), which cost more than the selection itself.
+void shareWithMask(vtkHyperTreeGrid* input, vtkHyperTreeGrid* output, vtkBitArray* mask,
+                   vtkBitArray* pure)
 {
-  vtkNew<vtkBitArray> mask;
-  mask->SetName("vtkHyperTreeGridMask");
-  mask->SetNumberOfValues(grid.numberOfCells());
-  unsigned char* bits = mask->GetPointer(0);
-  const auto bytes = static_cast<std::size_t>((grid.numberOfCells() + 7) / 8);
-  std::memset(bits, 0xFF, bytes);
-  // vtkBitArray keeps the most significant bit first.
-  auto show = [bits](vtkIdType global)
-  { bits[global >> 3] &= static_cast<unsigned char>(~(0x80u >> (global & 7))); };
-  std::vector<vtkIdType> stack;
-  if (grid.hasAbsent())
+  output->Initialize();
+  output->CopyEmptyStructure(input);
+  vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
+  input->InitializeTreeIterator(it);
+  vtkIdType index = 0;
+  while (vtkHyperTree* tree = it.GetNextTree(index))
   {
-    for (const canopy::TreeAccess& tree : grid.trees())
-    {
-      for (vtkIdType node = 0; node < tree.numberOfVertices; ++node)
-      {
-        if (tree.hasAbsentDescendant(node))
-        {
-          show(tree.globalIndex(node));
-        }
-      }
-    }
+    output->SetTree(index, tree); // the same tree, shared
   }
-  for (const canopy::SelectedNode& n : nodes)
-  {
-    // Ancestors, from the root down along the node's integer position.
-    vtkIdType node = 0;
-    for (int level = 0; level < n.level; ++level)
-    {
-      show(n.tree->globalIndex(node));
-      node = n.tree->firstChild(node) + grid.childToward(level, n.level, n.ijk);
-    }
-    // The node and its subtree, but for what stays hidden.
-    show(n.global);
-    if (n.tree->isLeaf(n.node))
-    {
-      continue;
-    }
-    stack.assign(1, n.node);
-    while (!stack.empty())
-    {
-      const vtkIdType m = stack.back();
-      stack.pop_back();
-      const vtkIdType first = n.tree->firstChild(m);
-      for (int c = 0; c < grid.childrenPerNode(); ++c)
-      {
-        const vtkIdType child = first + c;
-        const vtkIdType global = n.tree->globalIndex(child);
-        if (stays(global))
-        {
-          continue;
-        }
-        show(global);
-        if (!n.tree->isLeaf(child))
-        {
-          stack.push_back(child);
-        }
-      }
-    }
-  }
-  mask->Modified();
+  output->GetCellData()->ShallowCopy(input->GetCellData());
+  output->GetFieldData()->ShallowCopy(input->GetFieldData());
   output->SetMask(mask);
+  if (!output->GetHasInterface())
+  {
+    canopy::setPureMask(output, pure); // what ShallowCopy and ParaView would ask VTK to compute
+  }
 }
 
 /// Lines (1D), quads (2D) or hexahedra (3D) with merged points, the input's
@@ -544,34 +494,32 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     this->LastOutOfRange = static_cast<vtkIdType>(report.outOfRange);
     this->LastDuplicates = static_cast<vtkIdType>(report.duplicates);
     this->LastVisited = static_cast<vtkIdType>(report.visited);
-    if (invert)
-    {
-      nodes = selection.complement(nodes);
-    }
-    for (const canopy::SelectedNode& n : nodes)
-    {
-      canopy::Vec3 lo;
-      canopy::Vec3 hi;
-      selection.bounds(n, lo, hi);
-      for (int a = 0; a < 3; ++a)
-      {
-        this->LastSelectedBounds[2 * a] = std::min(this->LastSelectedBounds[2 * a], lo[a]);
-        this->LastSelectedBounds[2 * a + 1] = std::max(this->LastSelectedBounds[2 * a + 1], hi[a]);
-      }
-    }
     if (this->PreserveTopology)
     {
-      auto* output = vtkHyperTreeGrid::SafeDownCast(outputObject);
-      output->ShallowCopy(input);
-      const bool allowMasked = this->AllowMasked;
-      maskAllBut(
-          grid, nodes,
-          [&grid, allowMasked](vtkIdType global)
-          { return grid.isAbsent(global) || (!allowMasked && grid.isMasked(global)); },
-          output);
+      // The same grid with a mask: no node list for the complement, no copy.
+      const canopy::SelectionMaskResult shown =
+          canopy::selectionMask(grid, nodes, invert, this->AllowMasked);
+      std::copy(shown.bounds.begin(), shown.bounds.end(), this->LastSelectedBounds);
+      shareWithMask(input, vtkHyperTreeGrid::SafeDownCast(outputObject), shown.mask, shown.pure);
     }
     else
     {
+      if (invert)
+      {
+        nodes = selection.complement(nodes);
+      }
+      for (const canopy::SelectedNode& n : nodes)
+      {
+        canopy::Vec3 lo;
+        canopy::Vec3 hi;
+        selection.bounds(n, lo, hi);
+        for (int a = 0; a < 3; ++a)
+        {
+          this->LastSelectedBounds[2 * a] = std::min(this->LastSelectedBounds[2 * a], lo[a]);
+          this->LastSelectedBounds[2 * a + 1] =
+              std::max(this->LastSelectedBounds[2 * a + 1], hi[a]);
+        }
+      }
       auto* output = vtkUnstructuredGrid::SafeDownCast(outputObject);
       output->Initialize();
       toUnstructured(grid, selection, nodes, input, output);

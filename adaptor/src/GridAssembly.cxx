@@ -1,5 +1,7 @@
 #include "GridAssembly.h"
 
+#include "PureMask.h"
+
 #include "FieldWrapping.h"
 
 #include <vtkBitArray.h>
@@ -143,6 +145,57 @@ void buildTrees(vtkHyperTreeGrid* htg, const ForestDescription& forest, const Fo
   }
 }
 
+/// VTK's pure mask (PureMask.h) of the built mask: per tree, breadth-first
+/// nodes in reverse (children after their parents), a node marked when masked
+/// or, refined, when a child is.
+vtkSmartPointer<vtkBitArray> buildPureMask(const ForestDescription& forest,
+                                           const ForestLayout& layout, vtkBitArray* mask)
+{
+  auto pure = vtkSmartPointer<vtkBitArray>::New();
+  pure->SetNumberOfValues(static_cast<vtkIdType>(layout.totalNodes));
+  if (layout.totalNodes > 0)
+  {
+    std::memset(pure->GetPointer(0), 0, (layout.totalNodes + 7) / 8);
+  }
+  std::size_t children = 1;
+  for (int d = 0; d < forest.dimension; ++d)
+  {
+    children *= static_cast<std::size_t>(forest.branchFactor);
+  }
+  std::vector<std::size_t> firstChild;
+  std::vector<unsigned char> marked;
+  for (std::size_t t = 0; t < forest.trees.size(); ++t)
+  {
+    const TreeDescription& tree = forest.trees[t];
+    const TreeLayout& shape = layout.trees[t];
+    firstChild.assign(shape.numberOfNodes, 0);
+    for (std::size_t n = 0, next = 1; n < shape.numberOfNodes; ++n)
+    {
+      if (tree.refinement[n] && !isAbsent(tree, n))
+      {
+        firstChild[n] = next;
+        next += children;
+      }
+    }
+    marked.assign(shape.numberOfNodes, 0);
+    for (std::size_t n = shape.numberOfNodes; n-- > 0;)
+    {
+      const auto cell = static_cast<vtkIdType>(cellIndex(shape, n));
+      bool here = mask->GetValue(cell) != 0;
+      for (std::size_t c = 0; !here && firstChild[n] && c < children; ++c)
+      {
+        here = marked[firstChild[n] + c] != 0;
+      }
+      marked[n] = here;
+      if (here)
+      {
+        pure->SetValue(cell, 1);
+      }
+    }
+  }
+  return pure;
+}
+
 vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const ForestLayout& layout)
 {
   auto mask = vtkSmartPointer<vtkBitArray>::New();
@@ -222,7 +275,18 @@ void setCoordinates(vtkHyperTreeGrid* htg, const RootGrid& grid)
 void setTopologyArrays(vtkHyperTreeGrid* htg, const ForestDescription& forest,
                        const ForestLayout& layout)
 {
-  htg->SetMask(layout.anyMask || layout.anyAbsent ? buildMask(forest, layout) : nullptr);
+  if (layout.anyMask || layout.anyAbsent)
+  {
+    vtkSmartPointer<vtkBitArray> mask = buildMask(forest, layout);
+    htg->SetMask(mask);
+    // What ShallowCopy (and ParaView after every filter) would have VTK compute
+    // with a cursor walk over every node.
+    setPureMask(htg, buildPureMask(forest, layout, mask));
+  }
+  else
+  {
+    htg->SetMask(nullptr);
+  }
   vtkCellData* cells = htg->GetCellData();
   cells->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   if (layout.anyAbsent)

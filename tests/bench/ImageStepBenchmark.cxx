@@ -81,7 +81,7 @@ double median(std::vector<double> values)
 /// One step's time split by ParaView's log scopes (seconds, this rank).
 struct Parts
 {
-  double surface = 0;  ///< CanopyAdaptiveSurface's execution
+  double surface = 0;  ///< Canopy's filters' executions (surface, slices, selections)
   double geometry = 0; ///< the representation's vtkPVGeometryFilter (HTG: vtkHyperTreeGridGeometry)
   double dataInfo = 0; ///< gathering data information (bounds, ranges) of grid and surface
   double render = 0;   ///< still renders, compositing excluded
@@ -192,8 +192,11 @@ private:
   static Category classify(const std::string& name)
   {
     const bool execute = name.size() > 9 && name.compare(name.size() - 9, 9, ": execute") == 0;
-    if (contains(name, "CanopyAdaptiveSurface") && execute && !contains(name, "("))
-      return Surface;
+    if ((contains(name, "CanopyAdaptiveSurface") || contains(name, "CanopyAdaptiveSlice") ||
+         contains(name, "CanopyExtractSelection")) &&
+        execute && !contains(name, "("))
+      return Surface; // Canopy's filters
+
     if (contains(name, "/SurfaceRepresentation: execute"))
       return Geometry;
     if (contains(name, "gather information vtkPVDataInformation"))
@@ -249,9 +252,10 @@ private:
 
 struct Route
 {
-  std::string name;  ///< canopy, paraview, paraview-adaptive
+  std::string name;  ///< canopy, canopy-slices, paraview, paraview-adaptive
   std::string label; ///< for tables
   bool twoDOnly = false;
+  bool threeDOnly = false;
 };
 
 struct BenchForest
@@ -434,7 +438,7 @@ void printFirstStep(double pythonStart, double open, const StepRecord& step,
   row("  - views (CreateView x" + std::to_string(viewCount) + ")", views, "probe");
   row("  - Show and extractor creation", show + extractors, "probe");
   row("  - other module-level code (proxies, settings)", otherImport, "imports minus the above");
-  row("- surface filter (CanopyAdaptiveSurface)", p.surface, "ParaView log scope");
+  row("- Canopy's filters (surface, slices, selections)", p.surface, "ParaView log scope");
   row("- ParaView geometry filter (vtkPVGeometryFilter)", p.geometry, "ParaView log scope");
   row("- data information (bounds, ranges)", p.dataInfo, "ParaView log scopes");
   row("- first render (incl. read-back; compositing excluded)", p.render + p.capture,
@@ -467,7 +471,7 @@ int main(int argc, char** argv)
     std::vector<std::string> forestNames{"synthetic-2d-1e5", "synthetic-2d-1e6",
                                          "synthetic-3d-1e6"};
     std::vector<std::string> miniAppSpecs;
-    std::vector<std::string> routeNames{"canopy", "paraview", "paraview-adaptive"};
+    std::vector<std::string> routeNames{"canopy", "canopy-slices", "paraview", "paraview-adaptive"};
     bool firstStep = false;
     for (int i = 1; i < argc; ++i)
     {
@@ -521,6 +525,9 @@ int main(int argc, char** argv)
     {
       if (name == "canopy")
         routes.push_back({name, "Canopy (surface_image.py)", false});
+      else if (name == "canopy-slices")
+        routes.push_back(
+            {name, "Canopy (slice_image.py: 3 slices + cut-away region)", false, true});
       else if (name == "paraview")
         routes.push_back({name, "ParaView 'Surface' (vtkHyperTreeGridGeometry)", false});
       else if (name == "paraview-adaptive")
@@ -581,6 +588,18 @@ int main(int argc, char** argv)
           modules.push_back("surface_image");
           continue;
         }
+        if (routes[k].name == "canopy-slices")
+        {
+          // The 3D default of the mini-app's slices, with the region drawn in the
+          // same image: scalar >= 3 (the front's shell) with an octant cut away.
+          auto arguments = common;
+          arguments.insert(arguments.end(),
+                           {"--start=" + std::to_string(k), "--pixel-threshold=3",
+                            "--select-field=scalar", "--select-range=3,1e30", "--cut-away=octant"});
+          options.scripts.push_back({pipelines + "/slice_image.py", arguments});
+          modules.push_back("slice_image");
+          continue;
+        }
         // InSitu runs a script once: the adaptive route is a copy under another name.
         const bool adaptive = routes[k].name == "paraview-adaptive";
         fs::path script = bench + "/paraview_image.py";
@@ -638,6 +657,8 @@ int main(int argc, char** argv)
         {
           if (routes[k].twoDOnly && forests[f]->dimension == 3)
             continue; // ParaView's adaptive representation is for 2D grids only
+          if (routes[k].threeDOnly && forests[f]->dimension != 3)
+            continue; // slices are of 3D grids
           MPI_Barrier(MPI_COMM_WORLD);
           const auto t0 = Clock::now();
           canopy::StepReport report;

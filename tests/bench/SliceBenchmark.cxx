@@ -17,9 +17,10 @@
 // upstream filters are slower here than in a release build.
 //
 // Usage: canopy_bench_slice [--output DIR] [--forest ROOTS,LEVELS]... [--repetitions N]
-//          [--canopy-only]
-// (default forests 7,6 (about 1e6 leaves) and 9,7 (about 1e7); the region table
-// runs on the first forest only)
+//          [--canopy-only] [--breadth-first]
+// (--breadth-first: nodes stored breadth-first, implicit global indices; default
+// depth-first with a slot map, explicit indices; default forests 7,6 (about 1e6 leaves) and 9,7
+// (about 1e7); the region table runs on the first forest only)
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
 
@@ -60,6 +61,7 @@ namespace
 using Clock = std::chrono::steady_clock;
 int Repetitions = 3;
 bool CanopyOnly = false;
+bool DepthFirst = true; ///< the synthetic forest's storage (--breadth-first: implicit indices)
 
 /// Median over Repetitions of `run()`'s seconds; `prepare(r)` before each (not
 /// timed): a changed selection, a Modified().
@@ -94,6 +96,7 @@ Forest makeForest(int roots, int levels)
   o.rootsPerAxis = roots;
   o.maxLevels = levels;
   o.cutaway = false;
+  o.depthFirstStorage = DepthFirst;
   Forest f;
   f.simulation = std::make_unique<canopy::tools::SyntheticForest>(o);
   f.htg = canopy::buildHyperTreeGrid(f.simulation->description());
@@ -258,8 +261,8 @@ void slices(std::ofstream& csv, const Forest& f, canopy::testing::OffscreenRende
       << cutSeconds << "," << cutterSeconds << "," << lodQuads << "," << fullQuads << ","
       << cutQuads << "," << cutterCells << "," << pixels << "," << visited << "," << fullArea << ","
       << cutArea << "\n";
-  std::cout << std::fixed << std::setprecision(4) << "| " << f.label << " | " << lodSeconds
-            << " | " << fullSeconds << " | " << cutSeconds << " (" << std::setprecision(0)
+  std::cout << std::fixed << std::setprecision(4) << "| " << f.label << " | " << lodSeconds << " | "
+            << fullSeconds << " | " << cutSeconds << " (" << std::setprecision(0)
             << cutSeconds / lodSeconds << "x) | " << std::setprecision(4) << cutterSeconds << " ("
             << std::setprecision(0) << cutterSeconds / lodSeconds << "x) | " << lodQuads << " | "
             << fullQuads << " | " << cutQuads << " | " << pixels << " | " << std::setprecision(2)
@@ -318,6 +321,8 @@ void region(std::ofstream& csv, const Forest& f, canopy::testing::OffscreenRende
     cut->Modified(); // a cut alone changes too (the box could move with the camera)
   };
   const double canopySeconds = median(change, [&] { surface->Update(); });
+  // The same executions split: the selection alone, then the surface alone.
+  const double selectionSeconds = median(change, [&] { last->Update(); });
   const double canopyFullSeconds = median(change, [&] { fullSurface->Update(); });
   const vtkIdType canopyQuads = surface->GetPolyDataOutput()->GetNumberOfCells();
   const vtkIdType canopyFullQuads = fullSurface->GetPolyDataOutput()->GetNumberOfCells();
@@ -329,51 +334,56 @@ void region(std::ofstream& csv, const Forest& f, canopy::testing::OffscreenRende
   if (!CanopyOnly)
   {
     // In a child: chained upstream HTG filters can abort on an assertion here.
-    vtkResult = inChild([&] {
-    vtkNew<vtkHyperTreeGridThreshold> threshold;
-    threshold->SetInputData(f.htg);
-    threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "density");
-    threshold->SetJustCreateNewMask(true);
-    threshold->SetUpperThreshold(4.5);
-    vtkNew<vtkHyperTreeGridAxisClip> clip;
-    clip->SetClipTypeToBox();
-    clip->SetBounds(octant[0], octant[1], octant[2], octant[3], octant[4], octant[5]);
-    clip->InsideOutOn(); // keep what is outside the box: the octant cut away
-    vtkAlgorithm* upstream = nullptr;
-    if (c.range)
-    {
-      upstream = threshold;
-    }
-    if (c.cut)
-    {
-      if (upstream)
-        clip->SetInputConnection(upstream->GetOutputPort());
-      else
-        clip->SetInputData(f.htg);
-      upstream = clip;
-    }
-    vtkNew<vtkHyperTreeGridGeometry> geometry;
-    geometry->SetInputConnection(upstream->GetOutputPort());
-    vtkSeconds = median(
-        [&](int repetition)
+    vtkResult = inChild(
+        [&]
         {
-          threshold->SetLowerThreshold(low(repetition));
-          clip->Modified();
-        },
-        [&] { geometry->Update(); });
-    auto* output = vtkPolyData::SafeDownCast(geometry->GetOutput());
-    std::ostringstream result;
-    result << std::setprecision(17) << vtkSeconds << " " << output->GetNumberOfCells() << " "
-           << area(output);
-    return result.str(); });
+          vtkNew<vtkHyperTreeGridThreshold> threshold;
+          threshold->SetInputData(f.htg);
+          threshold->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
+                                            "density");
+          threshold->SetJustCreateNewMask(true);
+          threshold->SetUpperThreshold(4.5);
+          vtkNew<vtkHyperTreeGridAxisClip> clip;
+          clip->SetClipTypeToBox();
+          clip->SetBounds(octant[0], octant[1], octant[2], octant[3], octant[4], octant[5]);
+          clip->InsideOutOn(); // keep what is outside the box: the octant cut away
+          vtkAlgorithm* upstream = nullptr;
+          if (c.range)
+          {
+            upstream = threshold;
+          }
+          if (c.cut)
+          {
+            if (upstream)
+              clip->SetInputConnection(upstream->GetOutputPort());
+            else
+              clip->SetInputData(f.htg);
+            upstream = clip;
+          }
+          vtkNew<vtkHyperTreeGridGeometry> geometry;
+          geometry->SetInputConnection(upstream->GetOutputPort());
+          vtkSeconds = median(
+              [&](int repetition)
+              {
+                threshold->SetLowerThreshold(low(repetition));
+                clip->Modified();
+              },
+              [&] { geometry->Update(); });
+          auto* output = vtkPolyData::SafeDownCast(geometry->GetOutput());
+          std::ostringstream result;
+          result << std::setprecision(17) << vtkSeconds << " " << output->GetNumberOfCells() << " "
+                 << area(output);
+          return result.str();
+        });
     std::istringstream(vtkResult) >> vtkSeconds >> vtkQuads >> vtkArea;
   }
   const double canopyArea = area(fullSurface->GetPolyDataOutput());
   csv << f.simulation->numberOfLeaves() << "," << c.name << "," << canopySeconds << ","
       << canopyFullSeconds << "," << vtkSeconds << "," << canopyQuads << "," << canopyFullQuads
-      << "," << vtkQuads << "," << canopyArea << "," << vtkArea << "\n";
+      << "," << vtkQuads << "," << canopyArea << "," << vtkArea << "," << selectionSeconds << "\n";
   std::cout << std::fixed << std::setprecision(4) << "| " << f.label << " | " << c.name << " | "
-            << canopySeconds << " | " << canopyFullSeconds << " | ";
+            << canopySeconds << " (selection " << selectionSeconds << ") | " << canopyFullSeconds
+            << " | ";
   if (vtkResult.empty())
     std::cout << (CanopyOnly ? "-" : "aborts (assertion)") << " | ";
   else
@@ -411,10 +421,12 @@ int main(int argc, char** argv)
       Repetitions = std::max(1, std::atoi(argv[++i]));
     else if (arg == "--canopy-only")
       CanopyOnly = true;
+    else if (arg == "--breadth-first")
+      DepthFirst = false;
     else
     {
       std::cerr << "usage: canopy_bench_slice [--output DIR] [--forest ROOTS,LEVELS]... "
-                   "[--repetitions N] [--canopy-only]\n";
+                   "[--repetitions N] [--canopy-only] [--breadth-first]\n";
       return 2;
     }
   }
@@ -432,12 +444,13 @@ int main(int argc, char** argv)
                "pixels_covered,canopy_nodes_visited,canopy_full_area,vtk_axiscut_area\n";
   std::ofstream regionCsv(out / "region.csv");
   regionCsv << "leaves,selection,canopy_s,canopy_full_s,vtk_s,canopy_quads,canopy_full_quads,"
-               "vtk_quads,canopy_full_area,vtk_area\n";
-  std::cout << "## Three slices, 1024x1024 (median of " << Repetitions << ")\n\n"
-            << "| leaves | Canopy LOD s | Canopy full s | AxisCut+Geometry s (ratio) | "
-               "PlaneCutter s (ratio) | Canopy LOD quads | Canopy full quads | AxisCut quads | "
-               "pixels covered | quads / pixel | nodes visited | Canopy full area | AxisCut area |\n"
-            << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|" << std::endl;
+               "vtk_quads,canopy_full_area,vtk_area,canopy_selection_s\n";
+  std::cout
+      << "## Three slices, 1024x1024 (median of " << Repetitions << ")\n\n"
+      << "| leaves | Canopy LOD s | Canopy full s | AxisCut+Geometry s (ratio) | "
+         "PlaneCutter s (ratio) | Canopy LOD quads | Canopy full quads | AxisCut quads | "
+         "pixels covered | quads / pixel | nodes visited | Canopy full area | AxisCut area |\n"
+      << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|" << std::endl;
   std::vector<Forest> built;
   for (const auto& [roots, levels] : forests)
   {

@@ -28,14 +28,12 @@ Writes, in the output directory:
 import canopy_catalyst as canopy
 from paraview.simple import CreateExtractor, Show
 
-settings = canopy.settings(image_size="800x600", color_by="", show_edges=False, start=0,
+settings = canopy.settings(image_size="800x600", color_by="", show_edges=False,
                            representation="Surface", camera_position="", png_compression=3,
                            legend=True, time_label=True,
                            camera_focal_point="", camera_view_up="", parallel_scale=0.0,
                            file_prefix="paraview")
 options = canopy.catalyst_options(settings)
-options.GlobalTrigger.UseStartTimeStep = 1
-options.GlobalTrigger.StartTimeStep = int(settings.start)
 
 grid = canopy.simulation_grid(settings)
 view = canopy.render_view(settings)
@@ -50,8 +48,6 @@ image.Writer.FileName = settings.file_prefix + "_{timestep:06d}.png"
 image.Writer.ImageResolution = canopy.image_size(settings)
 image.Writer.Format.CompressionLevel = str(settings.png_compression)
 canopy.set_trigger(image, settings)
-image.Trigger.UseStartTimeStep = 1
-image.Trigger.StartTimeStep = int(settings.start)
 
 
 def RequestDataDescription(datadescription):

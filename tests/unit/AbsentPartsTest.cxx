@@ -5,6 +5,7 @@
 // coarse values average the present children, and the adaptive surface never
 // draws a pixel on two ranks (level of detail on split trees).
 #include "HtgWalk.h"
+#include "PureMaskCheck.h"
 #include "RandomForest.h"
 #include "RankPart.h"
 
@@ -564,6 +565,26 @@ TEST_P(SplitTree3DFaces, RanksTogetherDrawExactlyTheBoundaryOfTheWholeForest)
 }
 
 INSTANTIATE_TEST_SUITE_P(Ranks, SplitTree3DFaces, ::testing::Values(2, 3, 4));
+
+TEST(BuiltGrid, CarriesThePureMaskVTKWouldCompute)
+{
+  // The builder gives VTK's pure mask (adaptor/common/PureMask.h) for masked
+  // grids and for split trees (absent cells are masked).
+  RandomForestOptions masked = splitOptions(3);
+  masked.maskProbability = 0.15;
+  RandomForest holes(masked);
+  RandomForest whole(splitOptions(3));
+  RankPart part(whole.description(), 1, 3, true);
+  for (const ForestDescription* forest : {&holes.description(), &part.description})
+  {
+    auto htg = buildHyperTreeGrid(*forest);
+    ASSERT_TRUE(htg->HasMask());
+    const PureMaskComparison pure = comparePureMask(htg);
+    EXPECT_FALSE(pure.sameArray);
+    EXPECT_GT(pure.compared, 20u);
+    EXPECT_EQ(pure.differing, 0u);
+  }
+}
 
 } // namespace
 } // namespace canopy::testing

@@ -5,9 +5,9 @@
 // and culling must only ever remove pieces of that surface.
 #include "CameraPlanes.h"
 #include "HtgWalk.h"
-#include "VoxelBoundary.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
+#include "VoxelBoundary.h"
 
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSurface.h"

@@ -6,6 +6,7 @@
 // boxes from VTK's cursors). The same on 2 and 4 MPI ranks with split trees:
 // tests/mpi/SplitTreeSurfacesTest.cxx. Also: Invert and the INVERSE key select
 // the complement, and a selected coarse cell never reveals masked or absent cells.
+#include "PureMaskCheck.h"
 #include "SelectedRegionCase.h"
 
 #include "canopy/HtgBuilder.h"
@@ -17,7 +18,9 @@
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkHyperTree.h>
 #include <vtkHyperTreeGrid.h>
+#include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
 #include <vtkInformation.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
@@ -146,6 +149,33 @@ TEST(SelectionMask, ASelectedCoarseCellNeverRevealsMaskedOrAbsentCells)
                      });
   EXPECT_EQ(revealed, 0u) << "cells masked in the input became visible";
   EXPECT_GT(visibleAfter, coarse.size()) << "the selected subtrees are shown";
+}
+
+TEST(SelectionMask, TheOutputCarriesThePureMaskVTKWouldCompute)
+{
+  // The filter gives its output VTK's "pure mask" (PureMask.h) so that nobody
+  // pays VTK's cursor walk for it: it must be what that walk computes, on every
+  // node the walk reaches (it never goes below a masked node).
+  for (bool invert : {false, true})
+  {
+    SelectedRegionCase region(4, "hash");
+    RankPart part(region.whole.description(), 1, 3, false); // absent cells too
+    vtkNew<vtkCanopyExtractSelection> filter;
+    filter->SetInputData(buildHyperTreeGrid(part.description));
+    filter->SetSelectionMode(vtkCanopyExtractSelection::VALUE_RANGE);
+    filter->SetValueArrayName("hash");
+    filter->SetValueRange(0.0, 0.5);
+    filter->SetInvert(invert);
+    filter->PreserveTopologyOn();
+    ASSERT_TRUE(errorsOfUpdate(filter).empty());
+    const PureMaskComparison pure =
+        comparePureMask(vtkHyperTreeGrid::SafeDownCast(filter->GetOutputDataObject(0)));
+    EXPECT_FALSE(pure.sameArray);
+    const std::size_t compared = pure.compared;
+    const std::size_t differing = pure.differing;
+    EXPECT_GT(compared, 100u);
+    EXPECT_EQ(differing, 0u) << (invert ? "inverted" : "selected");
+  }
 }
 
 } // namespace

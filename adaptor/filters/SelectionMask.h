@@ -1,0 +1,48 @@
+// The mask that shows a selection on the same grid (vtkCanopyExtractSelection
+// with PreserveTopology): no cell or field is copied, only a new mask is made.
+//
+// Visible are the selected nodes with their subtrees, and their ancestors (to
+// reach them); inverted, the selectable leaves outside every selected subtree,
+// and their ancestors. What stays hidden in a selected subtree: absent cells
+// always, masked ones unless they may be selected. Nodes with another rank's
+// parts below them (split trees) stay visible, their own unselected children
+// masked one by one: a masked node then never hides another rank's cells, which
+// that rank may have selected (the 3D surface takes a masked node for a hole as
+// large as the node).
+//
+// Cost: per tree, one byte per node, a mark per selected node (and subtree) or
+// one walk of the visible nodes (inverted), one reverse pass over the nodes
+// (children follow their parents in local order), then N / 8 bytes of mask.
+// Trees run in parallel.
+#pragma once
+
+#include "CellSelection.h"
+#include "HyperTreeAccess.h"
+
+#include <vtkSmartPointer.h>
+
+#include <array>
+#include <vector>
+
+class vtkBitArray;
+
+namespace canopy
+{
+
+struct SelectionMaskResult
+{
+  vtkSmartPointer<vtkBitArray> mask;
+  /// VTK's pure mask of the masked grid (PureMask.h): masked, or a refined
+  /// visible node with a marked child.
+  vtkSmartPointer<vtkBitArray> pure;
+  /// Bounds of the visible leaves that are selected (min > max when none).
+  std::array<double, 6> bounds;
+};
+
+/// `selected`: what the selection picked (any order). `allowMasked`: masked
+/// cells count as selectable (as CellSelection's).
+SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
+                                  const std::vector<SelectedNode>& selected, bool invert,
+                                  bool allowMasked);
+
+} // namespace canopy
