@@ -189,6 +189,24 @@ struct FaceSide
     {
       return NodeFrame{0, 0, {{0, 0, 0}}};
     }
+    if (grid.branchFactor() == 2)
+    {
+      // The positions agree above their highest differing bit.
+      const auto differing = static_cast<std::uint64_t>(across[axis] ^ n.ijk[axis]);
+      int bits = 0;
+      for (std::uint64_t d = differing; d; d >>= 1)
+      {
+        ++bits;
+      }
+      const int level = n.level - bits;
+      if (level <= 0)
+      {
+        return NodeFrame{0, 0, {{0, 0, 0}}};
+      }
+      const int shift = n.level - level;
+      return NodeFrame{
+          n.path[level], level, {{n.ijk[0] >> shift, n.ijk[1] >> shift, n.ijk[2] >> shift}}};
+    }
     for (int level = n.level - 1; level > 0; --level)
     {
       const std::int64_t scale = grid.cellsPerRootAt(n.level - level);

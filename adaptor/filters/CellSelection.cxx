@@ -268,45 +268,55 @@ std::vector<SelectedNode> perTree(const HyperTreeAccess& grid, const Walk& walk)
 
 } // namespace
 
-std::vector<SelectedNode> CellSelection::byValue(vtkDataArray* values, int component, double low,
-                                                 double high) const
+std::function<bool(vtkIdType)> CellSelection::valueInRange(vtkDataArray* values, int component,
+                                                           double low, double high)
 {
   const int nc = values->GetNumberOfComponents();
-  auto select = [&](auto* typed)
+  auto test = [=](auto* typed) -> std::function<bool(vtkIdType)>
   {
-    return perTree(Grid,
-                   [&](const TreeAccess& tree, std::vector<SelectedNode>& out)
-                   {
-                     walkTree(Grid, tree,
-                              [&](WalkNode& n)
-                              {
-                                if (hidden(tree, n.node))
-                                {
-                                  return WalkStep::Skip;
-                                }
-                                if (!tree.isLeaf(n.node))
-                                {
-                                  return WalkStep::Descend;
-                                }
-                                const vtkIdType global = tree.globalIndex(n.node);
-                                const double v = valueAt(typed, global, component, nc);
-                                if (v >= low && v <= high) // false for NaN
-                                {
-                                  out.push_back({&tree, n.node, global, n.level, n.ijk});
-                                }
-                                return WalkStep::Skip;
-                              });
-                   });
+    return [=](vtkIdType global)
+    {
+      const double v = valueAt(typed, global, component, nc);
+      return v >= low && v <= high; // false for NaN
+    };
   };
   if (auto* doubles = vtkAOSDataArrayTemplate<double>::FastDownCast(values))
   {
-    return select(doubles);
+    return test(doubles);
   }
   if (auto* floats = vtkAOSDataArrayTemplate<float>::FastDownCast(values))
   {
-    return select(floats);
+    return test(floats);
   }
-  return select(values);
+  return test(values);
+}
+
+std::vector<SelectedNode> CellSelection::byValue(vtkDataArray* values, int component, double low,
+                                                 double high) const
+{
+  const std::function<bool(vtkIdType)> inRange = valueInRange(values, component, low, high);
+  return perTree(Grid,
+                 [&](const TreeAccess& tree, std::vector<SelectedNode>& out)
+                 {
+                   walkTree(Grid, tree,
+                            [&](WalkNode& n)
+                            {
+                              if (hidden(tree, n.node))
+                              {
+                                return WalkStep::Skip;
+                              }
+                              if (!tree.isLeaf(n.node))
+                              {
+                                return WalkStep::Descend;
+                              }
+                              const vtkIdType global = tree.globalIndex(n.node);
+                              if (inRange(global))
+                              {
+                                out.push_back({&tree, n.node, global, n.level, n.ijk});
+                              }
+                              return WalkStep::Skip;
+                            });
+                 });
 }
 
 std::vector<SelectedNode> CellSelection::complement(const std::vector<SelectedNode>& selected) const

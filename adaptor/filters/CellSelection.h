@@ -25,6 +25,7 @@
 #include <vtkType.h>
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,11 @@ public:
   /// within [low, high]; NaN is never selected.
   std::vector<SelectedNode> byValue(vtkDataArray* values, int component, double low,
                                     double high) const;
+  /// The test byValue applies to a cell (its global index): the value (component,
+  /// or magnitude when component < 0) within [low, high], never NaN. Reads
+  /// contiguous double and float arrays directly. `values` must outlive it.
+  static std::function<bool(vtkIdType)> valueInRange(vtkDataArray* values, int component,
+                                                     double low, double high);
 
   /// Visible leaves overlapping the box [xmin, xmax, ymin, ymax, zmin, zmax]
   /// with positive measure along the grid's active axes (flat axes ignored).

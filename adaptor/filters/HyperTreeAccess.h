@@ -154,6 +154,18 @@ public:
   /// down to the integer position `target` at `targetLevel` (> level).
   int childToward(int level, int targetLevel, const std::array<std::int64_t, 3>& target) const
   {
+    if (BranchFactor == 2)
+    {
+      // Binary trees: the digit is a bit of the position (no division).
+      const int shift = targetLevel - level - 1;
+      int child = 0;
+      int bit = 0;
+      for (int a : ActiveAxes)
+      {
+        child |= static_cast<int>((target[static_cast<std::size_t>(a)] >> shift) & 1) << bit++;
+      }
+      return child;
+    }
     const std::int64_t scale = CellsPerRoot[static_cast<std::size_t>(targetLevel - level - 1)];
     int child = 0;
     int weight = 1;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 
 namespace canopy
 {
@@ -32,143 +33,70 @@ struct TreeMask
 
 } // namespace
 
-SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
-                                  const std::vector<SelectedNode>& selected, bool invert,
-                                  bool allowMasked)
+namespace
+{
+
+/// The mask's common part. `markTree(t, tree, mask)` marks tree t's visible
+/// selected nodes (with their subtrees) in mask.visible and their bounds; the
+/// ancestors, the nodes above other ranks' parts, the pure mask and the packing
+/// are the same for every way of selecting.
+template <typename MarkTree>
+SelectionMaskResult buildSelectionMask(const HyperTreeAccess& grid, const MarkTree& markTree)
 {
   const auto& trees = grid.trees();
-  // The selected nodes of each tree (selections by location come in points' order).
-  std::vector<std::vector<const SelectedNode*>> byTree(trees.size());
-  for (const SelectedNode& n : selected)
-  {
-    byTree[static_cast<std::size_t>(n.tree - trees.data())].push_back(&n);
-  }
-  auto hidden = [&](const TreeAccess& tree, vtkIdType node)
-  {
-    if (!grid.hasMask())
-    {
-      return false;
-    }
-    const vtkIdType global = tree.globalIndex(node);
-    return grid.isAbsent(global) || (!allowMasked && grid.isMasked(global));
-  };
-
   std::vector<TreeMask> masks(trees.size());
   // Per cell: bit 0 visible, bit 1 pure (VTK's pure mask, PureMask.h).
   std::vector<unsigned char> visibleCells(static_cast<std::size_t>(grid.numberOfCells()), 0);
-  vtkSMPTools::For(
-      0, static_cast<vtkIdType>(trees.size()),
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        std::vector<vtkIdType> stack;
-        for (vtkIdType t = begin; t < end; ++t)
-        {
-          const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
-          TreeMask& mask = masks[static_cast<std::size_t>(t)];
-          mask.visible.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
-          auto& visible = mask.visible;
-          // Selected subtrees: marked whole, but for what stays hidden.
-          std::vector<unsigned char> chosen(invert ? visible.size() : 0, 0);
-          for (const SelectedNode* n : byTree[static_cast<std::size_t>(t)])
-          {
-            if (invert)
-            {
-              chosen[static_cast<std::size_t>(n->node)] = 1;
-              continue;
-            }
-            Vec3 lo;
-            Vec3 hi;
-            grid.nodeBounds(tree, n->level, n->ijk, lo, hi);
-            mask.include(lo, hi);
-            visible[static_cast<std::size_t>(n->node)] = 1;
-            stack.assign(1, n->node);
-            while (!stack.empty())
-            {
-              const vtkIdType m = stack.back();
-              stack.pop_back();
-              if (tree.isLeaf(m))
-              {
-                continue;
-              }
-              for (vtkIdType c = tree.firstChild(m);
-                   c < tree.firstChild(m) + grid.childrenPerNode(); ++c)
-              {
-                if (!hidden(tree, c))
-                {
-                  visible[static_cast<std::size_t>(c)] = 1;
-                  stack.push_back(c);
-                }
-              }
-            }
-          }
-          if (invert)
-          {
-            // The selectable leaves outside every selected subtree.
-            Vec3 lo;
-            Vec3 hi;
-            walkTree(grid, tree,
-                     [&](WalkNode& n)
+  vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType t = begin; t < end; ++t)
                      {
-                       if (chosen[static_cast<std::size_t>(n.node)] || hidden(tree, n.node))
+                       const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
+                       TreeMask& mask = masks[static_cast<std::size_t>(t)];
+                       mask.visible.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
+                       auto& visible = mask.visible;
+                       markTree(static_cast<std::size_t>(t), tree, mask);
+                       // One reverse pass (children follow their parents in local order):
+                       // ancestors of visible nodes become visible (and so do nodes with
+                       // other ranks' parts below), then VTK's pure mark: hidden, or refined
+                       // with a marked child. Nodes below a hidden one keep whatever they
+                       // have: VTK's walk never reaches them. Bit 0 visible, bit 1 pure.
+                       const int children = grid.childrenPerNode();
+                       for (vtkIdType n = tree.numberOfVertices; n-- > 0;)
                        {
-                         return WalkStep::Skip;
+                         auto& flags = visible[static_cast<std::size_t>(n)];
+                         if (tree.isLeaf(n))
+                         {
+                           flags = static_cast<unsigned char>(flags ? 1 : 2);
+                           continue;
+                         }
+                         const vtkIdType first = tree.firstChild(n);
+                         unsigned char below = 0;
+                         for (vtkIdType c = first; c < first + children; ++c)
+                         {
+                           below |= visible[static_cast<std::size_t>(c)];
+                         }
+                         const bool shown = flags || (below & 1) || tree.hasAbsentDescendant(n);
+                         flags = static_cast<unsigned char>(shown ? 1 | (below & 2) : 2);
                        }
-                       if (tree.isLeaf(n.node))
+                       if (tree.implicitGlobalIndex)
                        {
-                         visible[static_cast<std::size_t>(n.node)] = 1;
-                         grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
-                         mask.include(lo, hi);
-                         return WalkStep::Skip;
+                         std::copy(visible.begin(), visible.end(),
+                                   visibleCells.begin() +
+                                       static_cast<std::ptrdiff_t>(tree.globalIndexStart));
                        }
-                       return WalkStep::Descend;
-                     });
-          }
-          // Ancestors: children follow their parents in local order.
-          for (vtkIdType n = tree.numberOfVertices; n-- > 0;)
-          {
-            auto& here = visible[static_cast<std::size_t>(n)];
-            if (here || tree.isLeaf(n))
-            {
-              continue;
-            }
-            if (tree.hasAbsentDescendant(n))
-            {
-              here = 1; // another rank's parts below: never hidden here
-              continue;
-            }
-            const vtkIdType first = tree.firstChild(n);
-            for (vtkIdType c = first; c < first + grid.childrenPerNode() && !here; ++c)
-            {
-              here = visible[static_cast<std::size_t>(c)];
-            }
-          }
-          // Pure: hidden, or visible, refined and with a pure child; children
-          // first (reverse order). Nodes below a hidden one keep 0, as VTK's walk
-          // never reaches them.
-          std::vector<unsigned char> pure(visible.size(), 0);
-          for (vtkIdType n = tree.numberOfVertices; n-- > 0;)
-          {
-            const auto k = static_cast<std::size_t>(n);
-            if (!visible[k] || tree.isLeaf(n))
-            {
-              pure[k] = !visible[k];
-              continue;
-            }
-            const vtkIdType first = tree.firstChild(n);
-            for (vtkIdType c = first; c < first + grid.childrenPerNode() && !pure[k]; ++c)
-            {
-              pure[k] = pure[static_cast<std::size_t>(c)];
-            }
-          }
-          for (vtkIdType n = 0; n < tree.numberOfVertices; ++n)
-          {
-            const auto k = static_cast<std::size_t>(n);
-            visibleCells[static_cast<std::size_t>(tree.globalIndex(n))] =
-                static_cast<unsigned char>(visible[k] | (pure[k] << 1));
-          }
-          std::vector<unsigned char>().swap(visible);
-        }
-      });
+                       else
+                       {
+                         for (vtkIdType n = 0; n < tree.numberOfVertices; ++n)
+                         {
+                           visibleCells[static_cast<std::size_t>(tree.globalIndex(n))] =
+                               visible[static_cast<std::size_t>(n)];
+                         }
+                       }
+                       std::vector<unsigned char>().swap(visible);
+                     }
+                   });
 
   SelectionMaskResult result;
   result.bounds = {{1e300, -1e300, 1e300, -1e300, 1e300, -1e300}};
@@ -213,6 +141,124 @@ SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
   result.mask->Modified();
   result.pure->Modified();
   return result;
+}
+
+/// Whether a node stays hidden in a selected subtree: absent always, masked
+/// unless masked cells may be selected.
+bool hiddenNode(const HyperTreeAccess& grid, const TreeAccess& tree, vtkIdType node,
+                bool allowMasked)
+{
+  if (!grid.hasMask())
+  {
+    return false;
+  }
+  const vtkIdType global = tree.globalIndex(node);
+  return grid.isAbsent(global) || (!allowMasked && grid.isMasked(global));
+}
+
+/// Marks the selectable leaves of a tree for which pick(node) holds, with their
+/// bounds; subtrees whose root `skip` flags are left out.
+template <typename Pick>
+void markLeaves(const HyperTreeAccess& grid, const TreeAccess& tree, bool allowMasked,
+                TreeMask& mask, const Pick& pick, const std::vector<unsigned char>* skip = nullptr)
+{
+  Vec3 lo;
+  Vec3 hi;
+  walkTree(grid, tree,
+           [&](WalkNode& n)
+           {
+             if ((skip && (*skip)[static_cast<std::size_t>(n.node)]) ||
+                 hiddenNode(grid, tree, n.node, allowMasked))
+             {
+               return WalkStep::Skip;
+             }
+             if (!tree.isLeaf(n.node))
+             {
+               return WalkStep::Descend;
+             }
+             if (pick(n.node))
+             {
+               mask.visible[static_cast<std::size_t>(n.node)] = 1;
+               grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
+               mask.include(lo, hi);
+             }
+             return WalkStep::Skip;
+           });
+}
+
+} // namespace
+
+SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
+                                  const std::vector<SelectedNode>& selected, bool invert,
+                                  bool allowMasked)
+{
+  const auto& trees = grid.trees();
+  // The selected nodes of each tree (selections by location come in points' order).
+  std::vector<std::vector<const SelectedNode*>> byTree(trees.size());
+  for (const SelectedNode& n : selected)
+  {
+    byTree[static_cast<std::size_t>(n.tree - trees.data())].push_back(&n);
+  }
+  return buildSelectionMask(grid,
+                            [&](std::size_t t, const TreeAccess& tree, TreeMask& mask)
+                            {
+                              auto& visible = mask.visible;
+                              if (invert)
+                              {
+                                // The selectable leaves outside every selected subtree.
+                                std::vector<unsigned char> chosen(visible.size(), 0);
+                                for (const SelectedNode* n : byTree[t])
+                                {
+                                  chosen[static_cast<std::size_t>(n->node)] = 1;
+                                }
+                                markLeaves(
+                                    grid, tree, allowMasked, mask, [](vtkIdType) { return true; },
+                                    &chosen);
+                                return;
+                              }
+                              // Selected subtrees: marked whole, but for what stays hidden.
+                              std::vector<vtkIdType> stack;
+                              for (const SelectedNode* n : byTree[t])
+                              {
+                                Vec3 lo;
+                                Vec3 hi;
+                                grid.nodeBounds(tree, n->level, n->ijk, lo, hi);
+                                mask.include(lo, hi);
+                                visible[static_cast<std::size_t>(n->node)] = 1;
+                                stack.assign(1, n->node);
+                                while (!stack.empty())
+                                {
+                                  const vtkIdType m = stack.back();
+                                  stack.pop_back();
+                                  if (tree.isLeaf(m))
+                                  {
+                                    continue;
+                                  }
+                                  for (vtkIdType c = tree.firstChild(m);
+                                       c < tree.firstChild(m) + grid.childrenPerNode(); ++c)
+                                  {
+                                    if (!hiddenNode(grid, tree, c, allowMasked))
+                                    {
+                                      visible[static_cast<std::size_t>(c)] = 1;
+                                      stack.push_back(c);
+                                    }
+                                  }
+                                }
+                              }
+                            });
+}
+
+SelectionMaskResult selectionMaskOfLeaves(const HyperTreeAccess& grid,
+                                          const std::function<bool(vtkIdType)>& picked, bool invert,
+                                          bool allowMasked)
+{
+  return buildSelectionMask(grid,
+                            [&](std::size_t, const TreeAccess& tree, TreeMask& mask)
+                            {
+                              markLeaves(grid, tree, allowMasked, mask,
+                                         [&](vtkIdType node)
+                                         { return picked(tree.globalIndex(node)) != invert; });
+                            });
 }
 
 } // namespace canopy

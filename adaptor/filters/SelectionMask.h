@@ -22,6 +22,7 @@
 #include <vtkSmartPointer.h>
 
 #include <array>
+#include <functional>
 #include <vector>
 
 class vtkBitArray;
@@ -44,5 +45,11 @@ struct SelectionMaskResult
 SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
                                   const std::vector<SelectedNode>& selected, bool invert,
                                   bool allowMasked);
+
+/// The same for a selection of leaves by a test of their global index (a value
+/// range): the leaves are tested in the mask's own pass, no node list is made.
+SelectionMaskResult selectionMaskOfLeaves(const HyperTreeAccess& grid,
+                                          const std::function<bool(vtkIdType)>& picked, bool invert,
+                                          bool allowMasked);
 
 } // namespace canopy

@@ -477,7 +477,7 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     {
       nodes = selection.byId(ids, report);
     }
-    else if (mode == VALUE_RANGE)
+    else if (mode == VALUE_RANGE && !this->PreserveTopology)
     {
       nodes = selection.byValue(values, component, range[0], range[1]);
     }
@@ -485,7 +485,7 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     {
       nodes = selection.byBox(box, report);
     }
-    else
+    else if (mode == FRUSTUM)
     {
       nodes = selection.byFrustum(frustum, report);
     }
@@ -497,8 +497,14 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     if (this->PreserveTopology)
     {
       // The same grid with a mask: no node list for the complement, no copy.
+      // A value range is tested in the mask's own pass: no node list.
       const canopy::SelectionMaskResult shown =
-          canopy::selectionMask(grid, nodes, invert, this->AllowMasked);
+          mode == VALUE_RANGE
+              ? canopy::selectionMaskOfLeaves(
+                    grid,
+                    canopy::CellSelection::valueInRange(values, component, range[0], range[1]),
+                    invert, this->AllowMasked)
+              : canopy::selectionMask(grid, nodes, invert, this->AllowMasked);
       std::copy(shown.bounds.begin(), shown.bounds.end(), this->LastSelectedBounds);
       shareWithMask(input, vtkHyperTreeGrid::SafeDownCast(outputObject), shown.mask, shown.pure);
     }
