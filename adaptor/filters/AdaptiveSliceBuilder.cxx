@@ -170,13 +170,7 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
         bool stop = tree.isLeaf(n.node);
         if (!stop && lod && !tree.hasAbsentDescendant(n.node))
         {
-          std::array<Vec3, 4> corners;
-          corners.fill(lo);
-          corners[1][b] = hi[b];
-          corners[2][b] = hi[b];
-          corners[2][c] = hi[c];
-          corners[3][c] = hi[c];
-          stop = view->footprintInPixels(corners) <= Options.pixelThreshold;
+          stop = view->footprintInPixels(rectangleCorners(lo, hi, b, c)) <= Options.pixelThreshold;
         }
         if (!stop)
         {
@@ -187,14 +181,8 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
           global = tree.globalIndex(n.node);
         }
         // Counter-clockwise seen from +axis: the quad's normal is +axis.
-        const double corner[4][2] = {
-            {lo[b], lo[c]}, {hi[b], lo[c]}, {hi[b], hi[c]}, {lo[b], hi[c]}};
-        for (const auto& uv : corner)
+        for (const Vec3& p : rectangleCorners(lo, hi, b, c))
         {
-          Vec3 p;
-          p[axis] = position;
-          p[b] = uv[0];
-          p[c] = uv[1];
           cells.points.insert(cells.points.end(), p.begin(), p.end());
         }
         cells.cellIds.push_back(global);

@@ -49,14 +49,8 @@ struct SlicePlane
   double position;
 };
 
-struct SliceOptions
-{
-  /// The view; nullptr: no culling and no level of detail (every cut leaf).
-  const ViewVolume* view = nullptr;
-  bool cullOutsideView = true;
-  bool levelOfDetail = true;
-  double pixelThreshold = 1.0;
-};
+/// The view (ViewVolume.h: without one, every cut leaf).
+using SliceOptions = ViewOptions;
 
 class AdaptiveSliceBuilder
 {

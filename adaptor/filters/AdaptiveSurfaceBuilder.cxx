@@ -454,15 +454,8 @@ struct TreeWalk
 
   void emitPlaneQuad(const Vec3& lo, const Vec3& hi, vtkIdType global, int level)
   {
-    const int u = grid.activeAxes()[0];
-    const int v = grid.activeAxes()[1];
-    std::array<Vec3, 4> c;
-    c.fill(lo);
-    c[1][u] = hi[u];
-    c[2][u] = hi[u];
-    c[2][v] = hi[v];
-    c[3][v] = hi[v];
-    emitCell(out, c, global, level);
+    emitCell(out, rectangleCorners(lo, hi, grid.activeAxes()[0], grid.activeAxes()[1]), global,
+             level);
   }
 
   /// Whether the face normal to `axis` on side `side` at coordinate x is turned

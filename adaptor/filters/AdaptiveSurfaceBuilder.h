@@ -36,13 +36,9 @@
 namespace canopy
 {
 
-struct SurfaceOptions
+/// The view (ViewVolume.h: without one, the full surface) and the surface's own switches.
+struct SurfaceOptions : ViewOptions
 {
-  /// The view; nullptr: no culling and no level of detail (the full surface).
-  const ViewVolume* view = nullptr;
-  bool cullOutsideView = true;
-  bool levelOfDetail = true;
-  double pixelThreshold = 1.0;
   bool skipBackFaces = false; ///< 3D only
   /// 3D, trees split between ranks or on other ranks: faces whose other side is
   /// another rank's are not taken as covered but collected (remoteFaces()) for

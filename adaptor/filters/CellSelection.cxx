@@ -291,10 +291,9 @@ std::function<bool(vtkIdType)> CellSelection::valueInRange(vtkDataArray* values,
   return test(values);
 }
 
-std::vector<SelectedNode> CellSelection::byValue(vtkDataArray* values, int component, double low,
-                                                 double high) const
+template <typename Skip, typename Keep>
+std::vector<SelectedNode> CellSelection::visibleLeaves(const Skip& skip, const Keep& keep) const
 {
-  const std::function<bool(vtkIdType)> inRange = valueInRange(values, component, low, high);
   return perTree(Grid,
                  [&](const TreeAccess& tree, std::vector<SelectedNode>& out)
                  {
@@ -305,18 +304,28 @@ std::vector<SelectedNode> CellSelection::byValue(vtkDataArray* values, int compo
                               {
                                 return WalkStep::Skip;
                               }
+                              const vtkIdType global = tree.globalIndex(n.node);
+                              if (skip(global))
+                              {
+                                return WalkStep::Skip;
+                              }
                               if (!tree.isLeaf(n.node))
                               {
                                 return WalkStep::Descend;
                               }
-                              const vtkIdType global = tree.globalIndex(n.node);
-                              if (inRange(global))
+                              if (keep(global))
                               {
                                 out.push_back({&tree, n.node, global, n.level, n.ijk});
                               }
                               return WalkStep::Skip;
                             });
                  });
+}
+
+std::vector<SelectedNode> CellSelection::byValue(vtkDataArray* values, int component, double low,
+                                                 double high) const
+{
+  return visibleLeaves([](vtkIdType) { return false; }, valueInRange(values, component, low, high));
 }
 
 std::vector<SelectedNode> CellSelection::complement(const std::vector<SelectedNode>& selected) const
@@ -326,29 +335,9 @@ std::vector<SelectedNode> CellSelection::complement(const std::vector<SelectedNo
   {
     chosen[static_cast<std::size_t>(n.global)] = 1;
   }
-  return perTree(Grid,
-                 [&](const TreeAccess& tree, std::vector<SelectedNode>& out)
-                 {
-                   walkTree(Grid, tree,
-                            [&](WalkNode& n)
-                            {
-                              if (hidden(tree, n.node))
-                              {
-                                return WalkStep::Skip;
-                              }
-                              const vtkIdType global = tree.globalIndex(n.node);
-                              if (chosen[static_cast<std::size_t>(global)])
-                              {
-                                return WalkStep::Skip; // selected, and its subtree with it
-                              }
-                              if (tree.isLeaf(n.node))
-                              {
-                                out.push_back({&tree, n.node, global, n.level, n.ijk});
-                                return WalkStep::Skip;
-                              }
-                              return WalkStep::Descend;
-                            });
-                 });
+  // A selected node's subtree is left out whole.
+  return visibleLeaves([&](vtkIdType global) { return chosen[static_cast<std::size_t>(global)]; },
+                       [](vtkIdType) { return true; });
 }
 
 template <typename Overlaps>

@@ -92,6 +92,10 @@ public:
 
 private:
   bool hidden(const TreeAccess& tree, vtkIdType node) const;
+  /// The visible leaves, per tree in parallel, in tree order: subtrees whose root
+  /// skip(global) names are left out, and leaves for which keep(global) fails.
+  template <typename Skip, typename Keep>
+  std::vector<SelectedNode> visibleLeaves(const Skip& skip, const Keep& keep) const;
   /// Visible leaves for which overlaps(lo, hi) holds, descending only into
   /// nodes for which it holds.
   template <typename Overlaps>

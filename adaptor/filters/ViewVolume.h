@@ -27,6 +27,18 @@ struct CameraParameters
   int viewportHeight = 512;   ///< pixels
 };
 
+class ViewVolume;
+
+/// What the view-dependent builders take from the view: the view itself (nullptr:
+/// no culling and no level of detail), and the switches.
+struct ViewOptions
+{
+  const ViewVolume* view = nullptr;
+  bool cullOutsideView = true;
+  bool levelOfDetail = true;
+  double pixelThreshold = 1.0;
+};
+
 class ViewVolume
 {
 public:

@@ -99,24 +99,12 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
       vtkErrorMacro("cannot slice: " << problem);
       return 0;
     }
-    std::unique_ptr<canopy::ViewVolume> view;
     canopy::SliceOptions options;
-    if (this->ViewDependent)
-    {
-      view = std::make_unique<canopy::ViewVolume>(camera);
-      options.view = view.get();
-    }
-    options.cullOutsideView = this->ViewCulling;
-    options.levelOfDetail = this->LevelOfDetail;
-    options.pixelThreshold = this->PixelThreshold;
+    const std::unique_ptr<canopy::ViewVolume> view = this->ViewOptionsFor(camera, options);
     canopy::AdaptiveSliceBuilder builder(*access, std::move(planes), options);
     quads = static_cast<vtkIdType>(builder.count());
     this->LastVisited = static_cast<vtkIdType>(builder.visited());
-    arrays.Points->SetNumberOfTuples(4 * quads);
-    arrays.Ids->SetNumberOfTuples(quads);
-    arrays.Levels->SetNumberOfTuples(quads);
-    builder.write(
-        {arrays.Points->GetPointer(0), arrays.Ids->GetPointer(0), arrays.Levels->GetPointer(0)});
+    builder.write(this->SizeCellArrays(arrays, quads, 4));
   }
   catch (const std::exception& e)
   {

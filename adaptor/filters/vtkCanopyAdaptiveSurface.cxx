@@ -87,16 +87,8 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   vtkIdType perCell = 4;
   try
   {
-    std::unique_ptr<canopy::ViewVolume> view;
     canopy::SurfaceOptions options;
-    if (this->ViewDependent)
-    {
-      view = std::make_unique<canopy::ViewVolume>(camera);
-      options.view = view.get();
-    }
-    options.cullOutsideView = this->ViewCulling;
-    options.levelOfDetail = this->LevelOfDetail;
-    options.pixelThreshold = this->PixelThreshold;
+    const std::unique_ptr<canopy::ViewVolume> view = this->ViewOptionsFor(camera, options);
     options.skipBackFaces = this->SkipBackFaces;
     options.remoteFaces = collective && agreed[1] && agreed[2];
     options.memoize = this->Topology->lastWasKept();
@@ -108,12 +100,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     }
     quads = static_cast<vtkIdType>(builder.cells());
     perCell = static_cast<vtkIdType>(builder.pointsPerCell());
-    // Allocated once, written in place by the trees in parallel.
-    arrays.Points->SetNumberOfTuples(perCell * quads);
-    arrays.Ids->SetNumberOfTuples(quads);
-    arrays.Levels->SetNumberOfTuples(quads);
-    builder.write(
-        {arrays.Points->GetPointer(0), arrays.Ids->GetPointer(0), arrays.Levels->GetPointer(0)});
+    builder.write(this->SizeCellArrays(arrays, quads, perCell));
   }
   catch (const std::exception& e)
   {

@@ -199,15 +199,8 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
     }
     else
     {
-      const int u = grid.activeAxes()[0];
-      const int v = grid.activeAxes()[1];
-      std::array<canopy::Vec3, 4> corners;
-      corners.fill(lo);
-      corners[1][u] = hi[u];
-      corners[2][u] = hi[u];
-      corners[2][v] = hi[v];
-      corners[3][v] = hi[v];
-      for (const canopy::Vec3& c : corners)
+      for (const canopy::Vec3& c :
+           canopy::rectangleCorners(lo, hi, grid.activeAxes()[0], grid.activeAxes()[1]))
       {
         *ids++ = merger.id(c);
       }

@@ -1,5 +1,6 @@
 #include "vtkCanopyViewDependentFilter.h"
 
+#include "AdaptiveSurfaceBuilder.h"
 #include "GatherTuples.h"
 #include "HyperTreeAccessCache.h"
 #include "ViewVolume.h"
@@ -159,6 +160,22 @@ bool vtkCanopyViewDependentFilter::CurrentView(canopy::CameraParameters& camera)
   return true;
 }
 
+std::unique_ptr<canopy::ViewVolume>
+vtkCanopyViewDependentFilter::ViewOptionsFor(const canopy::CameraParameters& camera,
+                                             canopy::ViewOptions& options) const
+{
+  std::unique_ptr<canopy::ViewVolume> view;
+  if (this->ViewDependent)
+  {
+    view = std::make_unique<canopy::ViewVolume>(camera);
+  }
+  options.view = view.get();
+  options.cullOutsideView = this->ViewCulling;
+  options.levelOfDetail = this->LevelOfDetail;
+  options.pixelThreshold = this->PixelThreshold;
+  return view;
+}
+
 namespace
 {
 
@@ -253,6 +270,17 @@ vtkCanopyViewDependentFilter::CellArrays vtkCanopyViewDependentFilter::NewCellAr
   arrays.Levels = this->ReusableArray<vtkUnsignedCharArray>("Level", VTK_UNSIGNED_CHAR);
   arrays.Levels->SetName("Level");
   return arrays;
+}
+
+canopy::SurfaceArrays vtkCanopyViewDependentFilter::SizeCellArrays(const CellArrays& arrays,
+                                                                   vtkIdType cells,
+                                                                   vtkIdType perCell)
+{
+  // Allocated once, written in place by the trees in parallel.
+  arrays.Points->SetNumberOfTuples(perCell * cells);
+  arrays.Ids->SetNumberOfTuples(cells);
+  arrays.Levels->SetNumberOfTuples(cells);
+  return {arrays.Points->GetPointer(0), arrays.Ids->GetPointer(0), arrays.Levels->GetPointer(0)};
 }
 
 void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output,

@@ -39,7 +39,10 @@ class vtkUnsignedCharArray;
 namespace canopy
 {
 struct CameraParameters;
+struct SurfaceArrays;
 class HyperTreeAccessCache;
+class ViewVolume;
+struct ViewOptions;
 } // namespace canopy
 
 class CANOPYFILTERS_EXPORT vtkCanopyViewDependentFilter : public vtkHyperTreeGridAlgorithm
@@ -131,6 +134,11 @@ protected:
   /// with the error reported, when the view or PixelThreshold is unusable.
   bool CurrentView(canopy::CameraParameters& camera);
 
+  /// Fills the builders' view options from the properties; returns the view
+  /// they point to (nullptr with ViewDependent off), which must outlive them.
+  std::unique_ptr<canopy::ViewVolume> ViewOptionsFor(const canopy::CameraParameters& camera,
+                                                     canopy::ViewOptions& options) const;
+
   /// The arrays a builder writes: coordinates (3 components), original cell ids
   /// and levels, reused from the previous execution when nothing else holds
   /// them. Call after releasing the previous output (output->Initialize()).
@@ -141,6 +149,11 @@ protected:
     vtkSmartPointer<vtkUnsignedCharArray> Levels;
   };
   CellArrays NewCellArrays();
+
+  /// Sizes `arrays` for `cells` cells of `perCell` points and returns where a
+  /// builder writes them.
+  canopy::SurfaceArrays SizeCellArrays(const CellArrays& arrays, vtkIdType cells,
+                                       vtkIdType perCell);
 
   /// Makes `output` from `cells` cells of `perCell` points each (2: lines,
   /// otherwise polygons), written into `arrays`, with the input's selected cell

@@ -49,11 +49,11 @@ void forEachNode(vtkHyperTreeGrid* htg, vtkIdType rootIndex,
   walk(walk, 0);
 }
 
-/// Calls visit(cursor) for every node with no masked ancestor and not masked
-/// itself (coarse nodes and leaves), over all trees, by VTK's own cursors: the
-/// independent reference the filter tests compare against.
+/// Calls visit(cursor, ancestors) for every node VTK's cursors reach, masked ones
+/// included (but nothing below a masked node), over all trees; `ancestors` holds
+/// the global indices of the node's ancestors, root first.
 template <typename Visit>
-void forEachVisibleNode(vtkHyperTreeGrid* htg, Visit&& visit)
+void forEachReachableNode(vtkHyperTreeGrid* htg, Visit&& visit)
 {
   vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
   htg->InitializeTreeIterator(it);
@@ -62,26 +62,42 @@ void forEachVisibleNode(vtkHyperTreeGrid* htg, Visit&& visit)
   {
     vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
     htg->InitializeNonOrientedGeometryCursor(cursor, index);
+    std::vector<vtkIdType> ancestors;
     auto walk = [&](auto& self) -> void
     {
-      if (cursor->IsMasked())
+      visit(cursor.GetPointer(), static_cast<const std::vector<vtkIdType>&>(ancestors));
+      if (cursor->IsMasked() || cursor->IsLeaf())
       {
         return;
       }
-      visit(cursor.GetPointer());
-      if (cursor->IsLeaf())
-      {
-        return;
-      }
+      ancestors.push_back(cursor->GetGlobalNodeIndex());
       for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
       {
         cursor->ToChild(c);
         self(self);
         cursor->ToParent();
       }
+      ancestors.pop_back();
     };
     walk(walk);
   }
+}
+
+/// Calls visit(cursor) for every node with no masked ancestor and not masked
+/// itself (coarse nodes and leaves), over all trees, by VTK's own cursors: the
+/// independent reference the filter tests compare against.
+template <typename Visit>
+void forEachVisibleNode(vtkHyperTreeGrid* htg, Visit&& visit)
+{
+  forEachReachableNode(
+      htg,
+      [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor, const std::vector<vtkIdType>&)
+      {
+        if (!cursor->IsMasked())
+        {
+          visit(cursor);
+        }
+      });
 }
 
 /// The same, for visible leaves only.

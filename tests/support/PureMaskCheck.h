@@ -3,6 +3,8 @@
 // cursor walk computes, on every node that walk reaches (never below a masked one).
 #pragma once
 
+#include "HtgWalk.h"
+
 #include <vtkBitArray.h>
 #include <vtkHyperTree.h>
 #include <vtkHyperTreeGrid.h>
@@ -38,30 +40,14 @@ inline PureMaskComparison comparePureMask(vtkHyperTreeGrid* given)
   vtkBitArray* vtks = computed->GetPureMask();
   PureMaskComparison result;
   result.sameArray = ours == vtks;
-  vtkHyperTreeGrid::vtkHyperTreeGridIterator trees;
-  computed->InitializeTreeIterator(trees);
-  while (trees.GetNextTree(index))
-  {
-    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
-    computed->InitializeNonOrientedGeometryCursor(cursor, index);
-    auto walk = [&](auto& self) -> void
-    {
-      const vtkIdType global = cursor->GetGlobalNodeIndex();
-      ++result.compared;
-      result.differing += ours->GetValue(global) != vtks->GetValue(global);
-      if (cursor->IsMasked() || cursor->IsLeaf())
+  forEachReachableNode(
+      computed,
+      [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor, const std::vector<vtkIdType>&)
       {
-        return;
-      }
-      for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
-      {
-        cursor->ToChild(c);
-        self(self);
-        cursor->ToParent();
-      }
-    };
-    walk(walk);
-  }
+        const vtkIdType global = cursor->GetGlobalNodeIndex();
+        ++result.compared;
+        result.differing += ours->GetValue(global) != vtks->GetValue(global);
+      });
   return result;
 }
 

@@ -8,6 +8,7 @@
 // the work only the nodes the plane cuts.
 #include "CameraPlanes.h"
 #include "ErrorMessages.h"
+#include "HtgWalk.h"
 #include "RandomForest.h"
 #include "RankPart.h"
 
@@ -88,39 +89,19 @@ struct CursorNode
 std::vector<CursorNode> reachableNodes(vtkHyperTreeGrid* htg)
 {
   std::vector<CursorNode> nodes;
-  vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
-  htg->InitializeTreeIterator(it);
-  vtkIdType index = 0;
-  while (it.GetNextTree(index))
-  {
-    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
-    htg->InitializeNonOrientedGeometryCursor(cursor, index);
-    std::vector<vtkIdType> path;
-    auto walk = [&](auto& self) -> void
-    {
-      CursorNode n;
-      n.global = cursor->GetGlobalNodeIndex();
-      n.level = static_cast<int>(cursor->GetLevel());
-      cursor->GetBounds(n.bounds);
-      n.leaf = cursor->IsLeaf();
-      n.masked = cursor->IsMasked();
-      n.ancestors = path;
-      nodes.push_back(n);
-      if (n.masked || n.leaf)
-      {
-        return;
-      }
-      path.push_back(n.global);
-      for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
-      {
-        cursor->ToChild(c);
-        self(self);
-        cursor->ToParent();
-      }
-      path.pop_back();
-    };
-    walk(walk);
-  }
+  forEachReachableNode(htg,
+                       [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor,
+                           const std::vector<vtkIdType>& ancestors)
+                       {
+                         CursorNode n;
+                         n.global = cursor->GetGlobalNodeIndex();
+                         n.level = static_cast<int>(cursor->GetLevel());
+                         cursor->GetBounds(n.bounds);
+                         n.leaf = cursor->IsLeaf();
+                         n.masked = cursor->IsMasked();
+                         n.ancestors = ancestors;
+                         nodes.push_back(n);
+                       });
   return nodes;
 }
 
