@@ -148,6 +148,8 @@ def check_insitu_3d(output, command):
     shutil.rmtree(output, ignore_errors=True)
     code, log = run(command + ["--dump", os.path.join(output, "final.txt")])
     expect(code == 0, "the mini-app exits normally")
+    expect("simulation arrays untouched by Canopy: yes" in log,
+           "Canopy left the arrays untouched (slices and selections read them in place)")
     expect(re.search(r"0 pipeline failure\(s\)", log) is not None, "no pipeline failed")
     noisy = [line for line in log.splitlines() if re.search(r"WARN|Warning|ERROR", line)]
     expect(not noisy, "no warning or error in the output (%d line(s)%s)"
