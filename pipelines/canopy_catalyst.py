@@ -309,7 +309,7 @@ def color_legend(view, field):
 IMAGE_DEFAULTS = dict(
     image_size="800x600", color_by="", pixel_threshold=1.0, camera_position="",
     camera_focal_point="", camera_view_up="", parallel_scale=0.0, show_edges=False, legend=True,
-    time_label=True, color_range="", png_compression=3, skip_back_faces=True,
+    time_label=True, color_range="", png_compression=3, skip_back_faces=False,
     select_field="", select_range="", cut_away="")
 """Settings every image script has (see surface_image.py's docstring); select_field,
 select_range and cut_away describe a selected region (selected_region)."""
