@@ -131,6 +131,9 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
     return digit[level];
   };
 
+  // The children the plane cuts.
+  auto cutChildren = [&](const WalkNode& parent, int child)
+  { return Grid.childDigits(child)[axis] == digitAt(parent); };
   Vec3 lo{{0, 0, 0}};
   Vec3 hi{{0, 0, 0}};
   const int b = (axis + 1) % 3;
@@ -187,10 +190,21 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
         }
         cells.cellIds.push_back(global);
         cells.levels.push_back(static_cast<unsigned char>(n.level));
+        if (Options.colors)
+        {
+          // A node drawn for level of detail: the average of the cut leaves below it.
+          const Rgb color = tree.isLeaf(n.node)
+                                ? Options.colors->mapCell(global)
+                                : averageColor(Grid, tree, n, 2, *Options.colors, cutChildren);
+          for (double channel : color)
+          {
+            cells.colors.push_back(
+                static_cast<unsigned char>(std::lround(std::clamp(channel, 0.0, 255.0))));
+          }
+        }
         return WalkStep::Skip;
       },
-      [&](const WalkNode& parent, int child)
-      { return Grid.childDigits(child)[axis] == digitAt(parent); });
+      cutChildren);
 }
 
 void AdaptiveSliceBuilder::write(const SurfaceArrays& arrays) const
@@ -206,6 +220,10 @@ void AdaptiveSliceBuilder::write(const SurfaceArrays& arrays) const
           std::copy(cells.points.begin(), cells.points.end(), arrays.points + 12 * first);
           std::copy(cells.cellIds.begin(), cells.cellIds.end(), arrays.cellIds + first);
           std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
+          if (arrays.colors)
+          {
+            std::copy(cells.colors.begin(), cells.colors.end(), arrays.colors + 3 * first);
+          }
         }
       });
 }

@@ -33,6 +33,7 @@
 
 #include "AdaptiveSurfaceBuilder.h"
 #include "HyperTreeAccess.h"
+#include "LeafColorAverage.h"
 #include "ViewVolume.h"
 
 #include <cstddef>
@@ -49,7 +50,9 @@ struct SlicePlane
   double position;
 };
 
-/// The view (ViewVolume.h: without one, every cut leaf).
+/// The view (ViewVolume.h: without one, every cut leaf) and, with a colour map,
+/// each quad's colour: a node drawn for level of detail shows the area-weighted
+/// average of the colours of the cut leaves below it.
 using SliceOptions = ViewOptions;
 
 class AdaptiveSliceBuilder

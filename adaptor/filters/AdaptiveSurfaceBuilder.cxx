@@ -67,9 +67,13 @@ struct CellSink
 
 /// A cell of N points (4: a quad; 2: a segment of a 1D grid). One grid's cells
 /// all have the same N, so cell i's points start at 3 N i.
+/// `color`: the cell's RGB (nullptr without a colour map).
 template <std::size_t N>
-void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level)
+void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level,
+              const Rgb* color)
 {
+  auto byte = [](double c)
+  { return static_cast<unsigned char>(std::lround(std::clamp(c, 0.0, 255.0))); };
   if (out.keep)
   {
     for (const Vec3& c : corners)
@@ -78,6 +82,11 @@ void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellI
     }
     out.keep->cellIds.push_back(cellId);
     out.keep->levels.push_back(static_cast<unsigned char>(level));
+    if (color)
+    {
+      out.keep->colors.insert(out.keep->colors.end(),
+                              {byte((*color)[0]), byte((*color)[1]), byte((*color)[2])});
+    }
   }
   else if (!out.counting && out.next < out.limit)
   {
@@ -90,6 +99,14 @@ void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellI
     }
     out.arrays.cellIds[out.next] = cellId;
     out.arrays.levels[out.next] = static_cast<unsigned char>(level);
+    if (color && out.arrays.colors)
+    {
+      unsigned char* rgb = out.arrays.colors + 3 * out.next;
+      for (int k = 0; k < 3; ++k)
+      {
+        rgb[k] = byte((*color)[k]);
+      }
+    }
   }
   ++out.next;
 }
@@ -418,11 +435,13 @@ struct TreeWalk
         const int u = grid.activeAxes()[0];
         std::array<Vec3, 2> segment{{lo, lo}};
         segment[1][u] = hi[u];
-        emitCell(out, segment, global, n.level);
+        const Rgb color = colorOf(n, global, leaf);
+        emitCell(out, segment, global, n.level, options.colors ? &color : nullptr);
       }
       else if (grid.dimension() == 2)
       {
-        emitPlaneQuad(lo, hi, global, n.level);
+        const Rgb color = colorOf(n, global, leaf);
+        emitPlaneQuad(lo, hi, global, n.level, options.colors ? &color : nullptr);
       }
       else
       {
@@ -452,10 +471,26 @@ struct TreeWalk
     return known == 2;
   }
 
-  void emitPlaneQuad(const Vec3& lo, const Vec3& hi, vtkIdType global, int level)
+  void emitPlaneQuad(const Vec3& lo, const Vec3& hi, vtkIdType global, int level, const Rgb* color)
   {
     emitCell(out, rectangleCorners(lo, hi, grid.activeAxes()[0], grid.activeAxes()[1]), global,
-             level);
+             level, color);
+  }
+
+  /// A drawn 1D or 2D node's colour: a leaf's own, a coarser node's the average
+  /// of its leaves' (only when it is written: counting needs none).
+  Rgb colorOf(const NodeFrame& n, vtkIdType global, bool leaf) const
+  {
+    if (!options.colors || (out.counting && !out.keep))
+    {
+      return Rgb{{0, 0, 0}};
+    }
+    if (leaf)
+    {
+      return options.colors->mapCell(global);
+    }
+    return averageColor(grid, tree, n, grid.dimension(), *options.colors,
+                        [](const WalkNode&, int) { return true; });
   }
 
   /// Whether the face normal to `axis` on side `side` at coordinate x is turned
@@ -514,7 +549,10 @@ struct TreeWalk
     {
       std::swap(q[1], q[3]);
     }
-    emitCell(out, q, global, level);
+    const Rgb color = options.colors && (!out.counting || out.keep)
+                          ? options.colors->mapCell(global)
+                          : Rgb{{0, 0, 0}};
+    emitCell(out, q, global, level, options.colors ? &color : nullptr);
   }
 
   /// For each of the six faces of a node where descent stopped: the parts not
@@ -687,6 +725,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
         cells.points.clear();
         cells.cellIds.clear();
         cells.levels.clear();
+        cells.colors.clear();
         cells.asked.clear();
       }
     }
@@ -823,51 +862,68 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
   const std::size_t perCell = pointsPerCell();
   if (!Kept.empty())
   {
-    vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
-                     [&](vtkIdType begin, vtkIdType end)
-                     {
-                       for (vtkIdType t = begin; t < end; ++t)
-                       {
-                         const TreeCells& cells = Kept[static_cast<std::size_t>(t)];
-                         const std::size_t first = Offsets[static_cast<std::size_t>(t)];
-                         std::copy(cells.points.begin(), cells.points.end(),
-                                   arrays.points + 3 * perCell * first);
-                         std::copy(cells.cellIds.begin(), cells.cellIds.end(),
-                                   arrays.cellIds + first);
-                         std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
-                       }
-                     });
+    vtkSMPTools::For(
+        0, static_cast<vtkIdType>(trees.size()),
+        [&](vtkIdType begin, vtkIdType end)
+        {
+          for (vtkIdType t = begin; t < end; ++t)
+          {
+            const TreeCells& cells = Kept[static_cast<std::size_t>(t)];
+            const std::size_t first = Offsets[static_cast<std::size_t>(t)];
+            std::copy(cells.points.begin(), cells.points.end(),
+                      arrays.points + 3 * perCell * first);
+            std::copy(cells.cellIds.begin(), cells.cellIds.end(), arrays.cellIds + first);
+            std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
+            if (arrays.colors)
+            {
+              std::copy(cells.colors.begin(), cells.colors.end(), arrays.colors + 3 * first);
+            }
+          }
+        });
     return;
   }
   const bool full = fullPlanarSurface();
   std::atomic<bool> mismatch{false};
-  vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
-                   [&](vtkIdType begin, vtkIdType end)
-                   {
-                     for (vtkIdType t = begin; t < end; ++t)
-                     {
-                       const std::size_t first = Offsets[static_cast<std::size_t>(t)];
-                       CellSink sink;
-                       sink.counting = false;
-                       sink.limit = Offsets[static_cast<std::size_t>(t) + 1] - first;
-                       sink.arrays = {arrays.points + 3 * pointsPerCell() * first,
-                                      arrays.cellIds + first, arrays.levels + first};
-                       const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
-                       if (full)
-                       {
-                         sink.next = writeFullSurface(Grid, tree, sink.arrays, sink.limit);
-                       }
-                       else
-                       {
-                         TreeWalk walk{Grid, tree, Options, Region.get(), sink};
-                         walk.walk();
-                       }
-                       if (sink.next != Offsets[static_cast<std::size_t>(t) + 1] - first)
-                       {
-                         mismatch = true; // never expected: counts come from the same topology
-                       }
-                     }
-                   });
+  vtkSMPTools::For(
+      0, static_cast<vtkIdType>(trees.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType t = begin; t < end; ++t)
+        {
+          const std::size_t first = Offsets[static_cast<std::size_t>(t)];
+          CellSink sink;
+          sink.counting = false;
+          sink.limit = Offsets[static_cast<std::size_t>(t) + 1] - first;
+          sink.arrays = {arrays.points + 3 * pointsPerCell() * first, arrays.cellIds + first,
+                         arrays.levels + first,
+                         arrays.colors ? arrays.colors + 3 * first : nullptr};
+          const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
+          if (full)
+          {
+            sink.next = writeFullSurface(Grid, tree, sink.arrays, sink.limit);
+            // Every cell of a full surface is a leaf: its own colour.
+            for (std::size_t i = 0;
+                 Options.colors && sink.arrays.colors && i < std::min(sink.next, sink.limit); ++i)
+            {
+              const Rgb c = Options.colors->mapCell(sink.arrays.cellIds[i]);
+              for (int k = 0; k < 3; ++k)
+              {
+                sink.arrays.colors[3 * i + k] =
+                    static_cast<unsigned char>(std::lround(std::clamp(c[k], 0.0, 255.0)));
+              }
+            }
+          }
+          else
+          {
+            TreeWalk walk{Grid, tree, Options, Region.get(), sink};
+            walk.walk();
+          }
+          if (sink.next != Offsets[static_cast<std::size_t>(t) + 1] - first)
+          {
+            mismatch = true; // never expected: counts come from the same topology
+          }
+        }
+      });
   if (mismatch)
   {
     throw std::logic_error("the surface's cell count changed between counting and writing");

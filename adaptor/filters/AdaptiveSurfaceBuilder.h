@@ -23,6 +23,7 @@
 #pragma once
 
 #include "HyperTreeAccess.h"
+#include "LeafColorAverage.h"
 #include "ViewVolume.h"
 
 #include <vtkType.h>
@@ -39,6 +40,8 @@ namespace canopy
 /// The view (ViewVolume.h: without one, the full surface) and the surface's own switches.
 struct SurfaceOptions : ViewOptions
 {
+  // With a colour map (ViewOptions::colors): 1D and 2D nodes drawn for level of
+  // detail average their leaves' colours; 3D faces show their node's mapped value.
   bool skipBackFaces = false; ///< 3D only
   /// 3D, trees split between ranks or on other ranks: faces whose other side is
   /// another rank's are not taken as covered but collected (remoteFaces()) for
@@ -87,6 +90,7 @@ struct SurfaceArrays
   double* points;
   vtkIdType* cellIds;
   unsigned char* levels;
+  unsigned char* colors = nullptr; ///< RGB per cell, with SurfaceOptions::colors
 };
 
 /// Two passes over the trees (in parallel with vtkSMPTools): count, then write
@@ -112,6 +116,7 @@ struct TreeCells
   std::vector<double> points;
   std::vector<vtkIdType> cellIds;
   std::vector<unsigned char> levels;
+  std::vector<unsigned char> colors; ///< RGB, with a colour map
   std::vector<AskedFace> asked;
 };
 

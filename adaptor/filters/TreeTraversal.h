@@ -32,15 +32,15 @@ enum class WalkStep
   Stop     ///< end the walk
 };
 
-/// Calls enter(WalkNode&) on every node reached from the root; enter may set
-/// `inherited` for the children. Only children c of a node n for which
-/// acceptChild(n, c) holds are entered (a slice enters only the children its
-/// plane crosses). Returns false when enter stopped the walk.
+/// Calls enter(WalkNode&) on every node reached from `start` (its subtree);
+/// enter may set `inherited` for the children. Only children c of a node n for
+/// which acceptChild(n, c) holds are entered (a slice enters only the children
+/// its plane crosses). Returns false when enter stopped the walk.
 template <typename Enter, typename AcceptChild>
-bool walkTree(const HyperTreeAccess& grid, const TreeAccess& tree, Enter&& enter,
-              AcceptChild&& acceptChild)
+bool walkSubtree(const HyperTreeAccess& grid, const TreeAccess& tree, const WalkNode& start,
+                 Enter&& enter, AcceptChild&& acceptChild)
 {
-  std::vector<WalkNode> stack{{0, 0, {{0, 0, 0}}, false}};
+  std::vector<WalkNode> stack{start};
   while (!stack.empty())
   {
     WalkNode n = stack.back();
@@ -65,6 +65,15 @@ bool walkTree(const HyperTreeAccess& grid, const TreeAccess& tree, Enter&& enter
     }
   }
   return true;
+}
+
+/// The whole tree, from its root.
+template <typename Enter, typename AcceptChild>
+bool walkTree(const HyperTreeAccess& grid, const TreeAccess& tree, Enter&& enter,
+              AcceptChild&& acceptChild)
+{
+  return walkSubtree(grid, tree, WalkNode{0, 0, {{0, 0, 0}}, false}, std::forward<Enter>(enter),
+                     std::forward<AcceptChild>(acceptChild));
 }
 
 /// Every child of every node the walk descends into.

@@ -28,15 +28,19 @@ struct CameraParameters
 };
 
 class ViewVolume;
+class ColorTable;
 
-/// What the view-dependent builders take from the view: the view itself (nullptr:
-/// no culling and no level of detail), and the switches.
+/// What the view-dependent builders take from their filter: the view itself
+/// (nullptr: no culling and no level of detail), the switches, and a colour map
+/// when the cells' colours are wanted too (LeafColorAverage.h: nodes drawn for
+/// level of detail then show their leaves' average colour).
 struct ViewOptions
 {
   const ViewVolume* view = nullptr;
   bool cullOutsideView = true;
   bool levelOfDetail = true;
   double pixelThreshold = 1.0;
+  const ColorTable* colors = nullptr;
 };
 
 class ViewVolume

@@ -100,7 +100,7 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
       return 0;
     }
     canopy::SliceOptions options;
-    const std::unique_ptr<canopy::ViewVolume> view = this->ViewOptionsFor(camera, options);
+    const ViewResources resources = this->ViewOptionsFor(camera, input, options);
     canopy::AdaptiveSliceBuilder builder(*access, std::move(planes), options);
     quads = static_cast<vtkIdType>(builder.count());
     this->LastVisited = static_cast<vtkIdType>(builder.visited());

@@ -88,7 +88,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   try
   {
     canopy::SurfaceOptions options;
-    const std::unique_ptr<canopy::ViewVolume> view = this->ViewOptionsFor(camera, options);
+    const ViewResources resources = this->ViewOptionsFor(camera, input, options);
     options.skipBackFaces = this->SkipBackFaces;
     options.remoteFaces = collective && agreed[1] && agreed[2];
     options.memoize = this->Topology->lastWasKept();

@@ -3,6 +3,7 @@
 #include "AdaptiveSurfaceBuilder.h"
 #include "GatherTuples.h"
 #include "HyperTreeAccessCache.h"
+#include "LeafColorAverage.h"
 #include "ViewVolume.h"
 
 #include <vtkAOSDataArrayTemplate.h>
@@ -20,10 +21,13 @@
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
 #include <vtkSMPTools.h>
+#include <vtkScalarsToColors.h>
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 void vtkCanopyViewDependentFilter::SetRenderer(vtkRenderer* renderer)
 {
@@ -40,6 +44,11 @@ vtkRenderer* vtkCanopyViewDependentFilter::GetRenderer()
 }
 
 vtkCxxSetObjectMacro(vtkCanopyViewDependentFilter, Camera, vtkCamera);
+vtkCxxSetObjectMacro(vtkCanopyViewDependentFilter, ColorMap, vtkScalarsToColors);
+
+vtkCanopyViewDependentFilter::ViewResources::ViewResources() = default;
+vtkCanopyViewDependentFilter::ViewResources::~ViewResources() = default;
+vtkCanopyViewDependentFilter::ViewResources::ViewResources(ViewResources&&) noexcept = default;
 
 vtkCanopyViewDependentFilter::vtkCanopyViewDependentFilter()
     : Topology(std::make_unique<canopy::HyperTreeAccessCache>())
@@ -50,6 +59,7 @@ vtkCanopyViewDependentFilter::vtkCanopyViewDependentFilter()
 vtkCanopyViewDependentFilter::~vtkCanopyViewDependentFilter()
 {
   this->SetCamera(nullptr);
+  this->SetColorMap(nullptr);
 }
 
 void vtkCanopyViewDependentFilter::AddField(const char* name)
@@ -102,6 +112,10 @@ vtkMTimeType vtkCanopyViewDependentFilter::GetMTime()
   if (camera)
   {
     time = std::max(time, camera->GetMTime());
+  }
+  if (this->ColorMap)
+  {
+    time = std::max(time, this->ColorMap->GetMTime());
   }
   return time;
 }
@@ -160,20 +174,40 @@ bool vtkCanopyViewDependentFilter::CurrentView(canopy::CameraParameters& camera)
   return true;
 }
 
-std::unique_ptr<canopy::ViewVolume>
+vtkCanopyViewDependentFilter::ViewResources
 vtkCanopyViewDependentFilter::ViewOptionsFor(const canopy::CameraParameters& camera,
+                                             vtkHyperTreeGrid* input,
                                              canopy::ViewOptions& options) const
 {
-  std::unique_ptr<canopy::ViewVolume> view;
+  ViewResources resources;
   if (this->ViewDependent)
   {
-    view = std::make_unique<canopy::ViewVolume>(camera);
+    resources.View = std::make_unique<canopy::ViewVolume>(camera);
   }
-  options.view = view.get();
+  if (this->ColorMap && !this->ColorField.empty())
+  {
+    vtkDataArray* values = input->GetCellData()->GetArray(this->ColorField.c_str());
+    if (!values)
+    {
+      throw std::invalid_argument("ColorField: no cell field named '" + this->ColorField + "'");
+    }
+    if (this->ColorComponent >= values->GetNumberOfComponents() || this->ColorComponent < -1)
+    {
+      throw std::invalid_argument("ColorComponent " + std::to_string(this->ColorComponent) +
+                                  ": field '" + this->ColorField + "' has " +
+                                  std::to_string(values->GetNumberOfComponents()) +
+                                  " component(s)");
+    }
+    // A one-component field is mapped by its value, not its magnitude.
+    const int component = values->GetNumberOfComponents() == 1 ? 0 : this->ColorComponent;
+    resources.Colors = std::make_unique<canopy::ColorTable>(this->ColorMap, values, component);
+  }
+  options.view = resources.View.get();
   options.cullOutsideView = this->ViewCulling;
   options.levelOfDetail = this->LevelOfDetail;
   options.pixelThreshold = this->PixelThreshold;
-  return view;
+  options.colors = resources.Colors.get();
+  return resources;
 }
 
 namespace
@@ -269,6 +303,12 @@ vtkCanopyViewDependentFilter::CellArrays vtkCanopyViewDependentFilter::NewCellAr
   arrays.Ids->SetName("OriginalCellId");
   arrays.Levels = this->ReusableArray<vtkUnsignedCharArray>("Level", VTK_UNSIGNED_CHAR);
   arrays.Levels->SetName("Level");
+  if (this->ColorMap && !this->ColorField.empty())
+  {
+    arrays.Colors = this->ReusableArray<vtkUnsignedCharArray>("Colors", VTK_UNSIGNED_CHAR);
+    arrays.Colors->SetName("Colors");
+    arrays.Colors->SetNumberOfComponents(3);
+  }
   return arrays;
 }
 
@@ -280,7 +320,12 @@ canopy::SurfaceArrays vtkCanopyViewDependentFilter::SizeCellArrays(const CellArr
   arrays.Points->SetNumberOfTuples(perCell * cells);
   arrays.Ids->SetNumberOfTuples(cells);
   arrays.Levels->SetNumberOfTuples(cells);
-  return {arrays.Points->GetPointer(0), arrays.Ids->GetPointer(0), arrays.Levels->GetPointer(0)};
+  if (arrays.Colors)
+  {
+    arrays.Colors->SetNumberOfTuples(cells);
+  }
+  return {arrays.Points->GetPointer(0), arrays.Ids->GetPointer(0), arrays.Levels->GetPointer(0),
+          arrays.Colors ? arrays.Colors->GetPointer(0) : nullptr};
 }
 
 void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output,
@@ -325,6 +370,10 @@ void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPo
   }
   out->AddArray(arrays.Ids);
   out->AddArray(arrays.Levels);
+  if (arrays.Colors)
+  {
+    out->AddArray(arrays.Colors);
+  }
 }
 
 void vtkCanopyViewDependentFilter::AddAxisNormals(vtkPolyData* output)
@@ -377,6 +426,9 @@ void vtkCanopyViewDependentFilter::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "ViewCulling: " << this->ViewCulling << "\n"
      << indent << "LevelOfDetail: " << this->LevelOfDetail << "\n"
      << indent << "PixelThreshold: " << this->PixelThreshold << "\n"
+     << indent << "ColorMap: " << this->ColorMap << "\n"
+     << indent << "ColorField: " << this->ColorField << "\n"
+     << indent << "ColorComponent: " << this->ColorComponent << "\n"
      << indent << "Fields:";
   for (const std::string& field : this->Fields)
   {

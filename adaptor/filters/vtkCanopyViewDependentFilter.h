@@ -35,10 +35,12 @@ class vtkDoubleArray;
 class vtkIdTypeArray;
 class vtkPolyData;
 class vtkRenderer;
+class vtkScalarsToColors;
 class vtkUnsignedCharArray;
 namespace canopy
 {
 struct CameraParameters;
+class ColorTable;
 struct SurfaceArrays;
 class HyperTreeAccessCache;
 class ViewVolume;
@@ -117,6 +119,23 @@ public:
   void ClearFields();
   ///@}
 
+  ///@{
+  /// The colours the cells are drawn with (optional): ColorField (a cell field;
+  /// ColorComponent, -1: the magnitude of a vector) through ColorMap. With both
+  /// set the output also has "Colors" (RGB, unsigned char per cell), what a
+  /// renderer shows directly: a leaf its own mapped colour, a 1D or 2D node (or a
+  /// slice's cut) drawn for level of detail the area-weighted average of its
+  /// visible leaves' colours, which is what a camera sees of them (closer to the
+  /// truth than the node's mapped volume average; docs/benchmarks.md). 3D faces
+  /// show their node's mapped value. Re-executes when the map changes.
+  void SetColorMap(vtkScalarsToColors* map);
+  vtkGetObjectMacro(ColorMap, vtkScalarsToColors);
+  vtkSetStdStringFromCharMacro(ColorField);
+  vtkGetCharFromStdStringMacro(ColorField);
+  vtkSetMacro(ColorComponent, int);
+  vtkGetMacro(ColorComponent, int);
+  ///@}
+
   /// The output, typed.
   vtkPolyData* GetPolyDataOutput();
 
@@ -134,10 +153,21 @@ protected:
   /// with the error reported, when the view or PixelThreshold is unusable.
   bool CurrentView(canopy::CameraParameters& camera);
 
-  /// Fills the builders' view options from the properties; returns the view
-  /// they point to (nullptr with ViewDependent off), which must outlive them.
-  std::unique_ptr<canopy::ViewVolume> ViewOptionsFor(const canopy::CameraParameters& camera,
-                                                     canopy::ViewOptions& options) const;
+  /// What the builders' view options point to: the view (none with
+  /// ViewDependent off) and the sampled colour map (none without colours).
+  struct ViewResources
+  {
+    std::unique_ptr<canopy::ViewVolume> View;
+    std::unique_ptr<canopy::ColorTable> Colors;
+    ViewResources();
+    ~ViewResources();
+    ViewResources(ViewResources&&) noexcept;
+  };
+  /// Fills the builders' view options from the properties; the resources they
+  /// point to must outlive them. Throws std::invalid_argument when ColorField
+  /// names no cell field of the input or a component it does not have.
+  ViewResources ViewOptionsFor(const canopy::CameraParameters& camera, vtkHyperTreeGrid* input,
+                               canopy::ViewOptions& options) const;
 
   /// The arrays a builder writes: coordinates (3 components), original cell ids
   /// and levels, reused from the previous execution when nothing else holds
@@ -147,6 +177,7 @@ protected:
     vtkSmartPointer<vtkDoubleArray> Points;
     vtkSmartPointer<vtkIdTypeArray> Ids;
     vtkSmartPointer<vtkUnsignedCharArray> Levels;
+    vtkSmartPointer<vtkUnsignedCharArray> Colors; ///< null without colours
   };
   CellArrays NewCellArrays();
 
@@ -182,6 +213,9 @@ protected:
   bool LevelOfDetail = true;
   double PixelThreshold = 1.0;
   std::vector<std::string> Fields;
+  vtkScalarsToColors* ColorMap = nullptr;
+  std::string ColorField;
+  int ColorComponent = -1;
   /// What the input's topology costs to read (index tables, masked-descendant
   /// flags), kept while the topology is unchanged: a camera move does not pay it.
   std::unique_ptr<canopy::HyperTreeAccessCache> Topology;

@@ -1,0 +1,211 @@
+// Level of detail that filters (LeafColorAverage.h): a node drawn for level of
+// detail shows the area-weighted average of its visible leaves' mapped colours,
+// not its mapped (volume-averaged) value. Closed forms: a "tent" colour map
+// (black at 0, white at 0.5, black at 1) over leaves valued 0 and 1 averages to
+// black, while the coarse value 0.5 maps to white; leaves at full resolution
+// show their own mapped colour; a slice's coarse cut averages the cut leaves only.
+#include "ErrorMessages.h"
+
+#include "canopy/HtgBuilder.h"
+#include "vtkCanopyAdaptiveSlice.h"
+#include "vtkCanopyAdaptiveSurface.h"
+
+#include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkColorTransferFunction.h>
+#include <vtkDataArray.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace canopy::testing
+{
+namespace
+{
+
+vtkSmartPointer<vtkColorTransferFunction> tent()
+{
+  auto map = vtkSmartPointer<vtkColorTransferFunction>::New();
+  map->AddRGBPoint(0.0, 0, 0, 0);
+  map->AddRGBPoint(0.5, 1, 1, 1);
+  map->AddRGBPoint(1.0, 0, 0, 0);
+  return map;
+}
+
+/// A uniformly refined single-root forest (2D or 3D, binary) with every node's
+/// value: leaves in a checkerboard of 0 and 1 (by the sum of their integer
+/// position), coarse nodes the average (0.5), as a simulation's restriction gives.
+struct Checkerboard
+{
+  std::vector<std::uint8_t> refinement;
+  std::vector<double> values;
+  std::vector<double> unitAxis{0.0, 1.0};
+  std::vector<double> flat{0.0};
+  ForestDescription forest;
+
+  Checkerboard(int dimension, int levels)
+  {
+    forest.dimension = dimension;
+    forest.branchFactor = 2;
+    forest.maxLevels = levels + 1;
+    forest.rootGrid = {unitAxis.data(),
+                       unitAxis.data(),
+                       dimension == 3 ? unitAxis.data() : flat.data(),
+                       2,
+                       2,
+                       static_cast<std::size_t>(dimension == 3 ? 2 : 1)};
+    // Breadth-first: level by level, children in VTK's order (x fastest).
+    std::vector<std::array<long, 3>> level{{{0, 0, 0}}};
+    const int children = 1 << dimension;
+    for (int l = 0; l <= levels; ++l)
+    {
+      std::vector<std::array<long, 3>> next;
+      for (const auto& ijk : level)
+      {
+        refinement.push_back(l < levels ? 1 : 0);
+        values.push_back(l < levels ? 0.5 : static_cast<double>((ijk[0] + ijk[1] + ijk[2]) % 2));
+        for (int c = 0; l < levels && c < children; ++c)
+        {
+          next.push_back({{2 * ijk[0] + (c & 1), 2 * ijk[1] + ((c >> 1) & 1),
+                           dimension == 3 ? 2 * ijk[2] + ((c >> 2) & 1) : 0}});
+        }
+      }
+      level = next;
+    }
+    forest.trees.push_back({0, refinement.data(), refinement.size()});
+    forest.fields.push_back(FieldDescription::aos("value", values.data(), values.size()));
+  }
+};
+
+std::array<int, 3> colorOf(vtkPolyData* out, vtkIdType cell)
+{
+  auto* colors = vtkUnsignedCharArray::SafeDownCast(out->GetCellData()->GetArray("Colors"));
+  EXPECT_NE(colors, nullptr);
+  std::array<int, 3> rgb{{-1, -1, -1}};
+  for (int k = 0; colors && k < 3; ++k)
+  {
+    rgb[k] = colors->GetComponent(cell, k);
+  }
+  return rgb;
+}
+
+template <typename Filter>
+void lookFromAbove(Filter* filter, double scale, int pixels, double threshold)
+{
+  filter->SetCameraPosition(0.5, 0.5, 10);
+  filter->SetCameraFocalPoint(0.5, 0.5, 0.5);
+  filter->SetParallelScale(scale);
+  filter->SetViewportSize(pixels, pixels);
+  filter->SetPixelThreshold(threshold);
+}
+
+TEST(LevelOfDetailColors, ACoarseQuadShowsItsLeavesAverageColourNotItsValuesColour)
+{
+  Checkerboard board(2, 4); // 16 x 16 leaves
+  auto htg = buildHyperTreeGrid(board.forest);
+  auto map = tent();
+  vtkNew<vtkCanopyAdaptiveSurface> surface;
+  surface->SetInputData(htg);
+  surface->SetColorMap(map);
+  surface->SetColorField("value");
+  // 8 x 8 pixels over the unit square: the leaves are half a pixel, a level-3
+  // node one pixel: level of detail stops there (4 leaves, 0, 1, 1, 0).
+  lookFromAbove(surface.Get(), 0.5, 8, 1.0);
+  ASSERT_TRUE(errorsOfUpdate(surface).empty());
+  vtkPolyData* out = surface->GetPolyDataOutput();
+  ASSERT_EQ(out->GetNumberOfCells(), 64);
+  vtkDataArray* values = out->GetCellData()->GetArray("value");
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    EXPECT_EQ(values->GetTuple1(c), 0.5) << "the coarse value keeps its meaning";
+    EXPECT_EQ(colorOf(out, c), (std::array<int, 3>{{0, 0, 0}})) << "cell " << c;
+  }
+  // Full resolution: each leaf its own colour (black, 0 and 1 both map to black),
+  // and a field whose leaves are 0.25 and 0.75 maps to grey each.
+  for (std::size_t i = 0; i < board.values.size(); ++i)
+  {
+    if (board.values[i] != 0.5)
+    {
+      board.values[i] = board.values[i] == 0 ? 0.25 : 0.75;
+    }
+  }
+  htg->Modified();
+  htg->GetCellData()->GetArray("value")->Modified();
+  surface->ViewDependentOff();
+  ASSERT_TRUE(errorsOfUpdate(surface).empty());
+  out = surface->GetPolyDataOutput();
+  ASSERT_EQ(out->GetNumberOfCells(), 256);
+  double rgb[3];
+  map->GetColor(0.25, rgb);
+  const int grey = static_cast<int>(std::lround(255 * rgb[0]));
+  EXPECT_GT(grey, 100);
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    EXPECT_EQ(colorOf(out, c), (std::array<int, 3>{{grey, grey, grey}})) << "leaf " << c;
+  }
+}
+
+TEST(LevelOfDetailColors, ASliceCutAveragesTheCutLeavesOnly)
+{
+  // 3D, 16^3 leaves; the plane z = 0.3 cuts the layer k = 4 (a checkerboard of
+  // 0 and 1), every other leaf is 0.5 (white). The coarse cuts of level-3 nodes
+  // cover 2 x 2 cut leaves, 0, 1, 1, 0: black; their whole subtrees (2 x 2 x 2,
+  // half of them white) would be grey.
+  Checkerboard board(3, 4);
+  // Leaves are stored breadth-first, not by (i, j, k): each one's k follows
+  // from its place under its ancestors.
+  {
+    std::vector<long> zOf{0};
+    std::size_t first = 0;
+    for (int level = 0; level < 4; ++level)
+    {
+      std::vector<long> next;
+      for (long z : zOf)
+        for (int c = 0; c < 8; ++c)
+          next.push_back(2 * z + ((c >> 2) & 1));
+      first += zOf.size();
+      zOf = next;
+    }
+    for (std::size_t n = 0; n < zOf.size(); ++n)
+    {
+      if (zOf[n] != 4)
+      {
+        board.values[first + n] = 0.5;
+      }
+    }
+  }
+  auto htg = buildHyperTreeGrid(board.forest);
+  vtkNew<vtkCanopyAdaptiveSlice> slice;
+  slice->SetInputData(htg);
+  slice->AddPlane(2, 0.3);
+  slice->SetColorMap(tent());
+  slice->SetColorField("value");
+  lookFromAbove(slice.Get(), 0.5, 8, 1.0);
+  ASSERT_TRUE(errorsOfUpdate(slice).empty());
+  vtkPolyData* out = slice->GetPolyDataOutput();
+  ASSERT_EQ(out->GetNumberOfCells(), 64);
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    EXPECT_EQ(colorOf(out, c), (std::array<int, 3>{{0, 0, 0}})) << "cut " << c;
+  }
+}
+
+TEST(LevelOfDetailColors, AColourFieldThatDoesNotExistIsAnError)
+{
+  Checkerboard board(2, 2);
+  vtkNew<vtkCanopyAdaptiveSurface> surface;
+  surface->SetInputData(buildHyperTreeGrid(board.forest));
+  surface->SetColorMap(tent());
+  surface->SetColorField("pressure");
+  const auto errors = errorsOfUpdate(surface);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("pressure"), std::string::npos) << errors[0];
+}
+
+} // namespace
+} // namespace canopy::testing
