@@ -489,8 +489,7 @@ struct TreeWalk
     {
       return options.colors->mapCell(global);
     }
-    return averageColor(grid, tree, n, grid.dimension(), *options.colors,
-                        [](const WalkNode&, int) { return true; });
+    return averageColor(grid, tree, n, grid.dimension(), *options.colors, EveryChild{});
   }
 
   /// Whether the face normal to `axis` on side `side` at coordinate x is turned

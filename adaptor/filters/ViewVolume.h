@@ -93,6 +93,8 @@ public:
   double depth(const Vec3& p) const;
 
   const Vec3& directionOfProjection() const { return Forward; }
+  /// The screen's up direction (unit, orthogonal to the direction of projection).
+  const Vec3& screenUp() const { return Up; }
   const Vec3& position() const { return Camera.position; }
   bool parallel() const { return Camera.parallelProjection; }
   /// World size of one pixel at the focal plane (parallel) .

@@ -105,6 +105,7 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
     quads = static_cast<vtkIdType>(builder.count());
     this->LastVisited = static_cast<vtkIdType>(builder.visited());
     builder.write(this->SizeCellArrays(arrays, quads, 4));
+    this->FilterColors(arrays, quads, resources.View.get());
   }
   catch (const std::exception& e)
   {

@@ -101,6 +101,10 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     quads = static_cast<vtkIdType>(builder.cells());
     perCell = static_cast<vtkIdType>(builder.pointsPerCell());
     builder.write(this->SizeCellArrays(arrays, quads, perCell));
+    if (input->GetDimension() == 2) // 3D faces overlap on screen: not one layer
+    {
+      this->FilterColors(arrays, quads, resources.View.get());
+    }
   }
   catch (const std::exception& e)
   {

@@ -4,6 +4,7 @@
 #include "GatherTuples.h"
 #include "HyperTreeAccessCache.h"
 #include "LeafColorAverage.h"
+#include "PixelBoxFilter.h"
 #include "ViewVolume.h"
 
 #include <vtkAOSDataArrayTemplate.h>
@@ -200,7 +201,12 @@ vtkCanopyViewDependentFilter::ViewOptionsFor(const canopy::CameraParameters& cam
     }
     // A one-component field is mapped by its value, not its magnitude.
     const int component = values->GetNumberOfComponents() == 1 ? 0 : this->ColorComponent;
-    resources.Colors = std::make_unique<canopy::ColorTable>(this->ColorMap, values, component);
+    if (!this->SampledColorMap || !this->SampledColorMap->sampledFrom(this->ColorMap))
+    {
+      this->SampledColorMap = std::make_shared<canopy::ColorTable>(this->ColorMap);
+    }
+    this->SampledColorMap->setField(values, component);
+    resources.Colors = this->SampledColorMap;
   }
   options.view = resources.View.get();
   options.cullOutsideView = this->ViewCulling;
@@ -328,6 +334,19 @@ canopy::SurfaceArrays vtkCanopyViewDependentFilter::SizeCellArrays(const CellArr
           arrays.Colors ? arrays.Colors->GetPointer(0) : nullptr};
 }
 
+void vtkCanopyViewDependentFilter::FilterColors(const CellArrays& arrays, vtkIdType quads,
+                                                const canopy::ViewVolume* view)
+{
+  this->LastPixelFiltered = 0;
+  if (!arrays.Colors || !view || !this->FilterColorsOnPixels)
+  {
+    return;
+  }
+  this->LastPixelFiltered = canopy::boxFilterOnPixels(*view, arrays.Points->GetPointer(0), quads,
+                                                      arrays.Colors->GetPointer(0))
+                                .recoloured;
+}
+
 void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output,
                                                   const CellArrays& arrays, vtkIdType cells,
                                                   vtkIdType perCell)
@@ -429,6 +448,8 @@ void vtkCanopyViewDependentFilter::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "ColorMap: " << this->ColorMap << "\n"
      << indent << "ColorField: " << this->ColorField << "\n"
      << indent << "ColorComponent: " << this->ColorComponent << "\n"
+     << indent << "FilterColorsOnPixels: " << this->FilterColorsOnPixels << "\n"
+     << indent << "LastPixelFiltered: " << this->LastPixelFiltered << "\n"
      << indent << "Fields:";
   for (const std::string& field : this->Fields)
   {

@@ -136,6 +136,21 @@ public:
   vtkGetMacro(ColorComponent, int);
   ///@}
 
+  ///@{
+  /// With colours, in a view that sees the cells face-on (a 2D grid or an axis
+  /// slice seen along its normal, view up along a grid axis): a quad that holds
+  /// exactly one pixel centre, and so is drawn in that pixel alone, gets the
+  /// area-weighted average colour of every quad overlapping the pixel. The
+  /// rendered image is then the box-filtered image of the cells, not a sample of
+  /// them (PixelBoxFilter.h). Needs the image drawn at the view's viewport size
+  /// (the renderer's, or ViewportSize). Default on.
+  vtkSetMacro(FilterColorsOnPixels, bool);
+  vtkGetMacro(FilterColorsOnPixels, bool);
+  vtkBooleanMacro(FilterColorsOnPixels, bool);
+  /// Quads the last execution recoloured that way.
+  vtkGetMacro(LastPixelFiltered, vtkIdType);
+  ///@}
+
   /// The output, typed.
   vtkPolyData* GetPolyDataOutput();
 
@@ -158,7 +173,7 @@ protected:
   struct ViewResources
   {
     std::unique_ptr<canopy::ViewVolume> View;
-    std::unique_ptr<canopy::ColorTable> Colors;
+    std::shared_ptr<canopy::ColorTable> Colors;
     ViewResources();
     ~ViewResources();
     ViewResources(ViewResources&&) noexcept;
@@ -179,6 +194,10 @@ protected:
     vtkSmartPointer<vtkUnsignedCharArray> Levels;
     vtkSmartPointer<vtkUnsignedCharArray> Colors; ///< null without colours
   };
+  /// With colours and FilterColorsOnPixels, box-filters the colours of the
+  /// quads just written (4 points per cell) on `view`'s pixels (none: nothing).
+  void FilterColors(const CellArrays& arrays, vtkIdType quads, const canopy::ViewVolume* view);
+
   CellArrays NewCellArrays();
 
   /// Sizes `arrays` for `cells` cells of `perCell` points and returns where a
@@ -216,9 +235,13 @@ protected:
   vtkScalarsToColors* ColorMap = nullptr;
   std::string ColorField;
   int ColorComponent = -1;
+  bool FilterColorsOnPixels = true;
+  vtkIdType LastPixelFiltered = 0;
   /// What the input's topology costs to read (index tables, masked-descendant
   /// flags), kept while the topology is unchanged: a camera move does not pay it.
   std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
+  /// The colour map as last sampled, reused while it is unchanged.
+  mutable std::shared_ptr<canopy::ColorTable> SampledColorMap;
 
 private:
   vtkCanopyViewDependentFilter(const vtkCanopyViewDependentFilter&) = delete;

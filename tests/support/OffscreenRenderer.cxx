@@ -3,6 +3,7 @@
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellData.h>
+#include <vtkColorTransferFunction.h>
 #include <vtkImageData.h>
 #include <vtkLookupTable.h>
 #include <vtkPNGWriter.h>
@@ -51,18 +52,49 @@ void OffscreenRenderer::resize(int width, int height)
   Window->SetSize(width, height);
 }
 
+vtkScalarsToColors* OffscreenRenderer::colorMap(double low, double high)
+{
+  if (Map->GetSize() != 2 || Map->GetRange()[0] != low || Map->GetRange()[1] != high)
+  {
+    Map->RemoveAllPoints();
+    Map->SetColorSpaceToDiverging();
+    Map->AddRGBPoint(low, 0.230, 0.299, 0.754);
+    Map->AddRGBPoint(high, 0.706, 0.016, 0.150);
+  }
+  return Map;
+}
+
 Image OffscreenRenderer::render(vtkPolyData* surface, const std::string& field, double low,
                                 double high, bool lighting, bool edges, double* seconds)
 {
   Mapper->SetInputData(surface);
   Mapper->SetScalarModeToUseCellFieldData();
   Mapper->SelectColorArray(field.c_str());
-  Mapper->SetScalarRange(low, high);
+  Mapper->SetLookupTable(colorMap(low, high));
+  Mapper->UseLookupTableScalarRangeOn();
   Mapper->ScalarVisibilityOn();
   Mapper->SetColorModeToMapScalars();
   Actor->GetProperty()->SetLighting(lighting);
   Actor->GetProperty()->SetEdgeVisibility(edges);
   Actor->GetProperty()->SetEdgeColor(0.1, 0.1, 0.1);
+  return capture(seconds);
+}
+
+Image OffscreenRenderer::renderColors(vtkPolyData* surface, const std::string& field,
+                                      double* seconds)
+{
+  Mapper->SetInputData(surface);
+  Mapper->SetScalarModeToUseCellFieldData();
+  Mapper->SelectColorArray(field.c_str());
+  Mapper->ScalarVisibilityOn();
+  Mapper->SetColorModeToDirectScalars();
+  Actor->GetProperty()->SetLighting(false);
+  Actor->GetProperty()->SetEdgeVisibility(false);
+  return capture(seconds);
+}
+
+Image OffscreenRenderer::capture(double* seconds)
+{
   // The camera drives the clipping range; keep all geometry.
   Renderer->ResetCameraClippingRange();
   const auto start = std::chrono::steady_clock::now();

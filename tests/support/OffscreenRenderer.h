@@ -15,6 +15,8 @@ class vtkRenderWindow;
 class vtkRenderer;
 class vtkPolyDataMapper;
 class vtkActor;
+class vtkColorTransferFunction;
+class vtkScalarsToColors;
 
 namespace canopy::testing
 {
@@ -38,16 +40,24 @@ public:
   vtkRenderer* renderer();
   void resize(int width, int height);
 
-  /// Colors cells by `field` (component 0) over [low, high] with a fixed lookup
-  /// table, flat, unlit unless `lighting`; returns the image and the render time.
+  /// Colors cells by `field` (component 0) over [low, high] with colorMap(low,
+  /// high), flat, unlit unless `lighting`; returns the image and the render time.
   Image render(vtkPolyData* surface, const std::string& field, double low, double high,
                bool lighting = false, bool edges = false, double* seconds = nullptr);
+  /// Colors cells with an RGB cell array as it is (e.g. "Colors" from Canopy's
+  /// filters with a colour map), flat and unlit.
+  Image renderColors(vtkPolyData* surface, const std::string& field, double* seconds = nullptr);
+  /// The colour map render() uses over [low, high]: cool to warm, smooth (a
+  /// vtkColorTransferFunction), so that sampling it and mapping through it agree.
+  vtkScalarsToColors* colorMap(double low, double high);
 
 private:
   vtkNew<vtkRenderWindow> Window;
   vtkNew<vtkRenderer> Renderer;
   vtkNew<vtkPolyDataMapper> Mapper;
   vtkNew<vtkActor> Actor;
+  vtkNew<vtkColorTransferFunction> Map;
+  Image capture(double* seconds);
 };
 
 /// Averages factor x factor blocks (a supersampled reference down to size).

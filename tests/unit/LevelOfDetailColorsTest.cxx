@@ -4,6 +4,7 @@
 // (black at 0, white at 0.5, black at 1) over leaves valued 0 and 1 averages to
 // black, while the coarse value 0.5 maps to white; leaves at full resolution
 // show their own mapped colour; a slice's coarse cut averages the cut leaves only.
+#include "CheckerboardForest.h"
 #include "ErrorMessages.h"
 
 #include "canopy/HtgBuilder.h"
@@ -37,51 +38,6 @@ vtkSmartPointer<vtkColorTransferFunction> tent()
   return map;
 }
 
-/// A uniformly refined single-root forest (2D or 3D, binary) with every node's
-/// value: leaves in a checkerboard of 0 and 1 (by the sum of their integer
-/// position), coarse nodes the average (0.5), as a simulation's restriction gives.
-struct Checkerboard
-{
-  std::vector<std::uint8_t> refinement;
-  std::vector<double> values;
-  std::vector<double> unitAxis{0.0, 1.0};
-  std::vector<double> flat{0.0};
-  ForestDescription forest;
-
-  Checkerboard(int dimension, int levels)
-  {
-    forest.dimension = dimension;
-    forest.branchFactor = 2;
-    forest.maxLevels = levels + 1;
-    forest.rootGrid = {unitAxis.data(),
-                       unitAxis.data(),
-                       dimension == 3 ? unitAxis.data() : flat.data(),
-                       2,
-                       2,
-                       static_cast<std::size_t>(dimension == 3 ? 2 : 1)};
-    // Breadth-first: level by level, children in VTK's order (x fastest).
-    std::vector<std::array<long, 3>> level{{{0, 0, 0}}};
-    const int children = 1 << dimension;
-    for (int l = 0; l <= levels; ++l)
-    {
-      std::vector<std::array<long, 3>> next;
-      for (const auto& ijk : level)
-      {
-        refinement.push_back(l < levels ? 1 : 0);
-        values.push_back(l < levels ? 0.5 : static_cast<double>((ijk[0] + ijk[1] + ijk[2]) % 2));
-        for (int c = 0; l < levels && c < children; ++c)
-        {
-          next.push_back({{2 * ijk[0] + (c & 1), 2 * ijk[1] + ((c >> 1) & 1),
-                           dimension == 3 ? 2 * ijk[2] + ((c >> 2) & 1) : 0}});
-        }
-      }
-      level = next;
-    }
-    forest.trees.push_back({0, refinement.data(), refinement.size()});
-    forest.fields.push_back(FieldDescription::aos("value", values.data(), values.size()));
-  }
-};
-
 std::array<int, 3> colorOf(vtkPolyData* out, vtkIdType cell)
 {
   auto* colors = vtkUnsignedCharArray::SafeDownCast(out->GetCellData()->GetArray("Colors"));
@@ -106,7 +62,7 @@ void lookFromAbove(Filter* filter, double scale, int pixels, double threshold)
 
 TEST(LevelOfDetailColors, ACoarseQuadShowsItsLeavesAverageColourNotItsValuesColour)
 {
-  Checkerboard board(2, 4); // 16 x 16 leaves
+  CheckerboardForest board(2, 4); // 16 x 16 leaves
   auto htg = buildHyperTreeGrid(board.forest);
   auto map = tent();
   vtkNew<vtkCanopyAdaptiveSurface> surface;
@@ -156,7 +112,7 @@ TEST(LevelOfDetailColors, ASliceCutAveragesTheCutLeavesOnly)
   // 0 and 1), every other leaf is 0.5 (white). The coarse cuts of level-3 nodes
   // cover 2 x 2 cut leaves, 0, 1, 1, 0: black; their whole subtrees (2 x 2 x 2,
   // half of them white) would be grey.
-  Checkerboard board(3, 4);
+  CheckerboardForest board(3, 4);
   // Leaves are stored breadth-first, not by (i, j, k): each one's k follows
   // from its place under its ancestors.
   {
@@ -197,7 +153,7 @@ TEST(LevelOfDetailColors, ASliceCutAveragesTheCutLeavesOnly)
 
 TEST(LevelOfDetailColors, AColourFieldThatDoesNotExistIsAnError)
 {
-  Checkerboard board(2, 2);
+  CheckerboardForest board(2, 2);
   vtkNew<vtkCanopyAdaptiveSurface> surface;
   surface->SetInputData(buildHyperTreeGrid(board.forest));
   surface->SetColorMap(tent());
