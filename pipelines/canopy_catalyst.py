@@ -180,6 +180,8 @@ def render_view(values):
     # FXAA smooths each rank's image before compositing: pixels where ranks' parts
     # meet would depend on the number of ranks. Images are the same on any number.
     view.UseFXAA = 0
+    from paraview.simple import GetSettingsProxy
+    GetSettingsProxy("RenderViewSettings").PolygonOffsetParameters = [2.0, 2.0]
     return view
 
 
@@ -283,9 +285,85 @@ def color_by(display, view, grid, field, fixed_range=None):
         high = _reduce([local[1]], "MAX_OP")[0]
     if not low <= high:
         return None
+    low, high = zero_to_rounding(low, high)
     high = high if high > low else low + 1
     GetColorTransferFunction(field).RescaleTransferFunction(low, high)
     return (low, high)
+
+
+EDGE_COLOR = [0.15, 0.15, 0.15]
+
+
+def edge_overlay(canopy_filter, view, values):
+    """The mesh lines drawn over a flat Canopy filter output (show_edges; a 2D
+    grid's surface, slices): the edges of the same filter at a pixel threshold of
+    edge_spacing pixels, as a wireframe, and its display. Where cells are at least that large on screen these are their
+    edges; where they are finer, the lines of their ancestors edge_spacing pixels
+    apart (level of detail at that threshold), so a refined region shows a
+    denser mesh than the coarse cells around it instead of being painted dark by
+    lines one or two pixels apart (docs/insitu.md, "Edges")."""
+    from paraview import simple
+    make = getattr(simple, canopy_filter.GetXMLName())
+    # Only one small field: the lines are drawn in a single colour.
+    fields = [values.color_by] if values.color_by else []
+    overlay = make(Input=canopy_filter.Input, PixelThreshold=values.edge_spacing,
+                   Fields=fields or ["OriginalCellId"])
+    copy_pieces(canopy_filter, overlay)
+    shown = simple.Show(overlay, view)
+    shown.SetRepresentationType("Wireframe")
+    shown.ColorArrayName = [None, ""]
+    shown.AmbientColor = shown.DiffuseColor = EDGE_COLOR
+    shown.Ambient, shown.Diffuse, shown.Specular = 1.0, 0.0, 0.0
+    return overlay, shown
+
+
+def copy_pieces(canopy_filter, overlay):
+    """What decides which pieces a Canopy filter draws, copied to its edge
+    overlay: a slice's planes, a surface's back-face setting."""
+    for name in ("XPlanes", "YPlanes", "ZPlanes", "SkipBackFaces"):
+        if canopy_filter.GetProperty(name) is not None:
+            value = canopy_filter.GetPropertyValue(name)
+            if overlay.GetPropertyValue(name) != value:
+                overlay.SetPropertyWithName(name, value)
+
+
+def draw_filtered_colors(canopy_filter, display, field):
+    """Draws a Canopy view-dependent filter's output with the colours the filter
+    computes ("Colors") instead of mapping `field` in the renderer: a node drawn
+    for level of detail then shows the average colour of the leaves it stands
+    for, and a face-on quad covering one pixel that pixel's average (the image is
+    then closer to every leaf's exact average than drawing every leaf;
+    docs/filters.md, "Colours"). Call after color_by: the filter maps through the
+    display's lookup table, ranged; the legend still shows that table."""
+    canopy_filter.ColorMap = display.LookupTable
+    canopy_filter.ColorField = field
+    display.ColorArrayName = ["CELLS", "Colors"]
+    display.MapScalars = 0
+
+
+ROUNDING = 1e-9
+"""A range end this small relative to the range's magnitude is zero to rounding."""
+
+
+def zero_to_rounding(low, high):
+    """(low, high) with an end that is zero to rounding (e.g. 1.2e-21 where the
+    field is 0 up to a solver's rounding, against a maximum of 1) set to 0, so
+    that the legend says 0."""
+    magnitude = max(abs(low), abs(high))
+    return tuple(0.0 if abs(end) <= ROUNDING * magnitude else end for end in (low, high))
+
+
+def label_format(low, high):
+    """A printf format for the legend's range labels fit for [low, high]: enough
+    significant digits to tell the ends apart (3 at least), no trailing zeros
+    (0 prints as 0, 0.99 as 0.99, 1.2341 and 1.2343 as 1.2341 and 1.2343)."""
+    import math
+    magnitude = max(abs(low), abs(high))
+    width = high - low
+    digits = 3
+    if magnitude > 0 and width > 0:
+        digits += max(0, int(math.ceil(math.log10(magnitude / width))))
+    return "%%.%dg" % min(digits, 15)
 
 
 def color_legend(view, field):
@@ -310,7 +388,7 @@ IMAGE_DEFAULTS = dict(
     image_size="800x600", color_by="", pixel_threshold=1.0, camera_position="",
     camera_focal_point="", camera_view_up="", parallel_scale=0.0, show_edges=False, legend=True,
     time_label=True, color_range="", png_compression=3, skip_back_faces=False,
-    select_field="", select_range="", cut_away="")
+    select_field="", select_range="", cut_away="", average_colors=True, edge_spacing=8.0)
 """Settings every image script has (see surface_image.py's docstring); select_field,
 select_range and cut_away describe a selected region (selected_region)."""
 
@@ -420,7 +498,8 @@ class ImageScript:
         light_from_camera(self.view)
         self.region, self.cut = selected_region(self.grid, values)
         self.followers = []
-        self.displays = []
+        self.displays = []  # (display, the Canopy filter it shows or None)
+        self.edges = []  # (Canopy filter, its edge overlay)
         self.shaded = []
         image = CreateExtractor("PNG", self.view, registrationName=values.file_prefix + "_image")
         image.Writer.FileName = values.file_prefix + "_{timestep:06d}.png"
@@ -438,13 +517,16 @@ class ImageScript:
         display = Show(proxy, self.view)
         shade(display, flat)
         self.shaded.append((display, flat))
-        if self.settings.show_edges:
+        if self.settings.show_edges and follows_view and self.settings.edge_spacing > 0:
+            overlay, overlay_display = edge_overlay(proxy, self.view, self.settings)
+            self.edges.append((proxy, display, flat, overlay, overlay_display))
+        elif self.settings.show_edges:
             display.SetRepresentationType("Surface With Edges")
-            display.EdgeColor = [0.15, 0.15, 0.15]
+            display.EdgeColor = EDGE_COLOR
         if follows_view:
             self.followers.append(proxy)
         if colored:
-            self.displays.append(display)
+            self.displays.append((display, proxy if follows_view else None))
         return display
 
     def fields(self):
@@ -484,14 +566,30 @@ class ImageScript:
             shade(display, flat or planar)
         if self.cut is not None and self.settings.cut_away == "octant":
             self.cut.Box = octant_towards(bounds, list(self.view.CameraPosition))
+        for proxy, display, flat, overlay, overlay_display in self.edges:
+            # The overlay's coarser pieces lie on the drawn ones only when they
+            # are flat (a 2D grid's surface, slices); a 3D surface at a coarser
+            # threshold is elsewhere: there, the drawn cells' own edges.
+            on_top = flat or planar
+            overlay_display.Visibility = int(on_top)
+            display.SetRepresentationType("Surface" if on_top else "Surface With Edges")
+            display.EdgeColor = EDGE_COLOR
+            if on_top:
+                copy_pieces(proxy, overlay)
+                follow_view(overlay, self.view)
         for proxy in self.followers:
             follow_view(proxy, self.view)
         used = self.fixed_range
-        for display in self.displays:
+        for display, canopy_filter in self.displays:
             # The range is agreed over ranks once; the other displays take it.
             used = color_by(display, self.view, self.grid, self.settings.color_by, used)
+            averaged = self.settings.average_colors and canopy_filter is not None
+            if averaged and used is not None:
+                draw_filtered_colors(canopy_filter, display, self.settings.color_by)
         if self.settings.color_range == "first" and self.fixed_range is None and used is not None:
             self.fixed_range = used
+        if self.legend is not None and used is not None:
+            self.legend.RangeLabelFormat = label_format(*used)
         if self.label is not None:
             self.label.Text = time_text(info.time)
 

@@ -6,21 +6,29 @@
 #include <vtkScalarsToColors.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace canopy
 {
 
-ColorTable::ColorTable(vtkScalarsToColors* map) : Map(map), SampledAt(map->GetMTime())
+ColorTable::ColorTable(vtkScalarsToColors* map) : Map(map)
 {
   constexpr int samples = 1024;
+  // A discretized or indexed map builds its table here (ParaView rescales a map
+  // without rebuilding it).
+  map->Build();
+  SampledAt = map->GetMTime();
   const double* range = map->GetRange();
-  Low = range[0];
-  const double width = range[1] > range[0] ? range[1] - range[0] : 1.0;
+  // A logarithmic map is sampled evenly in log10 of the value.
+  Log = map->UsingLogScale() && range[0] > 0 && range[1] > range[0];
+  Low = Log ? std::log10(range[0]) : range[0];
+  const double high = Log ? std::log10(range[1]) : range[1];
+  const double width = high > Low ? high - Low : 1.0;
   Scale = (samples - 1) / width;
   Last = samples - 1;
   Table.resize(samples);
   auto* function = vtkColorTransferFunction::SafeDownCast(map);
-  if (function && !vtkDiscretizableColorTransferFunction::SafeDownCast(map))
+  if (function && !vtkDiscretizableColorTransferFunction::SafeDownCast(map) && !Log)
   {
     // One pass over the function's nodes, not one search and conversion per
     // value. (A discretized function, ParaView's, maps through its own table:
@@ -39,9 +47,9 @@ ColorTable::ColorTable(vtkScalarsToColors* map) : Map(map), SampledAt(map->GetMT
   {
     for (int i = 0; i < samples; ++i)
     {
-      const double value = Low + width * i / (samples - 1);
+      const double at = Low + width * i / (samples - 1);
       double rgb[3];
-      map->GetColor(value, rgb);
+      map->GetColor(Log ? std::pow(10.0, at) : at, rgb);
       Table[static_cast<std::size_t>(i)] = {{255 * rgb[0], 255 * rgb[1], 255 * rgb[2]}};
     }
   }

@@ -32,7 +32,8 @@ namespace canopy
 using Rgb = std::array<double, 3>; ///< 0..255
 
 /// A colour map sampled once into a table, read without touching VTK (so from
-/// any thread): linear interpolation between 1024 samples over the map's range.
+/// any thread): linear interpolation between 1024 samples over the map's range
+/// (of log10 of the value, for a logarithmic map).
 /// Sampling costs (a diverging vtkColorTransferFunction converts through Lab per
 /// value): a filter keeps its table while the map is unchanged (sampledFrom).
 class ColorTable
@@ -71,7 +72,8 @@ public:
       }
       return;
     }
-    double x = (value - Low) * Scale;
+    // Non-positive values on a logarithmic map take its low end.
+    double x = ((Log ? (value > 0 ? std::log10(value) : Low) : value) - Low) * Scale;
     x = x < 0 ? 0 : (x > Last ? Last : x);
     auto i = static_cast<std::size_t>(x);
     i = i + 1 < Table.size() ? i : Table.size() - 2;
@@ -96,9 +98,10 @@ private:
   double Low = 0;
   double Scale = 0; ///< samples per unit of value
   double Last = 0;  ///< the last sample's position
+  bool Log = false; ///< sampled in log10 of the value (a logarithmic map)
   Rgb NanColor{{0, 0, 0}};
   const vtkScalarsToColors* Map;
-  vtkMTimeType SampledAt;
+  vtkMTimeType SampledAt = 0;
   vtkDataArray* Values = nullptr;
   int Component = 0;
 };
