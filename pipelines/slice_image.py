@@ -18,9 +18,9 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   slice_extract     also write what was drawn: the slices, and the region's surface,
                     as .pvtp with their cell fields (false)
   file_prefix       the files' names: <prefix>_<step>.png, ... ("slices")
-  frequency, start, image_size, color_by, fields, pixel_threshold, show_edges, camera_position,
-  camera_focal_point, camera_view_up, parallel_scale, legend, time_label, color_range,
-  png_compression, skip_back_faces   as surface_image.py
+  frequency, start, image_size, color_by, fields, pixel_threshold, show_edges, edge_spacing,
+  average_colors, camera_position, camera_focal_point, camera_view_up, parallel_scale, legend,
+  time_label, color_range, png_compression, skip_back_faces   as surface_image.py
 
 Lighting: the slices are unlit (exactly the colour map); the region's surface as in
 surface_image.py.

@@ -3,10 +3,8 @@
 #include "ViewVolume.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdint>
-#include <vector>
+#include <unordered_map>
 
 namespace canopy
 {
@@ -41,24 +39,24 @@ int alignedAxis(const Vec3& direction)
 
 } // namespace
 
-PixelBoxFilterCounts boxFilterOnPixels(const ViewVolume& view, const double* points,
-                                       vtkIdType quads, unsigned char* colors)
+int PixelBoxFilter::faceOnAxis(const ViewVolume& view)
 {
-  PixelBoxFilterCounts counts;
   const int normal = alignedAxis(view.directionOfProjection());
-  const int up = alignedAxis(view.screenUp());
-  if (normal < 0 || up < 0 || quads == 0)
-  {
-    return counts;
-  }
-  const long width = view.camera().viewportWidth;
-  const long height = view.camera().viewportHeight;
-  // Face-on quads lie in a plane normal to the view: corners 0 and 2 share
-  // that coordinate (a slice's other planes are seen edge-on: skipped).
+  return normal >= 0 && alignedAxis(view.screenUp()) >= 0 ? normal : -1;
+}
+
+PixelBoxFilter::PixelBoxFilter(const ViewVolume& view, const double* points, vtkIdType quads,
+                               const unsigned char* colors)
+    : Width(view.camera().viewportWidth), Height(view.camera().viewportHeight),
+      Owner(static_cast<std::size_t>(Width * Height), None)
+{
+  const int normal = faceOnAxis(view);
+  // Face-on quads lie in a plane normal to the view: their corners share that
+  // coordinate (a slice's other planes are seen edge-on: skipped).
   auto faceOn = [&](vtkIdType q)
   {
     const double* c = points + 12 * q;
-    return c[normal] == c[6 + normal] && c[normal] == c[3 + normal];
+    return normal >= 0 && c[normal] == c[6 + normal] && c[normal] == c[3 + normal];
   };
   auto rectOf = [&](vtkIdType q)
   {
@@ -68,48 +66,42 @@ PixelBoxFilterCounts boxFilterOnPixels(const ViewVolume& view, const double* poi
     return PixelRect{std::min(a[0], b[0]), std::max(a[0], b[0]), std::min(a[1], b[1]),
                      std::max(a[1], b[1])};
   };
+  auto pixel = [&](long i, long j) -> std::int32_t&
+  { return Owner[static_cast<std::size_t>(j * Width + i)]; };
 
-  // Pass 1: the pixels owned by a quad that holds only their centre.
-  std::vector<std::int32_t> owner(static_cast<std::size_t>(width * height), -1);
-  std::vector<vtkIdType> owners;
-  double plane = 0;
+  // Pass 1: which quad holds each pixel centre, and alone.
   for (vtkIdType q = 0; q < quads; ++q)
   {
     if (!faceOn(q))
     {
       continue;
     }
-    // One layer only: quads in planes at different depths overlap on screen.
-    const double at = points[12 * q + normal];
-    if (counts.faceOn++ == 0)
-    {
-      plane = at;
-    }
-    else if (at != plane)
-    {
-      return {counts.faceOn, 0};
-    }
+    ++FaceOn;
     const PixelRect r = rectOf(q);
     const auto xs = centresIn(r.x0, r.x1);
     const auto ys = centresIn(r.y0, r.y1);
-    if (xs[1] - xs[0] == 1 && ys[1] - ys[0] == 1 && xs[0] >= 0 && xs[0] < width && ys[0] >= 0 &&
-        ys[0] < height)
+    const long i0 = std::max(0L, xs[0]), i1 = std::min(Width, xs[1]);
+    const long j0 = std::max(0L, ys[0]), j1 = std::min(Height, ys[1]);
+    if (xs[1] - xs[0] == 1 && ys[1] - ys[0] == 1)
     {
-      owner[static_cast<std::size_t>(ys[0] * width + xs[0])] =
-          static_cast<std::int32_t>(owners.size());
-      owners.push_back(q);
+      if (i0 < i1 && j0 < j1)
+      {
+        pixel(i0, j0) = static_cast<std::int32_t>(Owners.size());
+        Owners.push_back(q);
+      }
+      continue;
     }
+    for (long j = j0; j < j1; ++j)
+      for (long i = i0; i < i1; ++i)
+        pixel(i, j) = Several;
   }
-  if (owners.empty())
-  {
-    return counts;
-  }
+  Sums.assign(Owners.size(), {{0, 0, 0, 0}});
 
-  // Pass 2: every face-on quad adds its colour, weighted by the area it
-  // covers, to the owned pixels it overlaps. A quad holding several centres
-  // owns none of its inner pixels (their centres are its own): only its border
-  // ring can overlap an owned pixel.
-  std::vector<std::array<double, 4>> sums(owners.size(), {{0, 0, 0, 0}});
+  // Pass 2: every face-on quad adds its colour, weighted by the area it covers,
+  // to the pixels it overlaps that a single quad owns (here, or, through
+  // shares, on another rank). A quad holding several centres holds all of its
+  // inner pixels' centres itself: only its border ring can matter.
+  std::unordered_map<long, std::array<double, 4>> elsewhere;
   for (vtkIdType q = 0; q < quads; ++q)
   {
     if (!faceOn(q))
@@ -118,9 +110,9 @@ PixelBoxFilterCounts boxFilterOnPixels(const ViewVolume& view, const double* poi
     }
     const PixelRect r = rectOf(q);
     const long i0 = std::max(0L, static_cast<long>(std::floor(r.x0)));
-    const long i1 = std::min(width - 1, static_cast<long>(std::ceil(r.x1)) - 1);
+    const long i1 = std::min(Width - 1, static_cast<long>(std::ceil(r.x1)) - 1);
     const long j0 = std::max(0L, static_cast<long>(std::floor(r.y0)));
-    const long j1 = std::min(height - 1, static_cast<long>(std::ceil(r.y1)) - 1);
+    const long j1 = std::min(Height - 1, static_cast<long>(std::ceil(r.y1)) - 1);
     const unsigned char* rgb = colors + 3 * q;
     const auto xs = centresIn(r.x0, r.x1);
     const auto ys = centresIn(r.y0, r.y1);
@@ -128,20 +120,17 @@ PixelBoxFilterCounts boxFilterOnPixels(const ViewVolume& view, const double* poi
     for (long j = j0; j <= j1; ++j)
     {
       const double h = std::min(r.y1, j + 1.0) - std::max(r.y0, static_cast<double>(j));
-      const bool border = !several || j == j0 || j == j1;
-      for (long i = i0; i <= i1; i = border || i == i1 ? i + 1 : i1)
+      const bool ring = !several || j == j0 || j == j1;
+      for (long i = i0; i <= i1; i = ring || i == i1 ? i + 1 : i1)
       {
-        const std::int32_t slot = owner[static_cast<std::size_t>(j * width + i)];
-        if (slot < 0)
-        {
-          continue;
-        }
+        const std::int32_t slot = pixel(i, j);
         const double w = std::min(r.x1, i + 1.0) - std::max(r.x0, static_cast<double>(i));
-        if (w <= 0 || h <= 0)
+        if (slot == Several || w <= 0 || h <= 0)
         {
           continue;
         }
-        std::array<double, 4>& sum = sums[static_cast<std::size_t>(slot)];
+        std::array<double, 4>& sum =
+            slot >= 0 ? Sums[static_cast<std::size_t>(slot)] : elsewhere[j * Width + i];
         for (int k = 0; k < 3; ++k)
         {
           sum[static_cast<std::size_t>(k)] += w * h * rgb[k];
@@ -150,20 +139,50 @@ PixelBoxFilterCounts boxFilterOnPixels(const ViewVolume& view, const double* poi
       }
     }
   }
-
-  // Pass 3: each owner shows its pixel's average.
-  for (std::size_t s = 0; s < owners.size(); ++s)
+  Shares.reserve(5 * elsewhere.size());
+  for (const auto& [at, sum] : elsewhere)
   {
-    const std::array<double, 4>& sum = sums[s];
+    Shares.insert(Shares.end(), {static_cast<double>(at), sum[0], sum[1], sum[2], sum[3]});
+  }
+}
+
+void PixelBoxFilter::addShares(const std::vector<double>& shares)
+{
+  for (std::size_t s = 0; s + 4 < shares.size(); s += 5)
+  {
+    const auto at = static_cast<long>(shares[s]);
+    if (at < 0 || at >= Width * Height)
+    {
+      continue;
+    }
+    const std::int32_t slot = Owner[static_cast<std::size_t>(at)];
+    if (slot < 0)
+    {
+      continue; // not owned here (this rank's own shares among them)
+    }
+    std::array<double, 4>& sum = Sums[static_cast<std::size_t>(slot)];
+    for (std::size_t k = 0; k < 4; ++k)
+    {
+      sum[k] += shares[s + 1 + k];
+    }
+  }
+}
+
+PixelBoxFilterCounts PixelBoxFilter::finish(unsigned char* colors) const
+{
+  PixelBoxFilterCounts counts;
+  counts.faceOn = FaceOn;
+  for (std::size_t s = 0; s < Owners.size(); ++s)
+  {
+    const std::array<double, 4>& sum = Sums[s];
     if (sum[3] <= 0)
     {
       continue;
     }
-    unsigned char* rgb = colors + 3 * owners[s];
-    for (int k = 0; k < 3; ++k)
+    unsigned char* rgb = colors + 3 * Owners[s];
+    for (std::size_t k = 0; k < 3; ++k)
     {
-      rgb[k] = static_cast<unsigned char>(
-          std::lround(std::clamp(sum[static_cast<std::size_t>(k)] / sum[3], 0.0, 255.0)));
+      rgb[k] = static_cast<unsigned char>(std::lround(std::clamp(sum[k] / sum[3], 0.0, 255.0)));
     }
     ++counts.recoloured;
   }

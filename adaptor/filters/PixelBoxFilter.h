@@ -14,15 +14,24 @@
 //
 // Only quads that project to screen-aligned rectangles are filtered: a 2D
 // grid's cells, or an axis slice's cuts, seen along their normal with the view
-// up along a grid axis (parallel or perspective projection); other quads are
-// left as they are. A quad holding several pixel centres keeps its colour (it
-// is one colour in all of them). Each rank filters its own quads: a pixel
-// shared with another rank's quads averages this rank's part of it.
-// Tested by ImageAccuracy.* (tests/render/ImageAccuracyTest.cxx) against the
-// exact image.
+// up along a grid axis (parallel or perspective projection), all in one plane
+// (the caller says so: slices one behind the other overlap on screen). Other
+// quads keep their colours, and so does a quad holding several pixel centres
+// (it is one colour in all of them).
+//
+// Ranks: a pixel at the edge of a rank's part is overlapped by other ranks'
+// quads too. Each rank lists what its quads add to pixels whose centre none of
+// them holds (shares()); every rank adds the shares for the pixels it owns
+// (addShares()) before finish(): the colours are then the same on any number of
+// ranks. Tested by PixelBoxFilter.* against a brute-force average, ImageAccuracy.*
+// against the exact image, and across ranks by insitu.mpi.np4_split_trees_moving_2d.
 #pragma once
 
 #include <vtkType.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
 
 namespace canopy
 {
@@ -35,11 +44,40 @@ struct PixelBoxFilterCounts
   vtkIdType recoloured = 0; ///< quads that hold exactly one pixel centre
 };
 
-/// `points`: the quads' corners, 4 consecutive points (x, y, z) per quad, in
-/// order around the quad (corners 0 and 2 opposite); borrowed for the call.
-/// `colors`: RGB per quad, rewritten in place for the quads that hold exactly
-/// one pixel centre of `view`'s viewport.
-PixelBoxFilterCounts boxFilterOnPixels(const ViewVolume& view, const double* points,
-                                       vtkIdType quads, unsigned char* colors);
+class PixelBoxFilter
+{
+public:
+  /// The axis `view` looks along when it sees axis-aligned quads as
+  /// screen-aligned rectangles (view up along another axis), else -1.
+  static int faceOnAxis(const ViewVolume& view);
+
+  /// Precondition: faceOnAxis(view) >= 0. `points`: the quads' corners, 4
+  /// consecutive points (x, y, z) per quad, in order around it (corners 0 and 2
+  /// opposite); `colors`: RGB per quad. Both are read here only (not kept).
+  PixelBoxFilter(const ViewVolume& view, const double* points, vtkIdType quads,
+                 const unsigned char* colors);
+
+  /// What this rank's quads add to pixels whose centre none of them holds, 5
+  /// values each: pixel index, red, green, blue (times area), area.
+  const std::vector<double>& shares() const { return Shares; }
+  /// Adds shares (5 values each, from every rank; this rank's own are ignored:
+  /// they are for pixels it does not own).
+  void addShares(const std::vector<double>& shares);
+  /// Rewrites the colours of the quads that hold exactly one pixel centre.
+  PixelBoxFilterCounts finish(unsigned char* colors) const;
+
+private:
+  long Width = 0;
+  long Height = 0;
+  /// Per pixel: the slot of the quad holding only its centre (>= 0), Several
+  /// when a quad holding several centres holds it, None when no quad does.
+  std::vector<std::int32_t> Owner;
+  static constexpr std::int32_t None = -1;
+  static constexpr std::int32_t Several = -2;
+  std::vector<vtkIdType> Owners;           ///< per slot: the quad
+  std::vector<std::array<double, 4>> Sums; ///< per slot: red, green, blue (x area), area
+  std::vector<double> Shares;
+  vtkIdType FaceOn = 0;
+};
 
 } // namespace canopy

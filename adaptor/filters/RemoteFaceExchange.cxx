@@ -1,6 +1,7 @@
 #include "RemoteFaceExchange.h"
 
 #include "AdaptiveSurfaceBuilder.h"
+#include "GatherFromAll.h"
 
 #include <vtkMultiProcessController.h>
 
@@ -8,35 +9,6 @@
 
 namespace canopy
 {
-
-namespace
-{
-
-/// Every rank's `local` values, back to back in rank order; `counts` per rank.
-template <typename T>
-std::vector<T> gatherFromAll(vtkMultiProcessController* controller, const std::vector<T>& local,
-                             std::vector<vtkIdType>& counts)
-{
-  const int ranks = controller->GetNumberOfProcesses();
-  const vtkIdType mine = static_cast<vtkIdType>(local.size());
-  counts.assign(static_cast<std::size_t>(ranks), 0);
-  controller->AllGather(&mine, counts.data(), 1);
-  std::vector<vtkIdType> offsets(static_cast<std::size_t>(ranks), 0);
-  vtkIdType total = 0;
-  for (int r = 0; r < ranks; ++r)
-  {
-    offsets[static_cast<std::size_t>(r)] = total;
-    total += counts[static_cast<std::size_t>(r)];
-  }
-  std::vector<T> all(static_cast<std::size_t>(total));
-  // Empty buffers still take part: the call is collective.
-  T unused{};
-  controller->AllGatherV(local.empty() ? &unused : local.data(), all.empty() ? &unused : all.data(),
-                         mine, counts.data(), offsets.data());
-  return all;
-}
-
-} // namespace
 
 void exchangeRemoteFaces(AdaptiveSurfaceBuilder& builder, vtkMultiProcessController* controller)
 {

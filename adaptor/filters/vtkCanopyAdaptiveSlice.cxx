@@ -12,6 +12,8 @@
 #include <vtkPolyData.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <algorithm>
+
 vtkStandardNewMacro(vtkCanopyAdaptiveSlice);
 
 vtkCanopyAdaptiveSlice::vtkCanopyAdaptiveSlice() = default;
@@ -105,7 +107,6 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
     quads = static_cast<vtkIdType>(builder.count());
     this->LastVisited = static_cast<vtkIdType>(builder.visited());
     builder.write(this->SizeCellArrays(arrays, quads, 4));
-    this->FilterColors(arrays, quads, resources.View.get());
   }
   catch (const std::exception& e)
   {
@@ -115,6 +116,13 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
   }
   this->AssembleOutput(input, output, arrays, quads, 4);
   return 1;
+}
+
+bool vtkCanopyAdaptiveSlice::OneLayerFacing(vtkHyperTreeGrid*, int axis) const
+{
+  std::vector<double> at = this->Positions[static_cast<std::size_t>(axis)];
+  std::sort(at.begin(), at.end());
+  return !at.empty() && at.front() == at.back();
 }
 
 void vtkCanopyAdaptiveSlice::PrintSelf(ostream& os, vtkIndent indent)

@@ -68,6 +68,8 @@ protected:
   ~vtkCanopyAdaptiveSlice() override;
 
   int ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* output) override;
+  /// One plane normal to `axis` (its cuts are one layer on screen).
+  bool OneLayerFacing(vtkHyperTreeGrid* input, int axis) const override;
 
   /// Per axis, the planes' positions in the order added; an axis outside 0-2
   /// is kept aside so that the error can name it.

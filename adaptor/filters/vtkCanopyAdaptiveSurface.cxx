@@ -16,16 +16,13 @@
 
 vtkStandardNewMacro(vtkCanopyAdaptiveSurface);
 
-vtkCxxSetObjectMacro(vtkCanopyAdaptiveSurface, Controller, vtkMultiProcessController);
+vtkCanopyAdaptiveSurface::vtkCanopyAdaptiveSurface() = default;
 
-vtkCanopyAdaptiveSurface::vtkCanopyAdaptiveSurface()
-{
-  this->SetController(vtkMultiProcessController::GetGlobalController());
-}
+vtkCanopyAdaptiveSurface::~vtkCanopyAdaptiveSurface() = default;
 
-vtkCanopyAdaptiveSurface::~vtkCanopyAdaptiveSurface()
+bool vtkCanopyAdaptiveSurface::OneLayerFacing(vtkHyperTreeGrid* input, int) const
 {
-  this->SetController(nullptr);
+  return input->GetDimension() == 2;
 }
 
 int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outputObject)
@@ -101,10 +98,6 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     quads = static_cast<vtkIdType>(builder.cells());
     perCell = static_cast<vtkIdType>(builder.pointsPerCell());
     builder.write(this->SizeCellArrays(arrays, quads, perCell));
-    if (input->GetDimension() == 2) // 3D faces overlap on screen: not one layer
-    {
-      this->FilterColors(arrays, quads, resources.View.get());
-    }
   }
   catch (const std::exception& e)
   {
@@ -123,6 +116,5 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
 void vtkCanopyAdaptiveSurface::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "SkipBackFaces: " << this->SkipBackFaces << "\n"
-     << indent << "Controller: " << this->Controller << "\n";
+  os << indent << "SkipBackFaces: " << this->SkipBackFaces << "\n";
 }

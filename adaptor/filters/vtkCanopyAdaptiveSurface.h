@@ -36,7 +36,6 @@
 
 #include <vector>
 
-class vtkMultiProcessController;
 namespace canopy
 {
 struct TreeCells;
@@ -50,14 +49,6 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// The processes the grid is split between (default: the global controller,
-  /// as ParaView and Catalyst set it). Only 3D grids split between more than
-  /// one process use it.
-  void SetController(vtkMultiProcessController* controller);
-  vtkGetObjectMacro(Controller, vtkMultiProcessController);
-  ///@}
-
-  ///@{
   /// 3D: skip faces turned away from the camera (default off).
   vtkSetMacro(SkipBackFaces, bool);
   vtkGetMacro(SkipBackFaces, bool);
@@ -69,9 +60,10 @@ protected:
   ~vtkCanopyAdaptiveSurface() override;
 
   int ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* output) override;
+  /// A 2D grid's surface is one layer; a 3D surface's faces overlap on screen.
+  bool OneLayerFacing(vtkHyperTreeGrid* input, int axis) const override;
 
   bool SkipBackFaces = false;
-  vtkMultiProcessController* Controller = nullptr;
   /// 3D: the builder's per-tree cell buffers, kept between executions.
   std::vector<canopy::TreeCells> CellBuffers;
 

@@ -1,6 +1,7 @@
 #include "vtkCanopyViewDependentFilter.h"
 
 #include "AdaptiveSurfaceBuilder.h"
+#include "GatherFromAll.h"
 #include "GatherTuples.h"
 #include "HyperTreeAccessCache.h"
 #include "LeafColorAverage.h"
@@ -18,6 +19,8 @@
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkMultiProcessController.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
@@ -55,12 +58,14 @@ vtkCanopyViewDependentFilter::vtkCanopyViewDependentFilter()
     : Topology(std::make_unique<canopy::HyperTreeAccessCache>())
 {
   this->AppropriateOutput = true;
+  this->SetController(vtkMultiProcessController::GetGlobalController());
 }
 
 vtkCanopyViewDependentFilter::~vtkCanopyViewDependentFilter()
 {
   this->SetCamera(nullptr);
   this->SetColorMap(nullptr);
+  this->SetController(nullptr);
 }
 
 void vtkCanopyViewDependentFilter::AddField(const char* name)
@@ -121,6 +126,54 @@ vtkMTimeType vtkCanopyViewDependentFilter::GetMTime()
   return time;
 }
 
+vtkCxxSetObjectMacro(vtkCanopyViewDependentFilter, Controller, vtkMultiProcessController);
+
+int vtkCanopyViewDependentFilter::RequestData(vtkInformation* request,
+                                              vtkInformationVector** inputVector,
+                                              vtkInformationVector* outputVector)
+{
+  this->ExecutedView.reset();
+  this->LastPixelFiltered = 0;
+  const int done = this->Superclass::RequestData(request, inputVector, outputVector);
+  vtkHyperTreeGrid* input = vtkHyperTreeGrid::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  // Everything deciding whether to filter is the same on every rank (the
+  // properties, the view, the input's shape), so all or none exchange.
+  if (!this->FilterColorsOnPixels || !this->ColorMap || this->ColorField.empty() ||
+      !this->ViewDependent || !this->ExecutedView || !input || !output)
+  {
+    return done;
+  }
+  const canopy::ViewVolume view(*this->ExecutedView);
+  const int axis = canopy::PixelBoxFilter::faceOnAxis(view);
+  if (axis < 0 || !this->OneLayerFacing(input, axis))
+  {
+    return done;
+  }
+  // This rank's quads (none when its part failed: it still takes part).
+  auto* colors = vtkUnsignedCharArray::SafeDownCast(output->GetCellData()->GetArray("Colors"));
+  vtkDoubleArray* points =
+      output->GetPoints() ? vtkDoubleArray::SafeDownCast(output->GetPoints()->GetData()) : nullptr;
+  const bool quads = colors && points && output->GetPolys() &&
+                     output->GetPolys()->GetNumberOfCells() == output->GetNumberOfCells() &&
+                     points->GetNumberOfTuples() == 4 * output->GetNumberOfCells();
+  const vtkIdType count = quads ? output->GetNumberOfCells() : 0;
+  canopy::PixelBoxFilter filter(view, quads ? points->GetPointer(0) : nullptr, count,
+                                quads ? colors->GetPointer(0) : nullptr);
+  vtkMultiProcessController* controller = this->Controller;
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    std::vector<vtkIdType> counts;
+    filter.addShares(canopy::gatherFromAll(controller, filter.shares(), counts));
+  }
+  if (quads)
+  {
+    this->LastPixelFiltered = filter.finish(colors->GetPointer(0)).recoloured;
+    colors->Modified();
+  }
+  return done;
+}
+
 int vtkCanopyViewDependentFilter::FillOutputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkPolyData");
@@ -172,6 +225,7 @@ bool vtkCanopyViewDependentFilter::CurrentView(canopy::CameraParameters& camera)
     vtkErrorMacro("invalid view: " << problem);
     return false;
   }
+  this->ExecutedView = std::make_unique<canopy::CameraParameters>(camera);
   return true;
 }
 
@@ -334,19 +388,6 @@ canopy::SurfaceArrays vtkCanopyViewDependentFilter::SizeCellArrays(const CellArr
           arrays.Colors ? arrays.Colors->GetPointer(0) : nullptr};
 }
 
-void vtkCanopyViewDependentFilter::FilterColors(const CellArrays& arrays, vtkIdType quads,
-                                                const canopy::ViewVolume* view)
-{
-  this->LastPixelFiltered = 0;
-  if (!arrays.Colors || !view || !this->FilterColorsOnPixels)
-  {
-    return;
-  }
-  this->LastPixelFiltered = canopy::boxFilterOnPixels(*view, arrays.Points->GetPointer(0), quads,
-                                                      arrays.Colors->GetPointer(0))
-                                .recoloured;
-}
-
 void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output,
                                                   const CellArrays& arrays, vtkIdType cells,
                                                   vtkIdType perCell)
@@ -450,6 +491,7 @@ void vtkCanopyViewDependentFilter::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "ColorComponent: " << this->ColorComponent << "\n"
      << indent << "FilterColorsOnPixels: " << this->FilterColorsOnPixels << "\n"
      << indent << "LastPixelFiltered: " << this->LastPixelFiltered << "\n"
+     << indent << "Controller: " << this->Controller << "\n"
      << indent << "Fields:";
   for (const std::string& field : this->Fields)
   {

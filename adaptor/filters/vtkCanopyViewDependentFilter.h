@@ -36,6 +36,7 @@ class vtkIdTypeArray;
 class vtkPolyData;
 class vtkRenderer;
 class vtkScalarsToColors;
+class vtkMultiProcessController;
 class vtkUnsignedCharArray;
 namespace canopy
 {
@@ -151,6 +152,15 @@ public:
   vtkGetMacro(LastPixelFiltered, vtkIdType);
   ///@}
 
+  ///@{
+  /// The ranks that exchange what their quads add to pixels at the edges of
+  /// their parts (the box filter on pixels) and, for 3D surfaces of grids split
+  /// between processes, the faces between their parts. Default: VTK's global
+  /// controller (ParaView and Catalyst set it); none, or one process: no exchange.
+  void SetController(vtkMultiProcessController* controller);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  ///@}
+
   /// The output, typed.
   vtkPolyData* GetPolyDataOutput();
 
@@ -163,6 +173,17 @@ protected:
   ~vtkCanopyViewDependentFilter() override;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
+
+  /// ProcessTrees (the subclass's work), then, with colours, the box filter on
+  /// the pixels (PixelBoxFilter.h): collective over Controller when the view
+  /// sees the output face-on, on every rank alike, whether its part succeeded.
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  /// Whether the output's quads facing `axis` lie in a single plane, so that
+  /// they do not overlap on screen (a 2D grid's surface; one slice normal to the
+  /// axis). Must answer alike on every rank.
+  virtual bool OneLayerFacing(vtkHyperTreeGrid* input, int axis) const = 0;
 
   /// The view of this execution (only meaningful with ViewDependent on). False,
   /// with the error reported, when the view or PixelThreshold is unusable.
@@ -194,10 +215,6 @@ protected:
     vtkSmartPointer<vtkUnsignedCharArray> Levels;
     vtkSmartPointer<vtkUnsignedCharArray> Colors; ///< null without colours
   };
-  /// With colours and FilterColorsOnPixels, box-filters the colours of the
-  /// quads just written (4 points per cell) on `view`'s pixels (none: nothing).
-  void FilterColors(const CellArrays& arrays, vtkIdType quads, const canopy::ViewVolume* view);
-
   CellArrays NewCellArrays();
 
   /// Sizes `arrays` for `cells` cells of `perCell` points and returns where a
@@ -236,6 +253,9 @@ protected:
   std::string ColorField;
   int ColorComponent = -1;
   bool FilterColorsOnPixels = true;
+  vtkMultiProcessController* Controller = nullptr;
+  /// The view CurrentView() last accepted in this execution (none: no view).
+  std::unique_ptr<canopy::CameraParameters> ExecutedView;
   vtkIdType LastPixelFiltered = 0;
   /// What the input's topology costs to read (index tables, masked-descendant
   /// flags), kept while the topology is unchanged: a camera move does not pay it.

@@ -16,6 +16,7 @@
 #include <vtkColorTransferFunction.h>
 #include <vtkDataArray.h>
 #include <vtkHyperTreeGrid.h>
+#include <vtkLookupTable.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 #include <vtkUnsignedCharArray.h>
@@ -149,6 +150,43 @@ TEST(LevelOfDetailColors, ASliceCutAveragesTheCutLeavesOnly)
   {
     EXPECT_EQ(colorOf(out, c), (std::array<int, 3>{{0, 0, 0}})) << "cut " << c;
   }
+}
+
+TEST(LevelOfDetailColors, ALogarithmicMapIsSampledInLogSpace)
+{
+  // Leaves valued 0.01 and 100 on a black-to-white log map over [1e-3, 1e3]:
+  // 1/6 and 5/6 of the way. Sampled evenly in the value instead, 0.01 would fall
+  // between the samples 0.001 and 0.98 and come out nearly black.
+  CheckerboardForest board(2, 1);
+  for (std::size_t n = 1; n < board.values.size(); ++n)
+  {
+    board.values[n] = board.values[n] > 0.5 ? 100.0 : 0.01;
+  }
+  vtkNew<vtkLookupTable> map;
+  map->SetScaleToLog10();
+  map->SetRange(1e-3, 1e3);
+  map->SetHueRange(0, 0);
+  map->SetSaturationRange(0, 0);
+  map->SetValueRange(0, 1);
+  map->SetNumberOfTableValues(1024);
+  map->Build();
+  vtkNew<vtkCanopyAdaptiveSurface> surface;
+  surface->SetInputData(buildHyperTreeGrid(board.forest));
+  surface->SetColorMap(map);
+  surface->SetColorField("value");
+  surface->ViewDependentOff();
+  ASSERT_TRUE(errorsOfUpdate(surface).empty());
+  vtkPolyData* out = surface->GetPolyDataOutput();
+  ASSERT_EQ(out->GetNumberOfCells(), 4);
+  auto* values = out->GetCellData()->GetArray("value");
+  for (vtkIdType c = 0; c < 4; ++c)
+  {
+    double rgb[3];
+    map->GetColor(values->GetComponent(c, 0), rgb);
+    EXPECT_NEAR(colorOf(out, c)[0], 255 * rgb[0], 1.0) << "value " << values->GetComponent(c, 0);
+  }
+  // The two colours: about 1/6 and 5/6 of the ramp.
+  EXPECT_NEAR(colorOf(out, 0)[0] + colorOf(out, 1)[0], 255.0, 2.0);
 }
 
 TEST(LevelOfDetailColors, AColourFieldThatDoesNotExistIsAnError)
