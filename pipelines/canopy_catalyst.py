@@ -295,16 +295,17 @@ EDGE_COLOR = [0.15, 0.15, 0.15]
 def edge_overlay(canopy_filter, view, values):
     """The mesh lines drawn over a flat Canopy filter output (show_edges; a 2D
     grid's surface, slices): the edges of the same filter at a pixel threshold of
-    edge_spacing pixels, as a wireframe, and its display. Where cells are at least that large on screen these are their
-    edges; where they are finer, the lines of their ancestors edge_spacing pixels
-    apart (level of detail at that threshold), so a refined region shows a
-    denser mesh than the coarse cells around it instead of being painted dark by
-    lines one or two pixels apart (docs/insitu.md, "Edges")."""
+    twice edge_spacing, as a wireframe, and its display. Level of detail at
+    threshold T draws nodes between T/2 and T pixels wide, so cells at least
+    edge_spacing pixels wide show their own edges and a region refined finer
+    the edges of its ancestors, edge_spacing to twice that apart: a denser mesh
+    than the coarse cells around it, never lines one or two pixels apart that
+    paint it dark (docs/insitu.md, "Edges")."""
     from paraview import simple
     make = getattr(simple, canopy_filter.GetXMLName())
     # Only one small field: the lines are drawn in a single colour.
     fields = [values.color_by] if values.color_by else []
-    overlay = make(Input=canopy_filter.Input, PixelThreshold=values.edge_spacing,
+    overlay = make(Input=canopy_filter.Input, PixelThreshold=2 * values.edge_spacing,
                    Fields=fields or ["OriginalCellId"])
     copy_pieces(canopy_filter, overlay)
     shown = simple.Show(overlay, view)

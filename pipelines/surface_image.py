@@ -16,10 +16,10 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   fields            fields Canopy wraps for this script, besides color_by and select_field
                     ('' : those alone; the surface extract carries these)
   pixel_threshold   stop refining below this many pixels (1.0)
-  show_edges        draw the mesh (false): on a 2D grid the edges of the surface at
-                    edge_spacing pixels (cells at least that large show their own edges, finer
-                    regions their ancestors'), in 3D each drawn cell's edges
-  edge_spacing      pixels between mesh lines at most, on flat pieces (8; 0: every cell's edges)
+  show_edges        draw the mesh (false): on flat pieces (a 2D grid, slices) cells at least
+                    edge_spacing pixels wide show their own edges, finer regions their
+                    ancestors' (edge_spacing to twice that apart); in 3D each drawn cell's edges
+  edge_spacing      the fewest pixels between mesh lines on flat pieces (8; 0: every cell's edges)
   average_colors    draw the colours the filter computes: a coarse quad its leaves' average
                     colour, face-on a quad covering one pixel that pixel's average (true)
   camera_position, camera_focal_point, camera_view_up   'x,y,z' ('' : frame the grid)

@@ -24,7 +24,7 @@
 // them holds (shares()); every rank adds the shares for the pixels it owns
 // (addShares()) before finish(): the colours are then the same on any number of
 // ranks. Tested by PixelBoxFilter.* against a brute-force average, ImageAccuracy.*
-// against the exact image, and across ranks by insitu.mpi.np4_split_trees_moving_2d.
+// against the exact image, and across ranks by SplitColours.* (mpi.split_trees.np*).
 #pragma once
 
 #include <vtkType.h>

@@ -4,9 +4,8 @@
 //   full2d.csv      full-resolution 2D surface vs vtkHyperTreeGridGeometry
 //   adaptive2d.csv  view-dependent 2D at 1024x1024 vs vtkAdaptiveDataSetSurfaceFilter
 //   surface3d.csv   3D surface vs both upstream filters
-//   tradeoff.csv    run time against image error, sweeping the pixel threshold
-//                   (Canopy) and Scale (upstream)
-// and PNG images of the sweep's extremes. Besides the synthetic forest, the
+// (run time against image error is canopy_bench_accuracy's, AccuracyBenchmark.cxx).
+// Besides the synthetic forest, the
 // mini-app's own forests at a late step (real data) add rows to the first three
 // tables (2D forests to the 2D tables, 3D to the 3D one).
 //
@@ -48,7 +47,6 @@ namespace
 bool canopyOnly = false;
 
 using canopy::testing::compare;
-using canopy::testing::downsample;
 using canopy::testing::Image;
 using canopy::testing::ImageError;
 using canopy::testing::OffscreenRenderer;
@@ -337,79 +335,6 @@ void surface3d(const std::filesystem::path& out, int maxLevel)
   }
 }
 
-void tradeoff(const std::filesystem::path& out, int levels)
-{
-  std::ofstream csv(out / "tradeoff.csv");
-  csv << "filter,parameter,filter_s,render_s,cells,rmse_full,psnr_full,share_off_full,"
-         "rmse_super,psnr_super,share_off_super\n";
-  Forest2D f = makeForest(2, 16, levels);
-  const int size = 512;
-  const int factor = 4;
-  OffscreenRenderer r(size, size);
-  OffscreenRenderer big(size * factor, size * factor);
-  setTopView(r.camera(), 0.0, 0.0, 1.0);
-  setTopView(big.camera(), 0.0, 0.0, 1.0);
-  vtkNew<vtkCanopyAdaptiveSurface> full;
-  full->SetInputData(f.htg);
-  full->SetRenderer(r.renderer());
-  full->LevelOfDetailOff();
-  full->AddField("pressure");
-  full->Update();
-  const Image fullImage = r.render(full->GetPolyDataOutput(), "pressure", 1, 7);
-  const Image super = downsample(big.render(full->GetPolyDataOutput(), "pressure", 1, 7), factor);
-  std::cout << "\n## Run time against image error (" << f.leaves << " leaves, " << size << "x"
-            << size << ")\n\n"
-            << "| filter | parameter | filter ms | render ms | cells | RMSE vs full | PSNR vs "
-               "full dB | RMSE vs 4x supersampled | PSNR vs supersampled dB | pixels off vs "
-               "supersampled |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  auto report = [&](const char* name, double parameter, double filterSeconds, vtkPolyData* s)
-  {
-    double renderSeconds = 0;
-    r.render(s, "pressure", 1, 7); // warm up the mapper for this input
-    const Image image = r.render(s, "pressure", 1, 7, false, false, &renderSeconds);
-    const ImageError a = compare(image, fullImage, 8);
-    const ImageError b = compare(image, super, 8);
-    csv << name << "," << parameter << "," << filterSeconds << "," << renderSeconds << ","
-        << s->GetNumberOfCells() << "," << a.rmse << "," << a.psnr << "," << a.shareOff << ","
-        << b.rmse << "," << b.psnr << "," << b.shareOff << "\n";
-    std::cout << std::fixed << "| " << name << " | " << std::setprecision(2) << parameter << " | "
-              << std::setprecision(1) << filterSeconds * 1e3 << " | " << renderSeconds * 1e3
-              << " | " << s->GetNumberOfCells() << " | " << std::setprecision(2) << a.rmse << " | "
-              << a.psnr << " | " << b.rmse << " | " << b.psnr << " | " << std::setprecision(1)
-              << 100 * b.shareOff << "% |" << std::endl;
-    return image;
-  };
-  report("canopy-full", 0, timeUpdate(full.Get()), full->GetPolyDataOutput());
-  for (double threshold : {0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0})
-  {
-    vtkNew<vtkCanopyAdaptiveSurface> canopy;
-    canopy->SetInputData(f.htg);
-    canopy->SetRenderer(r.renderer());
-    canopy->SetPixelThreshold(threshold);
-    canopy->AddField("pressure");
-    const double seconds = timeUpdate(canopy.Get());
-    const Image image = report("canopy", threshold, seconds, canopy->GetPolyDataOutput());
-    if (threshold == 1.0 || threshold == 16.0)
-    {
-      canopy::testing::writePng(
-          image,
-          (out / ("canopy_threshold_" + std::to_string(static_cast<int>(threshold)) + ".png"))
-              .string());
-    }
-  }
-  for (double scale : {0.25, 0.5, 1.0, 2.0, 4.0, 8.0})
-  {
-    vtkNew<vtkAdaptiveDataSetSurfaceFilter> upstream;
-    upstream->SetInputData(f.htg);
-    upstream->SetRenderer(r.renderer());
-    upstream->SetScale(scale);
-    const double seconds = timeUpdate(upstream.Get());
-    report("vtk-adaptive", scale, seconds, upstream->GetOutput());
-  }
-  canopy::testing::writePng(fullImage, (out / "full_resolution.png").string());
-  canopy::testing::writePng(super, (out / "supersampled_reference.png").string());
-}
-
 } // namespace
 
 int main(int argc, char** argv)
@@ -473,8 +398,6 @@ int main(int argc, char** argv)
     adaptive2d(out, maxLevel);
   if (only.empty() || only == "surface3d")
     surface3d(out, maxLevel);
-  if (Synthetic && (only.empty() || only == "tradeoff"))
-    tradeoff(out, std::min(maxLevel, 10));
   MiniAppForests.clear();
   if (mpiStarted)
     MPI_Finalize();

@@ -15,7 +15,6 @@ import re
 import shutil
 import subprocess
 import sys
-import time
 
 import numpy
 
@@ -31,7 +30,6 @@ SKIP = 77  # CTest's SKIP_RETURN_CODE for these tests
 def run(command, tmpfs=None):
     """Runs the command in a fresh OUTPUT (with `tmpfs`, e.g. "200k": a tmpfs of
     that size mounted there for the run, so the disk can be filled)."""
-    global ELAPSED
     if tmpfs and os.path.ismount(OUTPUT):
         subprocess.run(["umount", OUTPUT])  # left by a run that crashed
     shutil.rmtree(OUTPUT, ignore_errors=True)
@@ -50,9 +48,7 @@ def run(command, tmpfs=None):
             sys.exit(SKIP)
         log_path = OUTPUT + ".log"
     try:
-        start = time.monotonic()
         code, log = run_command(command)
-        ELAPSED = time.monotonic() - start
     finally:
         if tmpfs:
             snapshot = OUTPUT + ".files"  # what the run left, for the checks
@@ -99,6 +95,19 @@ def covered_pixels(pixels):
 def steps_ran(log):
     return [int(m.group(1)) for m in re.finditer(r"^step (\d+) executed ran (\d+) failures 0$",
                                                 log, re.M) if int(m.group(2)) > 0]
+
+
+def compare_image_sets(pattern):
+    """Every image of this run against np 1's of the same name. Both sides must
+    have images, and the same ones: with none on either side nothing would be
+    compared."""
+    mine = sorted(os.path.basename(p) for p in glob.glob(path(pattern)))
+    reference = sorted(os.path.basename(p) for p in glob.glob(path(pattern, REFERENCE)))
+    expect(len(reference) > 0, "the np 1 reference run wrote %s images" % pattern)
+    expect(mine == reference, "the same %s images as np 1: %s (np 1: %s)"
+           % (pattern, mine, reference))
+    for name in sorted(set(mine) & set(reference)):
+        compare_images(image(name), image(name, REFERENCE), name)
 
 
 def compare_images(a, b, label):
@@ -428,8 +437,7 @@ def check_mpi_against_np1(code, log):
     """np 2/4 against the np 1 reference run: the same images (IceT compositing),
     and extract totals that add up to the same numbers."""
     check_data_extracts(code, log)
-    for name in sorted(os.path.basename(p) for p in glob.glob(path("surface_*.png", REFERENCE))):
-        compare_images(image(name), image(name, REFERENCE), name)
+    compare_image_sets("surface_*.png")
     for name in sorted(os.path.basename(p) for p in glob.glob(path("selection_*.pvtu"))):
         got = unstructured(name).GetNumberOfCells()
         want = unstructured(name, REFERENCE).GetNumberOfCells()
@@ -448,8 +456,7 @@ def check_mpi_split(code, log):
                "step %d: %d quads over all ranks = %d leaves" % (step, surface.GetNumberOfCells(),
                                                                  entry["leaves"]))
         expect(len(numpy.unique(ids)) == len(ids), "step %d: no leaf twice" % step)
-    for name in sorted(os.path.basename(p) for p in glob.glob(path("surface_*.png", REFERENCE))):
-        compare_images(image(name), image(name, REFERENCE), name)
+    compare_image_sets("surface_*.png")
 
 
 def check_clean_log(code, log):
@@ -581,7 +588,6 @@ def check_unguarded_error_one_rank(code, log):
     interrupted. Instead of hanging, the job ends (MPI_Abort, exit code 124) with
     rank 0 named as stuck (script, step) and rank 1's own error shown."""
     expect(code == 124, "the job is ended with exit code 124 (got %d)" % code)
-    expect(ELAPSED < 60, "within a minute (%.1f s)" % ELAPSED)
     expect(re.search(r"rank 0, step 2: the script '.*marker_script.py' is still in "
                      r"catalyst_execute .* after " + LIMIT + " and cannot be interrupted", log)
            is not None, "rank 0 is named as stuck, with script and step")
