@@ -106,6 +106,8 @@ MiniAppOptions parseOptions(int argc, char** argv)
 {
   MiniAppOptions o;
   std::vector<std::string> objectTexts;
+  bool velocityGiven = false;
+  bool stepsGiven = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string key = argv[i];
@@ -138,7 +140,16 @@ MiniAppOptions parseOptions(int argc, char** argv)
     else if (key == "--max-level")
       o.maxLevel = integer(value(), key);
     else if (key == "--steps")
+    {
       o.steps = integer(value(), key);
+      stepsGiven = true;
+    }
+    else if (key == "--end-time")
+    {
+      o.endTime = single(value(), key);
+      if (!(o.endTime > 0))
+        throw std::invalid_argument("--end-time must be > 0");
+    }
     else if (key == "--cfl")
       o.cfl = single(value(), key);
     else if (key == "--diffusion")
@@ -146,6 +157,7 @@ MiniAppOptions parseOptions(int argc, char** argv)
     else if (key == "--velocity")
     {
       o.velocity = value();
+      velocityGiven = true;
       if (o.velocity.rfind("uniform:", 0) == 0)
       {
         const auto v = numbers(o.velocity.substr(8), key);
@@ -164,6 +176,12 @@ MiniAppOptions parseOptions(int argc, char** argv)
       o.regridEvery = integer(value(), key);
     else if (key == "--repartition-imbalance")
       o.repartitionImbalance = single(value(), key);
+    else if (key == "--exact-solution")
+    {
+      o.exactSolution = value();
+      if (o.exactSolution != "gaussian")
+        throw std::invalid_argument("--exact-solution: '" + o.exactSolution + "' is not gaussian");
+    }
     else if (key == "--object")
       objectTexts.push_back(value());
     else if (key == "--pipeline")
@@ -239,9 +257,25 @@ MiniAppOptions parseOptions(int argc, char** argv)
     throw std::invalid_argument("--cfl must be in (0, 1]");
   if (!(o.diffusion >= 0))
     throw std::invalid_argument("--diffusion must be >= 0");
+  if (stepsGiven && o.endTime > 0)
+    throw std::invalid_argument("--steps or --end-time, not both");
+  if (!o.exactSolution.empty())
+  {
+    // The exact solution is a pure translation on a fixed mesh: anything that
+    // would change the equation or the mesh is a contradiction, not a default.
+    if (!objectTexts.empty())
+      throw std::invalid_argument("--exact-solution runs on a fixed mesh: no --object");
+    if (o.diffusion != 0)
+      throw std::invalid_argument("--exact-solution translates without diffusion: no --diffusion");
+    if (velocityGiven && o.velocity != "uniform")
+      throw std::invalid_argument("--exact-solution needs --velocity uniform:vx,vy[,vz]");
+    if (!velocityGiven)
+      o.uniformVelocity = {{1.0, 1.0, 1.0}}; // the diagonal
+    o.velocity = "uniform";
+  }
   for (const auto& text : objectTexts)
     o.objects.push_back(parseObject(text, o.dimension));
-  if (objectTexts.empty())
+  if (objectTexts.empty() && o.exactSolution.empty())
   {
     // miniAMR's default spirit: two objects crossing the domain.
     MovingObject a;
@@ -274,8 +308,13 @@ Mesh:     --dimension 2|3 (2)  --branch-factor 2|3 (2)  --roots N|NX,NY[,NZ] (16
 Objects:  --object sphere:cx,cy[,cz],r,vx,vy[,vz]   --object plane:nx,ny[,nz],offset,speed
           (repeatable; default: a sphere and a plane crossing the domain; velocities
           in domain lengths per 100 steps; spheres bounce off the walls)
-Physics:  --steps S (40)  --cfl C (0.5)  --velocity swirl|uniform:vx,vy[,vz] (swirl)
-          --diffusion D (0)
+Physics:  --steps S (40)  --end-time T (instead of --steps; dt shortened to land on T)
+          --cfl C (0.5)  --velocity swirl|uniform:vx,vy[,vz] (swirl)  --diffusion D (0)
+Accuracy: --exact-solution gaussian: a Gaussian (sigma 0.15) translated by a uniform
+          velocity (default the diagonal, 1,1[,1]) on the periodic domain, on a fixed
+          uniform mesh at --max-level (no objects, no adaptation); prints at the end
+          "exact: gaussian level L cells N h H time T L1 E1 max EMAX" (cell averages
+          against the exact ones, L1 volume-weighted over all ranks)
 MPI:      --repartition-imbalance R (1.1): repartition when max/mean leaves per rank > R
 In situ:  --output DIR (canopy-output)  --no-insitu
           --pipeline SCRIPT [--pipeline-arg ARG]...   (replaces the default pipelines)

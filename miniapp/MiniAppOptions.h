@@ -32,6 +32,7 @@ struct MiniAppOptions
   std::array<int, 3> roots{{16, 16, 16}};
   int maxLevel = 6;
   int steps = 40;
+  double endTime = 0; ///< > 0: run to this time instead of --steps (the last step lands on it)
   double cfl = 0.5;
   double diffusion = 0.0;
   std::string velocity = "swirl"; ///< swirl | uniform:vx,vy[,vz]
@@ -41,6 +42,9 @@ struct MiniAppOptions
   int regridEvery = 1;
   double repartitionImbalance = 1.1; ///< repartition when max/mean leaves exceeds this
   std::vector<MovingObject> objects;
+  /// "gaussian": a Gaussian translated by a uniform velocity on a fixed uniform mesh
+  /// at maxLevel, with its errors against the exact solution; empty: the usual run.
+  std::string exactSolution;
   // In situ.
   std::vector<std::string> pipelines; ///< empty: the default set; "none": no Canopy
   std::vector<std::vector<std::string>> pipelineArguments;

@@ -32,6 +32,8 @@ Simulation::Simulation(const MiniAppOptions& options, MPI_Comm communicator)
       Forest(options.dimension, options.branchFactor, options.roots, options.maxLevel),
       Objects(options.objects, options.dimension)
 {
+  if (!Options.exactSolution.empty())
+    Exact = TranslatedGaussian::standard(Options.dimension, Options.uniformVelocity);
   MPI_Comm_rank(Communicator, &Rank);
   MPI_Comm_size(Communicator, &Size);
   RootX = uniformPoints(Forest.roots()[0]);
@@ -49,12 +51,59 @@ Simulation::Simulation(const MiniAppOptions& options, MPI_Comm communicator)
     for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
       if (node.firstChild < 0)
         Scalar[static_cast<std::size_t>(LeafOffset[static_cast<std::size_t>(tree)] + node.leaf)] =
-            initialValue(Forest.cellCenter(node.key));
+            initialCellValue(node.key);
   for (int level = 0; level < Options.maxLevel; ++level)
     regrid(true, false);
   repartitionIfImbalanced(true);
   Repartitions = 0;
   Dt = computeTimeStep();
+  if (Options.endTime > 0)
+  {
+    // Shorten the step so that a whole number of them lands on the end time
+    // (the margin keeps an exact quotient from rounding up to one step more).
+    Options.steps = static_cast<int>(std::ceil(Options.endTime / Dt * (1 - 1e-12)));
+    Dt = Options.endTime / Options.steps;
+  }
+}
+
+std::array<double, 3> Simulation::cellSizes(int level) const
+{
+  std::array<double, 3> size{{1.0, 1.0, 1.0}};
+  for (int a = 0; a < Options.dimension; ++a)
+    size[a] = Forest.cellSize(a, level);
+  return size;
+}
+
+double Simulation::initialCellValue(const NodeKey& key) const
+{
+  if (Exact)
+    return Exact->cellAverage(Forest.cellLow(key), cellSizes(key.level), 0.0);
+  return initialValue(Forest.cellCenter(key));
+}
+
+Simulation::ExactErrors Simulation::errorsAgainstExact() const
+{
+  if (!Exact)
+    throw std::logic_error("errorsAgainstExact needs --exact-solution");
+  ExactErrors local;
+  for (auto tree : OwnTrees)
+  {
+    const auto offset = LeafOffset[static_cast<std::size_t>(tree)];
+    for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
+    {
+      if (node.firstChild >= 0)
+        continue;
+      const double exact =
+          Exact->cellAverage(Forest.cellLow(node.key), cellSizes(node.key.level), Time);
+      const double error = std::abs(Scalar[static_cast<std::size_t>(offset + node.leaf)] - exact);
+      local.l1 += error * Forest.cellVolume(node.key.level);
+      local.max = std::max(local.max, error);
+    }
+  }
+  ExactErrors global;
+  MPI_Allreduce(&local.l1, &global.l1, 1, MPI_DOUBLE, MPI_SUM, Communicator);
+  MPI_Allreduce(&local.max, &global.max, 1, MPI_DOUBLE, MPI_MAX, Communicator);
+  return global;
 }
 
 double Simulation::initialValue(const std::array<double, 3>& x) const
@@ -154,7 +203,8 @@ void Simulation::advance()
   Scalar.swap(next);
   Time += Dt;
   Step += 1;
-  if (Step % Options.regridEvery == 0)
+  // The exact solution is compared on a fixed mesh: no regrid, no transfer error.
+  if (!Exact && Step % Options.regridEvery == 0)
   {
     // Gradients refine or coarsen one level per regrid; the objects' surfaces are
     // refined to the finest level at once (they move faster than one level a step).
@@ -178,6 +228,12 @@ std::vector<std::int8_t> Simulation::ownWishes(bool objectsOnly) const
       if (node.firstChild >= 0)
         continue;
       const auto index = static_cast<std::size_t>(offset + node.leaf);
+      if (Exact)
+      {
+        // A uniform mesh at the finest level, whatever the profile looks like.
+        wishes[index] = node.key.level < Options.maxLevel ? 1 : 0;
+        continue;
+      }
       auto low = Forest.cellLow(node.key);
       auto high = low;
       for (int a = 0; a < Options.dimension; ++a)
@@ -268,7 +324,7 @@ bool Simulation::regrid(bool initial, bool objectsOnly)
       for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
         if (node.firstChild < 0)
           Scalar[static_cast<std::size_t>(LeafOffset[static_cast<std::size_t>(tree)] + node.leaf)] =
-              initialValue(Forest.cellCenter(node.key));
+              initialCellValue(node.key);
   }
   return true;
 }

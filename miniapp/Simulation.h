@@ -9,6 +9,7 @@
 #pragma once
 
 #include "AmrForest.h"
+#include "ExactSolution.h"
 #include "HaloExchange.h"
 #include "MiniAppOptions.h"
 #include "MovingObjects.h"
@@ -18,6 +19,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +36,8 @@ public:
   /// regridEvery steps) refinement/coarsening and, when imbalanced, repartition.
   void advance();
 
+  /// The steps to run: --steps, or with --end-time as many as reach it.
+  int plannedSteps() const { return Options.steps; }
   int step() const { return Step; }
   double time() const { return Time; }
   double timeStep() const { return Dt; }
@@ -55,6 +59,15 @@ public:
   /// Collective: rank 0 writes every leaf as "level x y z value" sorted by key.
   void dump(const std::string& path) const;
 
+  /// Errors of the leaves' values against the exact solution's cell averages now.
+  struct ExactErrors
+  {
+    double l1 = 0;  ///< sum of |error| x volume over every leaf
+    double max = 0; ///< largest |error| of any leaf
+  };
+  /// Collective; only with --exact-solution (throws otherwise).
+  ExactErrors errorsAgainstExact() const;
+
   const AmrForest& forest() const { return Forest; }
   const MovingObjects& objects() const { return Objects; }
   /// This rank's value of an own leaf (tree, leaf), or NaN if not owned.
@@ -67,6 +80,10 @@ private:
   double valueAcross(const AmrForest::FaceNeighbour& neighbour) const;
   std::array<double, 3> velocityAt(const std::array<double, 3>& x) const;
   double initialValue(const std::array<double, 3>& x) const;
+  /// A new leaf's initial value: the exact cell average with --exact-solution,
+  /// else the blob at the cell's center.
+  double initialCellValue(const NodeKey& key) const;
+  std::array<double, 3> cellSizes(int level) const;
   std::vector<std::int8_t> ownWishes(bool objectsOnly) const;
   /// One regrid pass; objectsOnly: refine only where objects' surfaces are, and
   /// return false (nothing done) when no leaf there is below the finest level.
@@ -81,6 +98,8 @@ private:
   int Size = 1;
   AmrForest Forest;
   MovingObjects Objects;
+  std::optional<TranslatedGaussian> Exact; ///< with --exact-solution: fixed mesh, no regrid
+
   std::vector<int> Owner;               ///< per tree
   std::vector<std::int64_t> LeafOffset; ///< per tree: first value index if owned, else -1
   std::vector<std::int32_t> OwnTrees;   ///< in tree order

@@ -151,7 +151,7 @@ int main(int argc, char** argv)
     int pipelineFailures = 0;
     bool untouched = true;
     double worstMassChange = 0;
-    for (int step = 0; step <= options.steps; ++step)
+    for (int step = 0; step <= simulation.plannedSteps(); ++step)
     {
       if (step > 0)
         simulation.advance();
@@ -195,6 +195,18 @@ int main(int argc, char** argv)
       insitu->close();
     if (!options.dump.empty())
       simulation.dump(options.dump);
+    if (!options.exactSolution.empty())
+    {
+      const auto errors = simulation.errorsAgainstExact();
+      // One line of key value pairs, the errors to full precision: refinement
+      // studies parse it (tests/miniapp/miniapp_check.py).
+      if (rank == 0)
+        std::printf("exact: %s level %d cells %lld h %.10g time %.10g L1 %.15e max %.15e\n",
+                    options.exactSolution.c_str(), options.maxLevel,
+                    static_cast<long long>(simulation.globalLeaves()),
+                    simulation.forest().cellSize(0, options.maxLevel), simulation.time(), errors.l1,
+                    errors.max);
+    }
     int localUntouched = untouched ? 1 : 0;
     int allUntouched = 0;
     MPI_Allreduce(&localUntouched, &allUntouched, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
@@ -202,8 +214,8 @@ int main(int argc, char** argv)
     {
       std::printf("done: %d steps, %lld leaves, worst relative mass change %.2e, "
                   "%d repartition(s), canopy %.2f s, %d pipeline failure(s)\n",
-                  options.steps, static_cast<long long>(simulation.globalLeaves()), worstMassChange,
-                  simulation.repartitions(), canopySeconds, pipelineFailures);
+                  simulation.plannedSteps(), static_cast<long long>(simulation.globalLeaves()),
+                  worstMassChange, simulation.repartitions(), canopySeconds, pipelineFailures);
       if (options.verifyUntouched)
         std::printf("simulation arrays untouched by Canopy: %s\n", allUntouched ? "yes" : "NO");
     }

@@ -156,9 +156,13 @@ void HtgSeriesWriter::writeStep(vtkHyperTreeGrid* htg, std::int64_t step, double
     // The step is not in the series: leave none of its files behind.
     std::error_code ignored;
     std::filesystem::remove(piece, ignored);
+    // Once every rank removed its piece, the step's folder too (only if empty:
+    // remove() leaves a folder that holds anything else).
+    gatherProblems(this->Communicator, std::string());
     if (rank == 0)
     {
       std::filesystem::remove(folder / this->stepFileName(step), ignored);
+      std::filesystem::remove(piece.parent_path(), ignored);
     }
     throw WriteError("hypertree-grid extract " + (folder / (this->Name + ".pvd")).string() +
                      ": step " + std::to_string(step) +

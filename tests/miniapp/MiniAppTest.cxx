@@ -1,7 +1,9 @@
 // The mini-app's numerics and mesh, on one MPI rank: conservation, faces seen
 // the same from both sides (neighbours across levels and trees), refinement
-// following the objects and coarsening behind them.
+// following the objects and coarsening behind them, the exact solution of the
+// accuracy mode (its order of convergence: miniapp.exact_solution_order_np*).
 #include "AmrForest.h"
+#include "ExactSolution.h"
 #include "MiniAppOptions.h"
 #include "Simulation.h"
 
@@ -10,8 +12,10 @@
 
 #include <cmath>
 #include <map>
+#include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 namespace
 {
@@ -189,6 +193,148 @@ TEST(MiniAppMesh, RefinementFollowsTheObjectAndCoarsensBehindIt)
       }
     }
   EXPECT_GT(checked, 0u);
+}
+
+/// The periodic Gaussian at a point, summed directly over its images: an
+/// evaluation independent of TranslatedGaussian's erf sums.
+double periodicGaussianAt(const std::array<double, 3>& x, int dimension,
+                          const std::array<double, 3>& center, double sigma)
+{
+  double value = 1.0;
+  for (int a = 0; a < dimension; ++a)
+  {
+    double sum = 0;
+    for (int k = -4; k <= 4; ++k)
+    {
+      const double s = x[a] - center[a] + k;
+      sum += std::exp(-s * s / (2 * sigma * sigma));
+    }
+    value *= sum;
+  }
+  return value;
+}
+
+/// The exact cell averages against 10-point Gauss-Legendre quadrature of the
+/// translated, periodic profile, on cells across the periodic boundary and after
+/// the center has wrapped around.
+TEST(MiniAppExactSolution, CellAveragesMatchQuadratureOfTheTranslatedProfile)
+{
+  // numpy.polynomial.legendre.leggauss(10), the positive half, on [-1, 1].
+  const double nodes[5] = {0.14887433898163122, 0.4333953941292472, 0.6794095682990244,
+                           0.8650633666889845, 0.9739065285171717};
+  const double weights[5] = {0.295524224714753, 0.2692667193099965, 0.219086362515982,
+                             0.14945134915058036, 0.06667134430868807};
+  std::vector<std::pair<double, double>> rule; // on [0, 1]
+  for (int i = 0; i < 5; ++i)
+    for (int sign = -1; sign <= 1; sign += 2)
+      rule.emplace_back(0.5 + 0.5 * sign * nodes[i], 0.5 * weights[i]);
+  // The constants are right: the rule integrates degree 19 exactly.
+  double moment = 0;
+  for (const auto& [x, w] : rule)
+    moment += w * std::pow(x, 19);
+  ASSERT_NEAR(moment, 1.0 / 20, 1e-15);
+
+  const std::array<double, 3> center{{0.3, 0.4, 0.45}};
+  const double sigma = 0.15;
+  const std::array<double, 3> velocity{{1.0, -0.5, 0.25}};
+  const miniamr::TranslatedGaussian exact(2, center, sigma, velocity);
+  const double time = 0.9; // the center has crossed x = 1 and y = 0
+  const std::array<double, 3> moved{
+      {center[0] + velocity[0] * time, center[1] + velocity[1] * time, 0.0}};
+  const double h = 1.0 / 16;
+  for (auto [i, j] : {std::pair{0, 0}, std::pair{15, 3}, std::pair{3, 15}, std::pair{7, 9}})
+  {
+    const std::array<double, 3> low{{i * h, j * h, 0.0}};
+    double quadrature = 0;
+    for (const auto& [x, wx] : rule)
+      for (const auto& [y, wy] : rule)
+        quadrature +=
+            wx * wy * periodicGaussianAt({{low[0] + x * h, low[1] + y * h, 0.0}}, 2, moved, sigma);
+    EXPECT_NEAR(exact.cellAverage(low, {{h, h, 1.0}}, time), quadrature, 1e-13)
+        << "cell " << i << ", " << j;
+  }
+}
+
+/// Summed over a mesh, the cell averages give the profile's integral over the
+/// periodic domain, (2 pi sigma^2)^(d/2): no mass lost to the periodic images.
+TEST(MiniAppExactSolution, CellAveragesSumToTheIntegral)
+{
+  for (int dimension : {2, 3})
+  {
+    const auto exact = miniamr::TranslatedGaussian::standard(dimension, {{1.0, 1.0, 1.0}});
+    const int cells = 12;
+    const double h = 1.0 / cells;
+    double total = 0;
+    for (int k = 0; k < (dimension == 3 ? cells : 1); ++k)
+      for (int j = 0; j < cells; ++j)
+        for (int i = 0; i < cells; ++i)
+          total += exact.cellAverage({{i * h, j * h, k * h}}, {{h, h, h}}, 0.37) *
+                   std::pow(h, dimension);
+    EXPECT_NEAR(total, exact.integral(), 1e-14) << dimension << "D";
+    EXPECT_NEAR(exact.integral(), std::pow(2 * std::acos(-1.0) * 0.15 * 0.15, 0.5 * dimension),
+                1e-15);
+  }
+}
+
+miniamr::MiniAppOptions parse(std::vector<std::string> arguments)
+{
+  arguments.insert(arguments.begin(), "canopy_miniamr");
+  std::vector<char*> argv;
+  for (auto& argument : arguments)
+    argv.push_back(argument.data());
+  return miniamr::parseOptions(static_cast<int>(argv.size()), argv.data());
+}
+
+/// --exact-solution runs on a fixed, uniform mesh at the finest level, starts
+/// from the exact cell averages and lands on --end-time.
+TEST(MiniAppExactSolution, FixedUniformMeshFromTheExactCellAverages)
+{
+  const auto options = parse({"--exact-solution", "gaussian", "--roots", "4", "--max-level", "2",
+                              "--end-time", "0.1", "--no-insitu"});
+  EXPECT_TRUE(options.objects.empty());
+  EXPECT_EQ(options.velocity, "uniform");
+  miniamr::Simulation simulation(options, MPI_COMM_WORLD);
+  const auto exact = miniamr::TranslatedGaussian::standard(2, options.uniformVelocity);
+  EXPECT_NEAR(simulation.totalMass(), exact.integral(), 1e-14);
+  const auto start = simulation.errorsAgainstExact();
+  EXPECT_EQ(start.l1, 0.0);
+  EXPECT_EQ(start.max, 0.0);
+  ASSERT_GT(simulation.plannedSteps(), 1);
+  for (int step = 0; step < simulation.plannedSteps(); ++step)
+  {
+    simulation.advance();
+    ASSERT_EQ(simulation.globalLeaves(), 16 * 16) << "step " << step;
+    for (const auto& tree : simulation.forest().trees())
+      for (const auto& node : tree.nodes)
+      {
+        if (node.firstChild < 0)
+        {
+          ASSERT_EQ(node.key.level, 2);
+        }
+      }
+  }
+  EXPECT_NEAR(simulation.time(), 0.1, 1e-15);
+  const auto end = simulation.errorsAgainstExact();
+  EXPECT_GT(end.l1, 0.0);
+  EXPECT_GE(end.max, end.l1); // the L1 error is a volume average over the unit domain
+}
+
+TEST(MiniAppExactSolution, ContradictoryOptionsAreRefused)
+{
+  for (const auto& extra :
+       std::vector<std::vector<std::string>>{{"--object", "sphere:0.5,0.5,0.1,0,0"},
+                                             {"--diffusion", "0.001"},
+                                             {"--velocity", "swirl"},
+                                             {"--steps", "3", "--end-time", "0.1"}})
+  {
+    std::vector<std::string> arguments{"--exact-solution", "gaussian"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    EXPECT_THROW(parse(arguments), std::invalid_argument) << extra[0];
+  }
+  EXPECT_THROW(parse({"--exact-solution", "square"}), std::invalid_argument);
+  const auto given = parse({"--exact-solution", "gaussian", "--velocity", "uniform:-1,0.5"});
+  EXPECT_EQ(given.uniformVelocity[0], -1.0);
+  EXPECT_EQ(given.uniformVelocity[1], 0.5);
 }
 
 } // namespace

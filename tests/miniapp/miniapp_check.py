@@ -2,10 +2,14 @@
 
 usage: python3 miniapp_check.py CHECK OUTPUT_DIR -- COMMAND...
 CHECK: insitu (images, selection, HTG and surface extracts against the
-simulation's own final state, arrays untouched) or same_answer (COMMAND is run
-at 1, 2 and 4 ranks; final states must agree).
+simulation's own final state, arrays untouched), same_answer (COMMAND is run
+at 1, 2 and 4 ranks; final states must agree) or exact_solution_order (COMMAND
+in --exact-solution mode at several levels: errors against the exact solution
+shrink at the expected order).
 """
 import glob
+import json
+import math
 import os
 import re
 import shutil
@@ -254,6 +258,69 @@ def check_same_answer(output, command, require_repartition=False):
         worst = max(abs(dumps[ranks][k] - dumps[1][k]) for k in dumps[1])
         expect(worst <= 1e-12, "np %d: values within 1e-12 of np 1 (largest difference %.1e)"
                % (ranks, worst))
+
+
+EXACT_LINE = re.compile(r"^exact: (\S+) level (\d+) cells (\d+) h (\S+) time (\S+) "
+                        r"L1 (\S+) max (\S+)$", re.M)
+
+
+def check_exact_solution_order(output, command):
+    """COMMAND (the mini-app in --exact-solution mode with --end-time, without
+    --max-level) is run at each of LEVELS (environment, e.g. "1,2,3": the same
+    final time, the step shrinking with the cells at a fixed CFL). The errors
+    against the exact solution must be positive and finite and shrink between
+    consecutive levels at an observed order log(e_coarse / e_fine) /
+    log(h_coarse / h_fine) inside ORDER (environment, "low,high"), for L1 and
+    max. The errors go to OUTPUT/errors.json; with REFERENCE=<dir> (another
+    run's OUTPUT, e.g. on 1 rank) they must equal its own to 1e-12 (relative)."""
+    shutil.rmtree(output, ignore_errors=True)
+    os.makedirs(output)
+    levels = [int(level) for level in os.environ["LEVELS"].split(",")]
+    low, high = (float(x) for x in os.environ["ORDER"].split(","))
+    runs = []
+    for level in levels:
+        code, log = run(command + ["--max-level", str(level)])
+        expect(code == 0, "level %d runs" % level)
+        lines = EXACT_LINE.findall(log)
+        expect(len(lines) == 1, "level %d prints one 'exact:' line" % level)
+        if code != 0 or len(lines) != 1:
+            return
+        _, printed_level, cells, h, time, l1, largest = lines[0]
+        runs.append({"level": int(printed_level), "cells": int(cells), "h": float(h),
+                     "time": float(time), "L1": float(l1), "max": float(largest)})
+    with open(os.path.join(output, "errors.json"), "w") as target:
+        json.dump(runs, target, indent=1)
+    for run_ in runs:
+        expect(all(math.isfinite(run_[norm]) and run_[norm] > 0 for norm in ("L1", "max")),
+               "level %d (%d cells): L1 %.3e, max %.3e, positive and finite"
+               % (run_["level"], run_["cells"], run_["L1"], run_["max"]))
+    expect(max(abs(r["time"] - runs[0]["time"]) for r in runs) < 1e-12,
+           "every level ends at time %.6g" % runs[0]["time"])
+    for coarse, fine in zip(runs, runs[1:]):
+        expect(fine["h"] < coarse["h"], "level %d is finer than level %d"
+               % (fine["level"], coarse["level"]))
+        for norm in ("L1", "max"):
+            if not (coarse[norm] > 0 and fine[norm] > 0 and fine["h"] < coarse["h"]):
+                continue
+            order = math.log(coarse[norm] / fine[norm]) / math.log(coarse["h"] / fine["h"])
+            expect(low <= order <= high, "%s order from level %d to %d: %.3f (%.3e -> %.3e), "
+                   "expected in [%g, %g]" % (norm, coarse["level"], fine["level"], order,
+                                             coarse[norm], fine[norm], low, high))
+    reference = os.environ.get("REFERENCE")
+    if reference:
+        theirs_path = os.path.join(reference, "errors.json")
+        expect(os.path.exists(theirs_path), "the reference run left %s" % theirs_path)
+        if not os.path.exists(theirs_path):
+            return
+        with open(theirs_path) as source:
+            theirs = json.load(source)
+        expect([r["level"] for r in theirs] == [r["level"] for r in runs],
+               "the reference ran the same levels")
+        for mine, other in zip(runs, theirs):
+            for norm in ("L1", "max"):
+                expect(abs(mine[norm] - other[norm]) <= 1e-12 * abs(other[norm]),
+                       "level %d: %s %.15e, the reference's %.15e (relative 1e-12)"
+                       % (mine["level"], norm, mine[norm], other[norm]))
 
 
 if __name__ == "__main__":

@@ -26,9 +26,27 @@ def finish():
     sys.exit(1 if FAILURES else 0)
 
 
-def run_command(command, tail=4000):
+def write_faults(folder, control):
+    """The environment that preloads the write-fault shim (tests/support/
+    write_fault_shim.c) into a command: files under `folder` fail as the
+    `control` file says, while it exists. The shim's path comes from CTest
+    (CANOPY_WRITE_FAULT_SHIM); without it the test fails, it does not skip."""
+    shim = os.environ.get("CANOPY_WRITE_FAULT_SHIM", "")
+    if not os.path.isfile(shim):
+        raise SystemExit("FAILED: CANOPY_WRITE_FAULT_SHIM does not name the write-fault shim "
+                         "(%r); CTest sets it" % shim)
+    asan = os.environ.get("ASAN_OPTIONS", "")
+    return {"LD_PRELOAD": shim, "CANOPY_WRITE_FAULT_DIR": os.path.abspath(folder),
+            "CANOPY_WRITE_FAULT_CONTROL": os.path.abspath(control),
+            # In the sanitizer build the executable brings ASan's runtime; the
+            # shim (never sanitized) may come first.
+            "ASAN_OPTIONS": (asan + ":" if asan else "") + "verify_asan_link_order=0"}
+
+
+def run_command(command, tail=4000, extra_env=None):
     """Runs the command (OpenMPI allowed as root); returns (exit code, stdout+stderr)."""
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    env.update(extra_env or {})
     result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                             env=env)
     print(result.stdout[-tail:])

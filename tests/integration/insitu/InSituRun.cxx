@@ -17,8 +17,12 @@
 //   --rename-field OLD=NEW   (the simulation calls field OLD by the name NEW)
 //   --time-limit SECONDS     (InSituOptions::stepTimeLimitSeconds)
 //   --expected PATH          (where rank 0 writes the totals; OUTPUT/expected.json)
-//   --fill-disk-step S       (before step S, rank 0 fills the output's filesystem up
-//                             to --leave-free BYTES (8192); it frees it after step S)
+//   --fill-disk-step S       (for step S, the output's disk looks full: --leave-free
+//                             BYTES (8192) free, then ENOSPC; through the write-fault
+//                             shim the checker preloads, tests/support/write_fault_shim.c)
+//   --write-fault-step S --write-fault "ERRNO BYTES"  (for step S, writes under the
+//                             output fail with ERRNO after BYTES per rank, the free
+//                             space looking ample: errors in the middle of writing)
 //   --obstruct-step S --obstruct NAME  (before step S, a folder NAME in the output
 //                             directory stands where a pipeline writes a file)
 #include "DescriptorForest.h"
@@ -32,7 +36,6 @@
 #include <sys/resource.h>
 
 #include <sys/stat.h>
-#include <sys/statvfs.h>
 
 #include <algorithm>
 #include <cmath>
@@ -71,8 +74,9 @@ struct Arguments
   std::map<std::string, std::string> renamedFields;
   double timeLimit = 0.0;
   std::string expected;
-  int fillDiskStep = -1;
+  int writeFaultStep = -1;
   long long leaveFree = 8192;
+  std::string writeFault = "ENOSPC 8192 statvfs"; ///< the shim's control line for that step
   int obstructStep = -1;
   std::string obstruct;
 };
@@ -129,9 +133,19 @@ Arguments parse(int argc, char** argv)
     else if (key == "--expected")
       a.expected = value();
     else if (key == "--fill-disk-step")
-      a.fillDiskStep = std::stoi(value());
+    {
+      a.writeFaultStep = std::stoi(value());
+      a.writeFault = "ENOSPC " + std::to_string(a.leaveFree) + " statvfs";
+    }
     else if (key == "--leave-free")
+    {
       a.leaveFree = std::stoll(value());
+      a.writeFault = "ENOSPC " + std::to_string(a.leaveFree) + " statvfs";
+    }
+    else if (key == "--write-fault-step")
+      a.writeFaultStep = std::stoi(value());
+    else if (key == "--write-fault")
+      a.writeFault = value();
     else if (key == "--obstruct-step")
       a.obstructStep = std::stoi(value());
     else if (key == "--obstruct")
@@ -406,29 +420,21 @@ private:
   canopy::ForestDescription Description;
 };
 
-/// Fills the filesystem of `directory` with a file until `leave` bytes are free
-/// (as far as the filesystem's blocks allow); returns the file's path.
-std::string fillDisk(const std::string& directory, long long leave)
+/// Makes writes under the output fail for one step: writes the write-fault
+/// shim's control file (tests/support/write_fault_shim.c, preloaded by the
+/// checker) with `control` ("ENOSPC 8192 statvfs": a disk with 8192 bytes
+/// free; "EIO 3000": writes fail after 3000 bytes); returns its path, to remove
+/// after the step.
+std::string startWriteFaults(const std::string& control)
 {
-  const std::string path = directory + "/filler.bin";
-  std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (file == nullptr)
-    throw std::runtime_error("cannot create " + path);
-  const std::vector<char> block(4096, 0);
-  for (;;)
-  {
-    struct statvfs disk;
-    if (statvfs(directory.c_str(), &disk) != 0)
-      break;
-    const long long available = static_cast<long long>(disk.f_bavail) * disk.f_frsize;
-    if (available <= leave)
-      break;
-    const auto chunk = static_cast<std::size_t>(
-        std::min<long long>(static_cast<long long>(block.size()), available - leave));
-    if (std::fwrite(block.data(), 1, chunk, file) != chunk || std::fflush(file) != 0)
-      break;
-  }
-  std::fclose(file);
+  const char* path = std::getenv("CANOPY_WRITE_FAULT_CONTROL");
+  if (path == nullptr || std::getenv("LD_PRELOAD") == nullptr)
+    throw std::runtime_error("--fill-disk-step and --write-fault-step need the write-fault "
+                             "shim preloaded (LD_PRELOAD) and CANOPY_WRITE_FAULT_CONTROL set");
+  std::ofstream out(path);
+  out << control << "\n";
+  if (!out.flush())
+    throw std::runtime_error(std::string("cannot write ") + path);
   return path;
 }
 
@@ -572,10 +578,10 @@ int main(int argc, char** argv)
         local->trees[0].numberOfNodes -= 1;
       }
       std::string filler;
-      if (step == args.fillDiskStep)
+      if (step == args.writeFaultStep)
       {
         if (rank == 0)
-          filler = fillDisk(args.output, args.leaveFree);
+          filler = startWriteFaults(args.writeFault);
         MPI_Barrier(MPI_COMM_WORLD);
       }
       if (step == args.obstructStep)
@@ -587,6 +593,8 @@ int main(int argc, char** argv)
       const auto report = insitu->execute(step, time, *local);
       if (!filler.empty())
         std::remove(filler.c_str());
+      if (step == args.writeFaultStep)
+        MPI_Barrier(MPI_COMM_WORLD); // the disk has space again on every rank's next step
       if (rank == 0)
       {
         // One write per report: the checker reads stdout and ParaView's stderr

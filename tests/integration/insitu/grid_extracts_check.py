@@ -12,9 +12,9 @@ usage: python3 grid_extracts_check.py CHECK OUTPUT_DIR [ARGUMENT] -- COMMAND...
                             --value-field=refinementLevel --value-range=4,5 (format both):
                             selection.vtkhdf (h5py) and selection.pvd (pvpython) hold the
                             forest with exactly the brute-force selection left unmasked
-  disk_full SIZE            OUTPUT_DIR/tmpfs is a tmpfs of SIZE (mounted here when
-                            possible, else the test is skipped): steps that do not
-                            fit fail, the file keeps the others
+  disk_full BYTES           OUTPUT_DIR/small_disk holds BYTES per rank (the write-fault
+                            shim, tests/support/write_fault_shim.c): steps that do
+                            not fit fail, the file keeps the others
   write_fails STEP          writes fail from STEP on (a file-size limit): same
   unwritable                the file's folder cannot be created: every step fails
 COMMAND writes into OUTPUT_DIR, with --forest-json. Debian's /usr/bin/python3 (h5py).
@@ -27,10 +27,9 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
 from grid_extract_expectations import failed_steps, load_forests, selected_by_level  # noqa: E402
-from output_checks import expect, finish, run_command  # noqa: E402
+from output_checks import expect, finish, run_command, write_faults  # noqa: E402
 from vtkhdf_check import verify  # noqa: E402
 
-SKIP = 77  # the tests' SKIP_RETURN_CODE
 
 
 def steps_run(log):
@@ -107,7 +106,7 @@ def check_failed_from(code, log, output, first_failure, message):
            "every rank skipped step %d (reports from ranks %s)" % (first_failure, sorted(reported)))
     expect(steps_run(log) == steps, "the simulation went on to its last step")
     kept = [forest for forest in forests if forest["step"] < first_failure]
-    path = os.path.join(output, "tmpfs", "grid.vtkhdf")
+    path = os.path.join(output, "small_disk", "grid.vtkhdf")
     if not os.path.exists(path):
         path = os.path.join(output, "grid.vtkhdf")
     verify(path, kept, expect)
@@ -119,7 +118,7 @@ def check_disk_full(code, log, output, _):
     expect(bool(failed) and failed[0] > 0, "some steps were written before the disk was full, "
            "then steps failed (%s)" % failed)
     check_failed_from(code, log, output, failed[0] if failed else -1,
-                      r"rank 0: not enough free space in .*tmpfs")
+                      r"rank 0: not enough free space in .*small_disk")
 
 
 def check_write_fails(code, log, output, step):
@@ -137,14 +136,6 @@ def check_unwritable(code, log, output, _):
                is not None, "step %d: reported with rank, step and file" % step)
 
 
-def mount_tmpfs(directory, size):
-    """Mounts a tmpfs of `size` at `directory`; returns why not, or None."""
-    os.makedirs(directory, exist_ok=True)
-    result = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=" + size, "tmpfs", directory],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    return None if result.returncode == 0 else result.stdout.strip() or "mount failed"
-
-
 def main():
     check, output = sys.argv[1], sys.argv[2]
     if check == "paraview511_render":
@@ -153,27 +144,22 @@ def main():
     separator = sys.argv.index("--")
     argument = sys.argv[3] if separator > 3 else None
     command = sys.argv[separator + 1:]
-    tmpfs = os.path.join(output, "tmpfs")
-    if os.path.ismount(tmpfs):
-        subprocess.run(["umount", tmpfs])
     shutil.rmtree(output, ignore_errors=True)
     os.makedirs(output)
-    mounted = False
+    faults = None
     if check == "disk_full":
-        problem = mount_tmpfs(tmpfs, argument)
-        if problem:
-            print("SKIPPED: cannot mount a %s tmpfs to fill (%s); run as root or with "
-                  "CAP_SYS_ADMIN to test a full disk" % (argument, problem))
-            sys.exit(SKIP)
-        mounted = True
-    try:
-        code, log = run_command(command, tail=6000)
-        with open(os.path.join(output, "run.log"), "w") as out:
-            out.write(log)
-        globals()["check_" + check](code, log, output, argument)
-    finally:
-        if mounted:
-            subprocess.run(["umount", tmpfs])
+        # A disk of `argument` bytes under output/small_disk for the whole run
+        # (each rank's process counts its own writes): the write-fault shim.
+        disk = os.path.join(output, "small_disk")
+        os.makedirs(disk)
+        control = output + ".fault"
+        with open(control, "w") as out:
+            out.write("ENOSPC %d statvfs\n" % int(argument))
+        faults = write_faults(disk, control)
+    code, log = run_command(command, tail=6000, extra_env=faults)
+    with open(os.path.join(output, "run.log"), "w") as out:
+        out.write(log)
+    globals()["check_" + check](code, log, output, argument)
     finish()
 
 

@@ -13,7 +13,6 @@ import json
 import os
 import re
 import shutil
-import subprocess
 import sys
 
 import numpy
@@ -21,43 +20,21 @@ import numpy
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
 from output_checks import (cell_array, expect, finish, read_htg_pieces,  # noqa: E402
                            read_multiblock, read_png, read_polydata, read_unstructured,
-                           run_command, vtkhdf_cells_per_step)
+                           run_command, vtkhdf_cells_per_step, write_faults)
 
 
-SKIP = 77  # CTest's SKIP_RETURN_CODE for these tests
 
-
-def run(command, tmpfs=None):
-    """Runs the command in a fresh OUTPUT (with `tmpfs`, e.g. "200k": a tmpfs of
-    that size mounted there for the run, so the disk can be filled)."""
-    if tmpfs and os.path.ismount(OUTPUT):
-        subprocess.run(["umount", OUTPUT])  # left by a run that crashed
+def run(command, faults=False):
+    """Runs the command in a fresh OUTPUT; with `faults`, the write-fault shim
+    preloaded for OUTPUT (InSituRun's --fill-disk-step writes its control file,
+    OUTPUT + ".fault")."""
     shutil.rmtree(OUTPUT, ignore_errors=True)
     os.makedirs(OUTPUT, exist_ok=True)
-    log_path = os.path.join(OUTPUT, "run.log")
-    if tmpfs:
-        try:
-            mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=" + tmpfs, "tmpfs",
-                                      OUTPUT], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                     text=True)
-            why = mounted.stdout.strip() or "mount failed" if mounted.returncode != 0 else ""
-        except OSError as error:
-            why = str(error)
-        if why:
-            print("SKIPPED: cannot mount a %s tmpfs at %s to fill it: %s" % (tmpfs, OUTPUT, why))
-            sys.exit(SKIP)
-        log_path = OUTPUT + ".log"
-    try:
-        code, log = run_command(command)
-    finally:
-        if tmpfs:
-            snapshot = OUTPUT + ".files"  # what the run left, for the checks
-            shutil.rmtree(snapshot, ignore_errors=True)
-            shutil.copytree(OUTPUT, snapshot, symlinks=True)
-            subprocess.run(["umount", OUTPUT])
-            shutil.rmtree(OUTPUT, ignore_errors=True)
-            os.rename(snapshot, OUTPUT)
-    with open(log_path, "w") as out:
+    control = OUTPUT + ".fault"
+    if os.path.exists(control):
+        os.remove(control)
+    code, log = run_command(command, extra_env=write_faults(OUTPUT, control) if faults else None)
+    with open(os.path.join(OUTPUT, "run.log"), "w") as out:
         out.write(log)
     return code, log
 
@@ -637,7 +614,7 @@ def step_files(step):
 
 
 def check_full_disk(code, log):
-    """Output on a 512 KiB tmpfs, filled before step 2 of 4 so that the step's
+    """The output's disk full for step 2 of 4 (the write-fault shim) so that the step's
     extracts (grid, surface, selection) do not fit: step 2 is reported failed,
     saying so, for both scripts; it leaves no file at all (not even a partial
     one); steps 0 and 1 are intact; nothing crashes (VTK 9.2's polydata and
@@ -665,7 +642,40 @@ def check_full_disk(code, log):
                % (step, nodes, surface, selected))
 
 
-check_full_disk.tmpfs = "512k"
+check_full_disk.faults = True
+
+
+def check_write_errors(code, log):
+    """Every write under the output fails with EIO at step 2 of 4 (the
+    write-fault shim; free space looks ample, so the step goes ahead):
+    both scripts' step 2 is reported failed, nothing of step 2 is left (no
+    partial image or piece), the .pvd lists the other steps, the run goes on
+    and steps 0, 1 and 3 are whole."""
+    totals = read_expected("write_errors.expected.json")
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect("Segmentation fault" not in log and "SIGSEGV" not in log, "no crash")
+    if totals is None:
+        expect(False, "the simulation wrote its totals")
+        return
+    for script in ("surface_image.py", "data_extracts.py"):
+        expect(re.search(r"failure: rank \d, step 2: the script '.*%s'" % script, log)
+               is not None, "step 2 of %s is reported failed" % script)
+    expect(steps_ran(log) == [0, 1, 3], "steps 0, 1 and 3 ran, step 2 failed (%s)"
+           % steps_ran(log))
+    expect(step_files(2) == [], "nothing of step 2 is left (%s)" % step_files(2))
+    kept = [step for step in range(4) if step != 2]
+    with open(path("grid.pvd")) as series:
+        listed = re.findall(r'file="(grid_\d{6}\.vtm)"', series.read())
+    expect(listed == ["grid_%06d.vtm" % step for step in kept],
+           "grid.pvd lists steps 0, 1 and 3: %s" % listed)
+    for step in kept:
+        nodes = sum(g.GetNumberOfCells() for g in htg_pieces("grid", step))
+        expect(nodes == totals[step]["nodes"] and
+               covered_pixels(image("surface_%06d.png" % step)) > 1000,
+               "step %d's image and grid are whole: %d nodes" % (step, nodes))
+
+
+check_write_errors.faults = True
 
 
 def check_writer_error(code, log):
@@ -792,6 +802,6 @@ if __name__ == "__main__":
     COMMAND = sys.argv[separator + 1:]
     RANKS = int(COMMAND[COMMAND.index("-np") + 1]) if "-np" in COMMAND else 1
     check = globals()["check_" + CHECK]
-    exit_code, output = run(COMMAND, getattr(check, "tmpfs", None))
+    exit_code, output = run(COMMAND, getattr(check, "faults", False))
     check(exit_code, output)
     finish()
