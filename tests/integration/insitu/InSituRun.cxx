@@ -439,7 +439,12 @@ std::string startWriteFaults(const std::string& control)
 }
 
 /// Brute-force totals of the whole forest (rank 0 writes them for the checkers).
-std::string totalsJson(const canopy::ForestDescription& f, int step, double time)
+/// `owners`: the rank of each tree (by position in f.trees) when ranks own whole
+/// trees, else empty; then rank_boundary_faces counts, besides the domain's
+/// boundary, each leaf face against a tree of another rank: every rank's
+/// full-resolution 3D surface draws the boundary of its own part.
+std::string totalsJson(const canopy::ForestDescription& f, int step, double time,
+                       const std::vector<int>& owners)
 {
   std::int64_t leaves = 0;
   std::int64_t nodesTotal = 0;
@@ -449,8 +454,13 @@ std::string totalsJson(const canopy::ForestDescription& f, int step, double time
   const std::size_t points[3] = {f.rootGrid.pointsX, f.rootGrid.pointsY, f.rootGrid.pointsZ};
   for (int a = 0; a < 3; ++a)
     rootCells[a] = points[a] > 1 ? static_cast<std::int64_t>(points[a]) - 1 : 1;
-  for (const auto& tree : f.trees)
+  std::map<std::int64_t, std::size_t> treeAt; // root index -> position in f.trees
+  for (std::size_t t = 0; t < f.trees.size(); ++t)
+    treeAt[f.trees[t].rootIndex] = t;
+  std::int64_t facesBetweenRanks = 0;
+  for (std::size_t t = 0; t < f.trees.size(); ++t)
   {
+    const auto& tree = f.trees[t];
     const auto nodes = walkTree(f, tree, tree.masked);
     nodesTotal += static_cast<std::int64_t>(nodes.size());
     const std::int64_t root[3] = {tree.rootIndex % rootCells[0],
@@ -469,6 +479,20 @@ std::string totalsJson(const canopy::ForestDescription& f, int step, double time
         {
           const std::int64_t g = root[a] * scale + nodes[n].position[a];
           boundaryFaces += (g == 0) + (g == rootCells[a] * scale - 1);
+          for (int side : {-1, 1})
+          {
+            const bool onTreeFace =
+                side < 0 ? nodes[n].position[a] == 0 : nodes[n].position[a] == scale - 1;
+            const std::int64_t across = root[a] + side;
+            if (owners.empty() || !onTreeFace || across < 0 || across >= rootCells[a])
+              continue;
+            std::int64_t neighbour[3] = {root[0], root[1], root[2]};
+            neighbour[a] = across;
+            const auto found = treeAt.find(neighbour[0] + rootCells[0] * neighbour[1] +
+                                           rootCells[0] * rootCells[1] * neighbour[2]);
+            if (found == treeAt.end() || owners[found->second] != owners[t])
+              ++facesBetweenRanks;
+          }
         }
       }
     }
@@ -476,7 +500,10 @@ std::string totalsJson(const canopy::ForestDescription& f, int step, double time
   std::ostringstream json;
   json << "{\"step\": " << step << ", \"time\": " << time << ", \"leaves\": " << leaves
        << ", \"nodes\": " << nodesTotal << ", \"trees\": " << f.trees.size()
-       << ", \"boundary_faces\": " << boundaryFaces << ", \"leaves_by_level\": {";
+       << ", \"boundary_faces\": " << boundaryFaces;
+  if (!owners.empty())
+    json << ", \"rank_boundary_faces\": " << boundaryFaces + facesBetweenRanks;
+  json << ", \"leaves_by_level\": {";
   bool first = true;
   for (const auto& [level, count] : byLevel)
   {
@@ -519,7 +546,18 @@ int main(int argc, char** argv)
       auto state = makeState(args.forestCase, step);
       const auto& whole = state->forest();
       if (rank == 0)
-        expected << (step ? ",\n" : "") << totalsJson(whole, step, time);
+      {
+        // Who owns each tree when ranks own whole trees (as below), for the
+        // exact count of each rank's surface.
+        std::vector<int> treeOwners;
+        const int owning = args.emptyRank >= 0 && size > 1 ? size - 1 : size;
+        for (std::size_t t = 0; args.distribute != "split" && t < whole.trees.size(); ++t)
+        {
+          const int me = static_cast<int>(t % static_cast<std::size_t>(owning));
+          treeOwners.push_back(args.emptyRank >= 0 && me >= args.emptyRank ? me + 1 : me);
+        }
+        expected << (step ? ",\n" : "") << totalsJson(whole, step, time, treeOwners);
+      }
 
       if (rank == 0 && args.forestJson)
       {
