@@ -202,16 +202,22 @@ bool ViewVolume::overlapsBox(const Vec3& lo, const Vec3& hi) const
     }
     else
     {
-      // A cone from the camera (the anchor) along the four corner rays.
+      // A cone from the camera (the anchor) along the four corner rays. Neither
+      // the axes nor the rays are unit vectors: a ray lying in a side plane
+      // projects to rounding relative to both lengths (1.6e-15 at a 120 degree
+      // view), which an absolute threshold took for a ray leaving the plane, so
+      // that plane never separated anything (found by fuzz.filters_differential,
+      // corpus_filters/known_wide_view_culling_excess).
       viewMin = viewMax = 0;
       for (const Vec3& r : Corners)
       {
         const double v = dot(a, r);
-        if (v > 1e-15)
+        const double rounding = 1e-12 * std::sqrt(dot(a, a) * dot(r, r));
+        if (v > rounding)
         {
           viewMax = infinity;
         }
-        if (v < -1e-15)
+        if (v < -rounding)
         {
           viewMin = -infinity;
         }

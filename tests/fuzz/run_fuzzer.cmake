@@ -1,4 +1,4 @@
-# cmake -DFUZZER=<canopy_forest_fuzzer> -DWORK=<scratch dir> -DCORPUS=<seed corpus>
+# cmake -DFUZZER=<canopy_*_fuzzer> -DWORK=<scratch dir> -DCORPUS=<seed corpus>
 #       -DRUNS=<inputs> -DSEED=<seed> -P run_fuzzer.cmake
 # Runs the fuzzer for RUNS inputs from SEED, starting from CORPUS. New inputs go to
 # WORK/new (never into the committed corpus); a crashing input to WORK/crash-*.
@@ -12,5 +12,5 @@ if(NOT _result EQUAL 0)
   file(GLOB _artifacts "${WORK}/crash-*" "${WORK}/leak-*" "${WORK}/timeout-*" "${WORK}/oom-*")
   message(FATAL_ERROR "fuzz: the fuzzer found a problem (exit ${_result}); the input: "
     "${_artifacts}. Reproduce with ${FUZZER} <input>; once fixed, add the input to "
-    "tests/fuzz/corpus as regression_<what>.")
+    "${CORPUS} as regression_<what>.")
 endif()
