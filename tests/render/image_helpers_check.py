@@ -21,38 +21,19 @@ os.makedirs(output, exist_ok=True)
 
 import canopy_catalyst as canopy  # noqa: E402
 from paraview import simple  # noqa: E402
-from paraview.vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
-from paraview.vtk.vtkIOImage import vtkPNGReader  # noqa: E402
-
-failures = []
-
-
-def check(condition, message):
-    print(("ok:     " if condition else "FAILED: ") + message)
-    if not condition:
-        failures.append(message)
-
-
-def read(path):
-    reader = vtkPNGReader()
-    reader.SetFileName(path)
-    reader.Update()
-    image = reader.GetOutput()
-    width, height, _ = image.GetDimensions()
-    # Row 0 is the image's bottom (VTK's origin), as the grid's y.
-    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(height, width, -1)[:, :, :3]
-
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from output_checks import expect, finish, read_png  # noqa: E402
 
 # ---- legend ends ----
-check(canopy.zero_to_rounding(1.2e-21, 1.0) == (0.0, 1.0), "1.2e-21 next to 1 is 0")
-check(canopy.zero_to_rounding(-3e-19, 2.5) == (0.0, 2.5), "-3e-19 next to 2.5 is 0")
-check(canopy.zero_to_rounding(1e-3, 1.0) == (1e-3, 1.0), "1e-3 next to 1 is kept")
-check(canopy.zero_to_rounding(1e-21, 2e-21) == (1e-21, 2e-21), "a range of tiny values is kept")
+expect(canopy.zero_to_rounding(1.2e-21, 1.0) == (0.0, 1.0), "1.2e-21 next to 1 is 0")
+expect(canopy.zero_to_rounding(-3e-19, 2.5) == (0.0, 2.5), "-3e-19 next to 2.5 is 0")
+expect(canopy.zero_to_rounding(1e-3, 1.0) == (1e-3, 1.0), "1e-3 next to 1 is kept")
+expect(canopy.zero_to_rounding(1e-21, 2e-21) == (1e-21, 2e-21), "a range of tiny values is kept")
 for low, high in ((0.0, 1.0), (1.2341, 1.2343), (0.0, 0.99), (-5e4, 3e5), (1e-6, 3e-6)):
     form = canopy.label_format(low, high)
-    check(form % low != form % high, "%s tells %r and %r apart: %s, %s"
+    expect(form % low != form % high, "%s tells %r and %r apart: %s, %s"
           % (form, low, high, form % low, form % high))
-check(canopy.label_format(0.0, 1.0) % 0.0 == "0", "0 prints as 0")
+expect(canopy.label_format(0.0, 1.0) % 0.0 == "0", "0 prints as 0")
 
 # ---- mesh lines ----
 canopy.load_canopy_plugin()
@@ -97,7 +78,7 @@ def dark_shares(name, with_overlay):
     simple.SaveScreenshot(path, view, ImageResolution=[size, size])
     for source, shown_display in shown:
         simple.Hide(source, view)
-    image = read(path).astype(int)
+    image = read_png(path).astype(int)  # row 0 is the bottom (VTK's origin), as y
     dark = (image < 128).all(axis=2)
     half, margin = size // 2, 8
     fine = dark[margin:half - margin, margin:half - margin].mean()
@@ -109,14 +90,11 @@ def dark_shares(name, with_overlay):
 
 fine, coarse, boundary = dark_shares("edges_overlay", True)
 every_fine, _, _ = dark_shares("edges_every_cell", False)
-check(every_fine > 0.5, "every cell's edges paint the refined root dark: %.0f%% of its pixels"
+expect(every_fine > 0.5, "every cell's edges paint the refined root dark: %.0f%% of its pixels"
       % (100 * every_fine))
-check(fine < 0.3, "the overlay leaves the refined root its colour: %.0f%% dark" % (100 * fine))
-check(fine > coarse, "the refined root shows more lines (%.1f%% dark) than a coarse one (%.1f%%)"
+expect(fine < 0.3, "the overlay leaves the refined root its colour: %.0f%% dark" % (100 * fine))
+expect(fine > coarse, "the refined root shows more lines (%.1f%% dark) than a coarse one (%.1f%%)"
       % (100 * fine, 100 * coarse))
-check(boundary > 0.95, "the edge between two coarse roots is drawn along %.0f%% of its length"
+expect(boundary > 0.95, "the edge between two coarse roots is drawn along %.0f%% of its length"
       % (100 * boundary))
-if failures:
-    print("%d check(s) failed" % len(failures))
-    sys.exit(1)
-print("all checks passed")
+finish(exit_on_success=False)

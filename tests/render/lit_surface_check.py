@@ -17,27 +17,10 @@ os.makedirs(output, exist_ok=True)
 
 import canopy_catalyst as canopy  # noqa: E402
 from paraview.simple import Box, ColorBy, Elevation, Render, SaveScreenshot, Show  # noqa: E402
-from paraview.vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
-from paraview.vtk.vtkIOImage import vtkPNGReader  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from output_checks import expect, finish, read_png  # noqa: E402
 
 FLOOR = 0.45  # the darkest a face may get, times its colour (docs/insitu.md)
-failures = []
-
-
-def check(condition, message):
-    print(("ok:     " if condition else "FAILED: ") + message)
-    if not condition:
-        failures.append(message)
-
-
-def read(path):
-    reader = vtkPNGReader()
-    reader.SetFileName(path)
-    reader.Update()
-    image = reader.GetOutput()
-    width, height, _ = image.GetDimensions()
-    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(height, width, -1)[:, :, :3]
-
 
 settings = canopy.Settings(canopy.COMMON_DEFAULTS, image_size="320x320")
 view = canopy.render_view(settings)
@@ -58,16 +41,14 @@ for k, position in enumerate([(3, 2, 4), (-3, 1, 2), (1, -4, 0.5), (0.2, 0.3, 5)
         Render(view)
         path = os.path.join(output, "box_%d_%s.png" % (k, name))
         SaveScreenshot(path, view, ImageResolution=[320, 320])
-        images[name] = read(path).astype(int)
+        images[name] = read_png(path).astype(int)
     lit, unlit = images["lit"], images["unlit"]
     covered = (unlit != 255).any(axis=2)
     low = FLOOR * unlit - 2
     inside = ((lit >= low) & (lit <= unlit + 2)).all(axis=2)
-    check(covered.sum() > 5000, "view %d: the box covers %d pixels" % (k, covered.sum()))
-    check(bool(inside[covered].all()), "view %d: every face keeps between %.2f and 1 times its "
+    expect(covered.sum() > 5000, "view %d: the box covers %d pixels" % (k, covered.sum()))
+    expect(bool(inside[covered].all()), "view %d: every face keeps between %.2f and 1 times its "
           "colour (%d pixels outside)" % (k, FLOOR, int((~inside & covered).sum())))
     darker += int((lit[covered].sum(axis=1) < 0.95 * unlit[covered].sum(axis=1)).sum())
-check(darker > 1000, "the headlight shades faces turned from it (%d darker pixels)" % darker)
-if failures:
-    print("%d check(s) failed" % len(failures))
-    sys.exit(1)
+expect(darker > 1000, "the headlight shades faces turned from it (%d darker pixels)" % darker)
+finish(exit_on_success=False)
