@@ -1044,16 +1044,10 @@ void checkVoxelBoundary(const GridTruth& g, const Voxels& voxels, const std::vec
     }
     areaBudget[q.axis] += ulps * perimeter;
     volumeBudget[q.axis] += ulps * (q.area + std::abs(x) * perimeter);
-    Point centre{{0, 0, 0}};
-    for (const Point& p : q.p)
-      for (int a = 0; a < 3; ++a)
-        centre[a] += p[a] / 4;
-    Point inside = centre;
-    Point outside = centre;
-    inside[q.axis] -= q.sign * eps;
-    outside[q.axis] += q.sign * eps;
-    const bool behind = voxels.occupiedAt(inside);
-    const bool front = voxels.occupiedAt(outside);
+    const QuadSides sides = sidesOf(voxels, q, eps);
+    const Point& centre = sides.centre;
+    const bool behind = sides.behind;
+    const bool front = sides.front;
     if (!behind || front)
     {
       const NodeTruth& n = g.at(cells[i].id);
@@ -1109,20 +1103,11 @@ void checkQuadOnItsNode(const GridTruth& g, const SurfaceCell& cell, const Quad&
   }
 }
 
-using QuadKey = std::array<long long, 12>;
-
+/// Relative to the domain, so that grids far from the origin keep their digits.
 QuadKey quadKey(const GridTruth& g, const std::vector<Point>& points)
 {
-  std::array<std::array<long long, 3>, 4> corners;
-  for (int k = 0; k < 4; ++k)
-    for (int a = 0; a < 3; ++a)
-      corners[k][a] = std::llround((points[k][a] - g.bounds[2 * a]) / g.extent * 1e9);
-  std::sort(corners.begin(), corners.end());
-  QuadKey key;
-  for (int k = 0; k < 4; ++k)
-    for (int a = 0; a < 3; ++a)
-      key[3 * k + a] = corners[k][a];
-  return key;
+  return ::canopy::testing::quadKey(points, Point{{g.bounds[0], g.bounds[2], g.bounds[4]}},
+                                    g.extent);
 }
 
 /// The nodes containing a point, from its root down (for messages).

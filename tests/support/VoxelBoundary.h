@@ -200,6 +200,51 @@ inline std::vector<Quad> quadsOf(vtkPolyData* surface)
   return quads;
 }
 
+/// A quad's identity whatever the order of its corners: the corners, measured
+/// from `origin` in `unit`s and rounded to 1e-9 of one, sorted.
+using QuadKey = std::array<long long, 12>;
+
+template <typename Corners>
+QuadKey quadKey(const Corners& corners, const Point& origin = Point{{0, 0, 0}}, double unit = 1)
+{
+  std::array<std::array<long long, 3>, 4> rounded;
+  for (int k = 0; k < 4; ++k)
+    for (int a = 0; a < 3; ++a)
+      rounded[k][a] = std::llround((corners[k][a] - origin[a]) / unit * 1e9);
+  std::sort(rounded.begin(), rounded.end());
+  QuadKey key;
+  for (int k = 0; k < 4; ++k)
+    for (int a = 0; a < 3; ++a)
+      key[3 * k + a] = rounded[k][a];
+  return key;
+}
+
+/// What the voxels hold on either side of a quad, at its centre: `behind` (against
+/// its normal) and `front`, each `eps` away (well below the smallest voxel). A
+/// boundary quad facing outward has the solid behind it and nothing in front.
+struct QuadSides
+{
+  Point centre;
+  bool behind = false;
+  bool front = false;
+};
+
+inline QuadSides sidesOf(const Voxels& voxels, const Quad& q, double eps)
+{
+  QuadSides s;
+  s.centre = Point{{0, 0, 0}};
+  for (const Point& p : q.p)
+    for (int a = 0; a < 3; ++a)
+      s.centre[a] += p[a] / 4;
+  Point inside = s.centre;
+  Point outside = s.centre;
+  inside[q.axis] -= q.sign * eps;
+  outside[q.axis] += q.sign * eps;
+  s.behind = voxels.occupiedAt(inside);
+  s.front = voxels.occupiedAt(outside);
+  return s;
+}
+
 /// Checks quads against the voxelization of a grid's visible leaves: the
 /// boundary of their union, each piece once, facing outward. Returns the
 /// number of quads.
@@ -217,15 +262,8 @@ inline std::size_t expectExactBoundary(const Voxels& voxels, const std::vector<Q
   {
     area[q.axis] += q.area;
     volume[q.axis] += q.sign * q.p[0][q.axis] * q.area;
-    Point centre{{0, 0, 0}};
-    for (const Point& p : q.p)
-      for (int a = 0; a < 3; ++a)
-        centre[a] += p[a] / 4;
-    Point inside = centre;
-    Point outside = centre;
-    inside[q.axis] -= q.sign * eps;
-    outside[q.axis] += q.sign * eps;
-    misplaced += !(voxels.occupiedAt(inside) && !voxels.occupiedAt(outside));
+    const QuadSides sides = sidesOf(voxels, q, eps);
+    misplaced += !(sides.behind && !sides.front);
   }
   EXPECT_EQ(misplaced, 0) << label << ": quads not on the boundary or facing inward";
   for (int a = 0; a < 3; ++a)

@@ -79,20 +79,9 @@ TEST(AdaptiveSurface3D, RandomForestsFullSurfaceIsExactlyTheBoundary)
   }
 }
 
-using QuadKey = std::array<long long, 12>;
-
 QuadKey quadKey(const Quad& q)
 {
-  std::array<std::array<long long, 3>, 4> corners;
-  for (int k = 0; k < 4; ++k)
-    for (int a = 0; a < 3; ++a)
-      corners[k][a] = std::llround(q.p[k][a] * 1e9);
-  std::sort(corners.begin(), corners.end());
-  QuadKey key;
-  for (int k = 0; k < 4; ++k)
-    for (int a = 0; a < 3; ++a)
-      key[3 * k + a] = corners[k][a];
-  return key;
+  return ::canopy::testing::quadKey(q.p);
 }
 
 std::set<QuadKey> quadKeys(vtkPolyData* surface)
