@@ -204,6 +204,16 @@ def check_selection_points_case_a(code, log):
            "as VTK_QUAD cells")
     ids = sorted(cell_array(selection, "OriginalCellId").tolist())
     expect(len(set(ids)) == 3, "three distinct original cells %s" % ids)
+    # Which cells: each point inside the domain lies in exactly one of them (closed
+    # bounds; none of the points is on a leaf's edge), and each of them holds a point.
+    points = [(0.1, 0.1), (2.2, 1.6), (3.0, 3.0)]
+    bounds = [selection.GetCell(c).GetBounds() for c in range(selection.GetNumberOfCells())]
+    holds = [[b[0] <= x <= b[1] and b[2] <= y <= b[3] for x, y in points] for b in bounds]
+    for p, (x, y) in enumerate(points):
+        containing = [c for c in range(len(bounds)) if holds[c][p]]
+        expect(len(containing) == 1, "(%g, %g) lies in exactly one selected cell (%d)"
+               % (x, y, len(containing)))
+    expect(all(any(row) for row in holds), "every selected cell holds one of the points")
 
 
 def check_selection_ids_case_a(code, log):
