@@ -14,8 +14,12 @@ namespace
 
 int childrenPerNode(const ForestDescription& f)
 {
-  return f.dimension == 2 ? f.branchFactor * f.branchFactor
-                          : f.branchFactor * f.branchFactor * f.branchFactor;
+  int children = 1;
+  for (int axis = 0; axis < f.dimension; ++axis)
+  {
+    children *= f.branchFactor;
+  }
+  return children;
 }
 
 /// Component c of tuple i of a field, as double (exact for the types used in tests).

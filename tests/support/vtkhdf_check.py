@@ -38,6 +38,10 @@ def verify(path, forests, expect):
         dims = [len(axis) for axis in first["coordinates"]]
         expect(list(root.attrs["Dimensions"]) == dims, "Dimensions %s" % list(root.attrs["Dimensions"]))
         expect(int(root.attrs["BranchFactor"]) == first["branch_factor"], "BranchFactor")
+        # The forests number their roots i fastest, then j, then k: VTK's indexing unless
+        # the file says it is transposed.
+        transposed = root.attrs.get("TransposedRootIndexing", 0)
+        expect(not int(transposed), "TransposedRootIndexing absent or false (%r)" % transposed)
         missing = [name for name in REQUIRED_DATASETS if name not in root]
         expect(not missing, "every required dataset is there (missing: %s)" % missing)
         expect("PointData" not in root, "no PointData (hypertree grids have cell data only)")
@@ -57,19 +61,26 @@ def verify(path, forests, expect):
             components = shape[1] if len(shape) > 1 else 1
             expect(components == field["components"], "%s has %d components" % (name, components))
             expect(name in steps["CellDataOffsets"], "Steps/CellDataOffsets/%s" % name)
+        ends = {}
         for k, forest in enumerate(forests):
-            verify_step(root, steps, k, forest, expect)
-        # Nothing beyond the last step: a failed step leaves no row behind.
+            for name, end in verify_step(root, steps, k, forest, expect).items():
+                ends[name] = max(ends.get(name, 0), end)
+        # Nothing beyond the last step: a failed step leaves no row behind. Every
+        # dataset is as long as the steps' offsets and sizes say (a step may reuse
+        # an earlier step's rows, so the longest reach counts, not the last step's).
         last = len(forests) - 1
         parts = int(steps["PartOffsets"][last] + steps["NumberOfParts"][last])
         cells = int(steps["CellDataOffsets"][sorted(fields)[0]][last]) + total_cells(forests[-1])
+        longer = sorted("%s has %d rows, not %d" % (name, root[name].shape[0], end)
+                        for name, end in ends.items() if root[name].shape[0] != end)
         expect(root["NumberOfTrees"].shape[0] == parts and
                all(steps[name].shape[0] == len(forests) for name in REQUIRED_STEPS) and
-               all(root["CellData"][name].shape[0] == cells for name in arrays),
-               "no rows beyond the last step (%d pieces, %d cells)" % (parts, cells))
+               all(root["CellData"][name].shape[0] == cells for name in arrays) and not longer,
+               "no rows beyond the last step (%d pieces, %d cells) %s" % (parts, cells, longer))
 
 
 def verify_step(root, steps, k, forest, expect):
+    """Checks step k; returns where its rows end in each dataset of /VTKHDF."""
     children = children_per_node(forest)
     ranks = forest["ranks"]
     label = "step %d" % forest["step"]
@@ -132,6 +143,12 @@ def verify_step(root, steps, k, forest, expect):
         depth_at += n_depths
         descriptor_at += (n_bits + 7) // 8
         mask_at += (n_cells + 7) // 8
+    ends = {"TreeIds": tree_at, "DepthPerTree": tree_at, "NumberOfCellsPerTreeDepth": depth_at,
+            "Descriptors": descriptor_at, "Mask": mask_at}
+    for axis, name in enumerate("XYZ"):
+        ends[name + "Coordinates"] = coordinate_at[axis] + ranks * len(forest["coordinates"][axis])
+    for name in ["NumberOfTrees", "NumberOfCells", "NumberOfDepths", "DescriptorsSize"]:
+        ends[name] = part + ranks
     expect(not problems, "%s: every piece's trees, depths, descriptors, mask and coordinates "
            "match the forest %s" % (label, problems[:4]))
     expect(sorted(seen_roots) == sorted(tree["root"] for tree in forest["trees"]) and
@@ -149,3 +166,4 @@ def verify_step(root, steps, k, forest, expect):
                              % (name, sample["root"], sample["node"], got, want))
     expect(not wrong, "%s: %d sampled cells hold the simulation's values %s"
            % (label, len(forest["samples"]), wrong[:3]))
+    return ends
