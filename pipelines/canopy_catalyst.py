@@ -147,12 +147,19 @@ def set_trigger(extractor, values):
         extractor.Trigger.StartTimeStep = int(values.start)
 
 
+FAIL_SAFE_EXTRACT_WRITERS = {"VTP": "CanopyVTP", "VTU": "CanopyVTU"}
+
+
 def data_extractor(writer, source, name, file_name, values):
     """A data extractor ('VTU', 'VTP', 'HTG') writing `file_name` (a parallel
     file: .pvtu/.pvtp/.phtg listing one piece per rank in a folder of the same
     name) every `frequency` steps. Pieces are written inline (base64): VTK 9.2's
-    appended mode writes files its own reader rejects."""
+    appended mode writes files its own reader rejects. 'VTP' and 'VTU' use the
+    plugin's CanopyVTP/CanopyVTU: ParaView's own crash the simulation when a write
+    fails in the middle of a piece (vtkCanopyXMLPPolyDataWriter.h); needs
+    load_canopy_plugin first."""
     from paraview.simple import CreateExtractor
+    writer = FAIL_SAFE_EXTRACT_WRITERS.get(writer, writer)
     extractor = CreateExtractor(writer, source, registrationName=name)
     extractor.Writer.FileName = file_name
     if "DataMode" in extractor.Writer.ListProperties():

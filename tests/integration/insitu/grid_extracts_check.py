@@ -17,6 +17,11 @@ usage: python3 grid_extracts_check.py CHECK OUTPUT_DIR [ARGUMENT] -- COMMAND...
                             not fit fail, the file keeps the others
   write_fails STEP          writes fail from STEP on (a file-size limit): same
   unwritable                the file's folder cannot be created: every step fails
+  eio_bounded STEP          every write fails with EIO from STEP on (the write-fault
+                            shim; COMMAND has --write-fault-step STEP and a step
+                            time limit): HDF5 1.10 hangs (docs/testing.md); the limit
+                            ends the job, naming the step; the file keeps the
+                            steps before
 COMMAND writes into OUTPUT_DIR, with --forest-json. Debian's /usr/bin/python3 (h5py).
 """
 import os
@@ -136,6 +141,19 @@ def check_unwritable(code, log, output, _):
                is not None, "step %d: reported with rank, step and file" % step)
 
 
+def check_eio_bounded(code, log, output, step):
+    step = int(step)
+    expect(code == 124, "the step time limit ends the job instead of a hang (exit code %d, "
+           "124 expected)" % code)
+    expect(re.search(r"rank \d, step %d: .*the script '.*data_extracts.py'.* Ending the job"
+                     % step, log) is not None, "the stuck step and script are named")
+    expect(steps_run(log) == list(range(step)), "steps before %d ran (%s)"
+           % (step, steps_run(log)))
+    forests = [forest for forest in load_forests(output) if forest["step"] < step]
+    expect(len(forests) == step, "the simulation described steps 0-%d (%d)" % (step - 1, len(forests)))
+    verify(os.path.join(output, "grid.vtkhdf"), forests, expect)
+
+
 def main():
     check, output = sys.argv[1], sys.argv[2]
     if check == "paraview511_render":
@@ -156,6 +174,12 @@ def main():
         with open(control, "w") as out:
             out.write("ENOSPC %d statvfs\n" % int(argument))
         faults = write_faults(disk, control)
+    if check == "eio_bounded":
+        # InSituRun writes the control file at its --write-fault-step.
+        control = output + ".fault"
+        if os.path.exists(control):
+            os.remove(control)
+        faults = write_faults(output, control)
     code, log = run_command(command, tail=6000, extra_env=faults)
     with open(os.path.join(output, "run.log"), "w") as out:
         out.write(log)

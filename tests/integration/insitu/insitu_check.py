@@ -693,6 +693,37 @@ def check_write_errors(code, log):
 check_write_errors.faults = True
 
 
+def check_write_errors_mid_piece(code, log):
+    """Writes under the output fail with EIO after 30 KB at step 2 of 4: the
+    surface (.pvtp) and selection (.pvtu) pieces fail in the middle (VTK 9.2's
+    own piece writers then free arrays they never allocated and the simulation
+    dies): both scripts' step 2 is reported failed, nothing of it is left, and
+    steps 0, 1 and 3 are whole."""
+    totals = read_expected("write_errors_mid_piece.expected.json")
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(not re.search(r"munmap_chunk|SIGABRT|SIGSEGV|Segmentation fault", log), "no crash")
+    if totals is None:
+        expect(False, "the simulation wrote its totals")
+        return
+    for script in ("surface_image.py", "selection_extract.py"):
+        expect(re.search(r"failure: rank \d, step 2: the script '.*%s'" % script, log)
+               is not None, "step 2 of %s is reported failed" % script)
+    expect(steps_ran(log) == [0, 1, 3], "steps 0, 1 and 3 ran, step 2 failed (%s)"
+           % steps_ran(log))
+    expect(step_files(2) == [], "nothing of step 2 is left (%s)" % step_files(2))
+    for step in (0, 1, 3):
+        want = sum(totals[step]["leaves_by_level"].get(str(level), 0) for level in (1, 2))
+        selected = unstructured("selection_%06d.pvtu" % step).GetNumberOfCells()
+        quads = polydata("surface_%06d.pvtp" % step).GetNumberOfCells()
+        expect(selected == want and quads > 0 and
+               covered_pixels(image("surface_%06d.png" % step)) > 1000,
+               "step %d's extracts are whole: %d selected (%d leaves at depth 1-2), %d quads"
+               % (step, selected, want, quads))
+
+
+check_write_errors_mid_piece.faults = True
+
+
 def check_writer_error(code, log):
     """A folder stands where step 1's selection summary (.pvtu) goes: the writer's
     error marks the selection's step failed with VTK's message; the pieces it

@@ -1,0 +1,34 @@
+/**
+ * @class vtkCanopyXMLPPolyDataWriter
+ * @brief vtkXMLPPolyDataWriter (.pvtp and a .vtp piece per rank) whose pieces
+ * survive a failed write: the step's error is reported, the simulation goes on.
+ *
+ * VTK 9.2's piece writer frees arrays it never allocated when a write fails in
+ * the middle of a piece (see FailSafeXmlPieceWriters.h); this writer gives every
+ * piece to a writer that does not. Everything else is vtkXMLPPolyDataWriter's.
+ * The shipped pipelines use it through the "CanopyVTP" extractor
+ * (adaptor/plugin/CanopyWriters.xml).
+ */
+#pragma once
+
+#include "CanopyIOModule.h" // for export macro
+
+#include <vtkXMLPPolyDataWriter.h>
+
+class CANOPYIO_EXPORT vtkCanopyXMLPPolyDataWriter : public vtkXMLPPolyDataWriter
+{
+public:
+  static vtkCanopyXMLPPolyDataWriter* New();
+  vtkTypeMacro(vtkCanopyXMLPPolyDataWriter, vtkXMLPPolyDataWriter);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+protected:
+  vtkCanopyXMLPPolyDataWriter() = default;
+  ~vtkCanopyXMLPPolyDataWriter() override = default;
+
+  vtkXMLUnstructuredDataWriter* CreateUnstructuredPieceWriter() override;
+
+private:
+  vtkCanopyXMLPPolyDataWriter(const vtkCanopyXMLPPolyDataWriter&) = delete;
+  void operator=(const vtkCanopyXMLPPolyDataWriter&) = delete;
+};
