@@ -94,6 +94,8 @@ output = arguments[1]
 reference = arguments[2] if len(arguments) > 2 else None
 shutil.rmtree(output, ignore_errors=True)
 status, log = run_command(sys.argv[separator + 1:])
+if status != 0 or re.search(r"WARN|ERR|Warning|Error", log):
+    print(log)  # what went wrong, for whoever reads the test's output
 expect(status == 0, "the simulation exits with 0 (got %d)" % status)
 expect(not re.search(r"WARN|ERR|Warning|Error", log), "no warning or error in the output")
 
