@@ -7,7 +7,8 @@
 // pointers and the simulation dies (munmap_chunk(): invalid pointer). These
 // subclasses free the arrays only when AllocatePositionArrays() made them, so a
 // failed piece is an error the pipeline reports, not a crash. Checked by
-// insitu.fault.write_errors (EIO in the middle of the surface and selection pieces).
+// insitu.fault.write_errors_mid_piece (EIO in the middle of the surface and
+// selection pieces).
 #pragma once
 
 #include <vtkXMLPolyDataWriter.h>
