@@ -660,24 +660,36 @@ def check_full_disk(code, log):
 check_full_disk.faults = True
 
 
+def expect_step_2_failed_alone(code, log, totals_name, scripts):
+    """What every write-fault run at step 2 of 4 must show: the simulation
+    survives without a crash, step 2 of each script is reported failed, steps 0,
+    1 and 3 ran and nothing of step 2 is left. Returns the simulation's totals
+    (None, failed, if it did not write them)."""
+    totals = read_expected(totals_name)
+    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
+    expect(not re.search(r"munmap_chunk|SIGABRT|SIGSEGV|Segmentation fault", log), "no crash")
+    if totals is None:
+        expect(False, "the simulation wrote its totals")
+        return None
+    for script in scripts:
+        expect(re.search(r"failure: rank \d, step 2: the script '.*%s'" % script, log)
+               is not None, "step 2 of %s is reported failed" % script)
+    expect(steps_ran(log) == [0, 1, 3], "steps 0, 1 and 3 ran, step 2 failed (%s)"
+           % steps_ran(log))
+    expect(step_files(2) == [], "nothing of step 2 is left (%s)" % step_files(2))
+    return totals
+
+
 def check_write_errors(code, log):
     """Every write under the output fails with EIO at step 2 of 4 (the
     write-fault shim; free space looks ample, so the step goes ahead):
     both scripts' step 2 is reported failed, nothing of step 2 is left (no
     partial image or piece), the .pvd lists the other steps, the run goes on
     and steps 0, 1 and 3 are whole."""
-    totals = read_expected("write_errors.expected.json")
-    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
-    expect("Segmentation fault" not in log and "SIGSEGV" not in log, "no crash")
+    totals = expect_step_2_failed_alone(code, log, "write_errors.expected.json",
+                                        ("surface_image.py", "data_extracts.py"))
     if totals is None:
-        expect(False, "the simulation wrote its totals")
         return
-    for script in ("surface_image.py", "data_extracts.py"):
-        expect(re.search(r"failure: rank \d, step 2: the script '.*%s'" % script, log)
-               is not None, "step 2 of %s is reported failed" % script)
-    expect(steps_ran(log) == [0, 1, 3], "steps 0, 1 and 3 ran, step 2 failed (%s)"
-           % steps_ran(log))
-    expect(step_files(2) == [], "nothing of step 2 is left (%s)" % step_files(2))
     kept = [step for step in range(4) if step != 2]
     with open(path("grid.pvd")) as series:
         listed = re.findall(r'file="(grid_\d{6}\.vtm)"', series.read())
@@ -699,18 +711,10 @@ def check_write_errors_mid_piece(code, log):
     own piece writers then free arrays they never allocated and the simulation
     dies): both scripts' step 2 is reported failed, nothing of it is left, and
     steps 0, 1 and 3 are whole."""
-    totals = read_expected("write_errors_mid_piece.expected.json")
-    expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
-    expect(not re.search(r"munmap_chunk|SIGABRT|SIGSEGV|Segmentation fault", log), "no crash")
+    totals = expect_step_2_failed_alone(code, log, "write_errors_mid_piece.expected.json",
+                                        ("surface_image.py", "selection_extract.py"))
     if totals is None:
-        expect(False, "the simulation wrote its totals")
         return
-    for script in ("surface_image.py", "selection_extract.py"):
-        expect(re.search(r"failure: rank \d, step 2: the script '.*%s'" % script, log)
-               is not None, "step 2 of %s is reported failed" % script)
-    expect(steps_ran(log) == [0, 1, 3], "steps 0, 1 and 3 ran, step 2 failed (%s)"
-           % steps_ran(log))
-    expect(step_files(2) == [], "nothing of step 2 is left (%s)" % step_files(2))
     for step in (0, 1, 3):
         want = sum(totals[step]["leaves_by_level"].get(str(level), 0) for level in (1, 2))
         selected = unstructured("selection_%06d.pvtu" % step).GetNumberOfCells()
