@@ -180,7 +180,7 @@ TEST(AbsentPartsValidation, ArraysHoldExactlyThePresentNodesAndLeaves)
 {
   RandomForest whole(splitOptions(2));
   RankPart part(whole.description(), 1, 3, false);
-  const ForestLayout layout = validateForest(part.description);
+  const ForestCounts layout = validateForest(part.description);
   EXPECT_TRUE(layout.anyAbsent);
   EXPECT_EQ(layout.totalPresentNodes, part.nodeValues.size());
   EXPECT_EQ(layout.totalPresentLeaves, part.leafValues.size());

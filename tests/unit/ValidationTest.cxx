@@ -2,6 +2,7 @@
 // that names the tree or field and the problem.
 #include "PaperCaseDefinitions.h"
 
+#include "ForestLayout.h" // layoutForest: the internal layout these tests check
 #include "canopy/HtgBuilder.h"
 
 #include <gtest/gtest.h>
@@ -56,7 +57,7 @@ protected:
 TEST_F(Validation, TheUnmodifiedForestIsValid)
 {
   EXPECT_NO_THROW(validateForest(d()));
-  const ForestLayout layout = validateForest(d());
+  const ForestLayout layout = layoutForest(d());
   EXPECT_EQ(layout.totalNodes, 98u);
   EXPECT_EQ(layout.totalLeaves, 75u);
   EXPECT_EQ(layout.numberOfRootCells, 6u);
@@ -91,7 +92,7 @@ TEST(LineForestValidation, ALineOfRootsAlongAnyAxisAndNothingElse)
     forest.rootGrid = {coords[0], coords[1], coords[2], counts[0], counts[1], counts[2]};
     forest.trees.push_back({0, refined.data(), refined.size(), nullptr, nullptr});
     forest.trees.push_back({2, leaf.data(), leaf.size(), nullptr, nullptr});
-    const ForestLayout layout = validateForest(forest);
+    const ForestLayout layout = layoutForest(forest);
     EXPECT_EQ(layout.totalNodes, 6u) << "axis " << axis;
     EXPECT_EQ(layout.totalLeaves, 4u) << "axis " << axis;
     EXPECT_EQ(layout.numberOfRootCells, 3u) << "axis " << axis;

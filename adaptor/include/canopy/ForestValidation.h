@@ -29,46 +29,25 @@ private:
   std::vector<std::string> Problems;
 };
 
-/// Shape of one validated tree.
-struct TreeLayout
+/// What a valid description holds, for sizing the simulation's arrays and for
+/// information. (The builder's own per-tree layout is internal: ForestLayout.h.)
+struct ForestCounts
 {
-  std::size_t numberOfNodes = 0;  ///< every described node, absent ones included
-  std::size_t numberOfLeaves = 0; ///< every described leaf, absent ones included
-  /// Nodes and leaves that are not absent: what the simulation's arrays hold.
-  std::size_t numberOfPresentNodes = 0;
-  std::size_t numberOfPresentLeaves = 0;
-  /// Nodes above the deepest level: the bits VTK's breadth-first descriptor needs.
-  std::size_t descriptorBits = 0;
-  int levels = 0;
-  /// First storage slot when slots are implicit (present nodes breadth-first, trees
-  /// back to back).
-  std::size_t firstSlot = 0;
-  /// First cell (VTK global index) of the tree when cells are numbered breadth-first
-  /// over every described node (forests with absent nodes).
-  std::size_t firstCell = 0;
-};
-
-/// Shape of a validated forest.
-struct ForestLayout
-{
-  std::vector<TreeLayout> trees; ///< same order as ForestDescription::trees
-  std::size_t totalNodes = 0;    ///< cells of the grid: every described node
-  std::size_t totalLeaves = 0;
+  std::size_t totalNodes = 0;         ///< cells of the grid: every described node
+  std::size_t totalLeaves = 0;        ///< every described leaf, absent ones included
   std::size_t totalPresentNodes = 0;  ///< tuples an every-node field holds
   std::size_t totalPresentLeaves = 0; ///< tuples a leaves-only field holds
-  std::size_t totalDescriptorBits = 0;
-  bool explicitSlots = false;
-  bool anyMask = false;
-  bool anyAbsent = false;
-  std::array<std::size_t, 3> rootCells{{0, 0, 0}}; ///< root cells per axis (1 on a flat axis)
-  std::size_t numberOfRootCells = 0;
+  std::size_t numberOfRootCells = 0;  ///< root cells of the root grid
+  bool anyMask = false;               ///< some tree has a mask
+  bool anyAbsent = false;             ///< some node is absent (another rank's part)
 };
 
 /// Validates the whole description; throws InvalidForest listing the problems.
 /// Checks run in stages (forest parameters, root grid, trees, fields); every
 /// problem of the first failing stage is listed. Cost: one pass over the
-/// refinement bytes (and over the slot maps, if given).
-ForestLayout validateForest(const ForestDescription& forest);
+/// refinement bytes (and over the slot maps, if given). The description is
+/// only read; nothing is kept.
+ForestCounts validateForest(const ForestDescription& forest);
 
 /// The deepest trees Canopy builds and its filters walk, as a number of levels (the
 /// root level included): integer node positions must fit in 64 bits with room to

@@ -2,7 +2,6 @@
 
 #include "GridAssembly.h"
 #include "ValidatedTrees.h"
-#include "canopy/ForestValidation.h"
 
 #include <vtkHyperTreeGrid.h>
 
@@ -126,7 +125,7 @@ vtkSmartPointer<vtkHyperTreeGrid> GridBuilder::build(const ForestDescription& fo
     known.unchanged[t] = keys[t].sameShape(s.trees[t]);
     known.sameSlots = known.sameSlots && keys[t].slots == s.trees[t].slots;
   }
-  const ForestLayout layout = validateForest(forest, &known);
+  const ForestLayout layout = layoutForest(forest, &known);
   const auto fields = assembly::selectFields(forest, request);
   const RootGrid& g = forest.rootGrid;
   bool sameShape = s.grid && s.dimension == forest.dimension &&

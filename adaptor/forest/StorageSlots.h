@@ -3,7 +3,7 @@
 #pragma once
 
 #include "canopy/ForestDescription.h"
-#include "canopy/ForestValidation.h"
+#include "ForestLayout.h"
 
 #include <cstddef>
 

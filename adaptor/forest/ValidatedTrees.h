@@ -4,7 +4,7 @@
 // validated, so their per-node checks need not run again.
 #pragma once
 
-#include "canopy/ForestValidation.h"
+#include "ForestLayout.h"
 
 #include <algorithm>
 #include <vector>
@@ -29,9 +29,8 @@ struct ValidatedTrees
   }
 };
 
-/// validateForest, taking the trees `known` marks unchanged as valid (their
-/// shape from the earlier layout); everything else is checked as usual. With
-/// every tree's shape and slots unchanged, the permutation check is skipped too.
-ForestLayout validateForest(const ForestDescription& forest, const ValidatedTrees* known);
+// layoutForest (ForestLayout.h) takes the trees `known` marks unchanged as valid
+// (their shape from the earlier layout); everything else is checked as usual.
+// With every tree's shape and slots unchanged, the permutation check is skipped too.
 
 } // namespace canopy

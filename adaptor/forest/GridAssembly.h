@@ -1,13 +1,13 @@
 // The steps that turn a validated forest description into a vtkHyperTreeGrid,
 // shared by the one-shot build (buildHyperTreeGrid) and the step-to-step builder
 // that rebuilds only what changed (GridBuilder). Every function takes the
-// layout validateForest just computed for the same description.
+// layout layoutForest just computed for the same description.
 #pragma once
 
 #include "CellSlots.h"
 #include "LeafRestriction.h"
 #include "canopy/ForestDescription.h"
-#include "canopy/ForestValidation.h"
+#include "ForestLayout.h"
 #include "canopy/HtgBuilder.h"
 
 #include <vtkSmartPointer.h>

@@ -12,7 +12,7 @@ vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& fo
 {
   // Always from the layout of the description as it is now: a stored layout that
   // no longer matches the trees would be read out of bounds.
-  const ForestLayout layout = validateForest(forest);
+  const ForestLayout layout = layoutForest(forest);
   const auto fields = assembly::selectFields(forest, request);
   vtkSmartPointer<vtkHyperTreeGrid> htg = assembly::newGrid(forest);
   assembly::buildTrees(htg, forest, layout, std::vector<bool>(forest.trees.size(), true));

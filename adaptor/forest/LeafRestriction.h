@@ -11,7 +11,7 @@
 
 #include "CellSlots.h"
 #include "canopy/ForestDescription.h"
-#include "canopy/ForestValidation.h"
+#include "ForestLayout.h"
 
 #include <cstdint>
 #include <memory>

@@ -1,3 +1,4 @@
+#include "ForestLayout.h"
 #include "canopy/ForestValidation.h"
 
 #include "StorageSlots.h"
@@ -477,12 +478,21 @@ InvalidForest::InvalidForest(std::vector<std::string> problems)
 {
 }
 
-ForestLayout validateForest(const ForestDescription& forest)
+ForestCounts validateForest(const ForestDescription& forest)
 {
-  return validateForest(forest, nullptr);
+  const ForestLayout layout = layoutForest(forest);
+  ForestCounts counts;
+  counts.totalNodes = layout.totalNodes;
+  counts.totalLeaves = layout.totalLeaves;
+  counts.totalPresentNodes = layout.totalPresentNodes;
+  counts.totalPresentLeaves = layout.totalPresentLeaves;
+  counts.numberOfRootCells = layout.numberOfRootCells;
+  counts.anyMask = layout.anyMask;
+  counts.anyAbsent = layout.anyAbsent;
+  return counts;
 }
 
-ForestLayout validateForest(const ForestDescription& forest, const ValidatedTrees* known)
+ForestLayout layoutForest(const ForestDescription& forest, const ValidatedTrees* known)
 {
   ProblemList problems;
   ForestLayout layout;

@@ -13,7 +13,7 @@
 #include "FreshMemory.h"
 #include "StorageSlots.h"
 #include "canopy/ForestDescription.h"
-#include "canopy/ForestValidation.h"
+#include "ForestLayout.h"
 
 #include <cstdint>
 #include <memory>
