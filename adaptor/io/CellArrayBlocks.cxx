@@ -154,18 +154,4 @@ void CellArrayBlocks::forEach(const Sink& sink) const
   }
 }
 
-bool CellArrayBlocks::zeroCopy() const
-{
-  if (this->Runs.size() > 1)
-  {
-    return false;
-  }
-  switch (this->Array->GetDataType())
-  {
-    vtkTemplateMacro(return vtkAOSDataArrayTemplate<VTK_TT>::FastDownCast(this->Array) != nullptr);
-  default:
-    return false;
-  }
-}
-
 } // namespace canopy::io

@@ -32,9 +32,6 @@ public:
   /// Calls `sink` for consecutive blocks until every run was handed over.
   void forEach(const Sink& sink) const;
 
-  /// True when forEach hands over the array's own memory.
-  bool zeroCopy() const;
-
 private:
   vtkDataArray* Array;
   const std::vector<CellRun>& Runs;
