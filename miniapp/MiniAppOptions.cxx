@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -100,6 +101,22 @@ MovingObject parseObject(const std::string& text, int dimension)
   return object;
 }
 
+/// The options that only store one integer or one number: where each goes.
+const std::map<std::string, int MiniAppOptions::*> integerOptions = {
+    {"--dimension", &MiniAppOptions::dimension},
+    {"--branch-factor", &MiniAppOptions::branchFactor},
+    {"--max-level", &MiniAppOptions::maxLevel},
+    {"--regrid-every", &MiniAppOptions::regridEvery},
+    {"--image-every", &MiniAppOptions::imageEvery},
+    {"--selection-every", &MiniAppOptions::selectionEvery},
+    {"--extract-every", &MiniAppOptions::extractEvery}};
+const std::map<std::string, double MiniAppOptions::*> numberOptions = {
+    {"--cfl", &MiniAppOptions::cfl},
+    {"--diffusion", &MiniAppOptions::diffusion},
+    {"--refine-gradient", &MiniAppOptions::refineGradient},
+    {"--coarsen-gradient", &MiniAppOptions::coarsenGradient},
+    {"--repartition-imbalance", &MiniAppOptions::repartitionImbalance}};
+
 } // namespace
 
 MiniAppOptions parseOptions(int argc, char** argv)
@@ -117,12 +134,14 @@ MiniAppOptions parseOptions(int argc, char** argv)
         throw std::invalid_argument(key + " needs a value");
       return argv[++i];
     };
+    const auto integerOption = integerOptions.find(key);
+    const auto numberOption = numberOptions.find(key);
     if (key == "--help" || key == "-h")
       throw std::invalid_argument("");
-    else if (key == "--dimension")
-      o.dimension = integer(value(), key);
-    else if (key == "--branch-factor")
-      o.branchFactor = integer(value(), key);
+    else if (integerOption != integerOptions.end())
+      o.*(integerOption->second) = integer(value(), key);
+    else if (numberOption != numberOptions.end())
+      o.*(numberOption->second) = single(value(), key);
     else if (key == "--roots")
     {
       const auto v = numbers(value(), key);
@@ -137,8 +156,6 @@ MiniAppOptions parseOptions(int argc, char** argv)
         o.roots = {{static_cast<int>(v[0]), static_cast<int>(v[1]),
                     static_cast<int>(v.size() == 3 ? v[2] : 1)}};
     }
-    else if (key == "--max-level")
-      o.maxLevel = integer(value(), key);
     else if (key == "--steps")
     {
       o.steps = integer(value(), key);
@@ -150,10 +167,6 @@ MiniAppOptions parseOptions(int argc, char** argv)
       if (!(o.endTime > 0))
         throw std::invalid_argument("--end-time must be > 0");
     }
-    else if (key == "--cfl")
-      o.cfl = single(value(), key);
-    else if (key == "--diffusion")
-      o.diffusion = single(value(), key);
     else if (key == "--velocity")
     {
       o.velocity = value();
@@ -168,14 +181,6 @@ MiniAppOptions parseOptions(int argc, char** argv)
       else if (o.velocity != "swirl")
         throw std::invalid_argument("--velocity swirl or uniform:vx,vy[,vz]");
     }
-    else if (key == "--refine-gradient")
-      o.refineGradient = single(value(), key);
-    else if (key == "--coarsen-gradient")
-      o.coarsenGradient = single(value(), key);
-    else if (key == "--regrid-every")
-      o.regridEvery = integer(value(), key);
-    else if (key == "--repartition-imbalance")
-      o.repartitionImbalance = single(value(), key);
     else if (key == "--exact-solution")
     {
       o.exactSolution = value();
@@ -199,12 +204,6 @@ MiniAppOptions parseOptions(int argc, char** argv)
       o.noInSitu = true;
     else if (key == "--output")
       o.output = value();
-    else if (key == "--image-every")
-      o.imageEvery = integer(value(), key);
-    else if (key == "--selection-every")
-      o.selectionEvery = integer(value(), key);
-    else if (key == "--extract-every")
-      o.extractEvery = integer(value(), key);
     else if (key == "--quiet")
       o.quiet = true;
     else if (key == "--verify-untouched")

@@ -47,11 +47,7 @@ Simulation::Simulation(const MiniAppOptions& options, MPI_Comm communicator)
   for (std::size_t t = 0; t < trees; ++t)
     Owner[t] = static_cast<int>(t * static_cast<std::size_t>(Size) / trees);
   afterTopologyChange();
-  for (auto tree : OwnTrees)
-    for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
-      if (node.firstChild < 0)
-        Scalar[static_cast<std::size_t>(LeafOffset[static_cast<std::size_t>(tree)] + node.leaf)] =
-            initialCellValue(node.key);
+  sampleInitialValues();
   for (int level = 0; level < Options.maxLevel; ++level)
     regrid(true, false);
   repartitionIfImbalanced(true);
@@ -81,25 +77,26 @@ double Simulation::initialCellValue(const NodeKey& key) const
   return initialValue(Forest.cellCenter(key));
 }
 
+void Simulation::sampleInitialValues()
+{
+  forEachOwnLeaf([this](const Tree::Node& node, std::size_t index)
+                 { Scalar[index] = initialCellValue(node.key); });
+}
+
 Simulation::ExactErrors Simulation::errorsAgainstExact() const
 {
   if (!Exact)
     throw std::logic_error("errorsAgainstExact needs --exact-solution");
   ExactErrors local;
-  for (auto tree : OwnTrees)
-  {
-    const auto offset = LeafOffset[static_cast<std::size_t>(tree)];
-    for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
-    {
-      if (node.firstChild >= 0)
-        continue;
-      const double exact =
-          Exact->cellAverage(Forest.cellLow(node.key), cellSizes(node.key.level), Time);
-      const double error = std::abs(Scalar[static_cast<std::size_t>(offset + node.leaf)] - exact);
-      local.l1 += error * Forest.cellVolume(node.key.level);
-      local.max = std::max(local.max, error);
-    }
-  }
+  forEachOwnLeaf(
+      [&](const Tree::Node& node, std::size_t index)
+      {
+        const double exact =
+            Exact->cellAverage(Forest.cellLow(node.key), cellSizes(node.key.level), Time);
+        const double error = std::abs(Scalar[index] - exact);
+        local.l1 += error * Forest.cellVolume(node.key.level);
+        local.max = std::max(local.max, error);
+      });
   ExactErrors global;
   MPI_Allreduce(&local.l1, &global.l1, 1, MPI_DOUBLE, MPI_SUM, Communicator);
   MPI_Allreduce(&local.max, &global.max, 1, MPI_DOUBLE, MPI_MAX, Communicator);
@@ -165,41 +162,34 @@ void Simulation::advance()
   Halo.exchange(Communicator, Scalar);
   std::vector<double> next(Scalar.size());
   std::vector<AmrForest::FaceNeighbour> across;
-  for (auto tree : OwnTrees)
-  {
-    const auto& nodes = Forest.trees()[static_cast<std::size_t>(tree)].nodes;
-    const auto offset = LeafOffset[static_cast<std::size_t>(tree)];
-    for (const auto& node : nodes)
-    {
-      if (node.firstChild >= 0)
-        continue;
-      const auto index = static_cast<std::size_t>(offset + node.leaf);
-      const double u = Scalar[index];
-      double outflow = 0.0;
-      // Each leaf sums the fluxes through its own faces; both sides of a face
-      // compute it from the finer cell's geometry, so they agree to the last bit
-      // (conservation), and the result does not depend on the partition.
-      for (int axis = 0; axis < Options.dimension; ++axis)
-        for (int side = -1; side <= 1; side += 2)
-        {
-          Forest.faceNeighbours(node.key, axis, side, across);
-          for (const auto& neighbour : across)
+  forEachOwnLeaf(
+      [&](const Tree::Node& node, std::size_t index)
+      {
+        const double u = Scalar[index];
+        double outflow = 0.0;
+        // Each leaf sums the fluxes through its own faces; both sides of a face
+        // compute it from the finer cell's geometry, so they agree to the last bit
+        // (conservation), and the result does not depend on the partition.
+        for (int axis = 0; axis < Options.dimension; ++axis)
+          for (int side = -1; side <= 1; side += 2)
           {
-            const double v = valueAcross(neighbour);
-            const double normal = velocityAt(Forest.faceCenter(neighbour, axis))[axis] * side;
-            double flux = normal * (normal > 0 ? u : v) * neighbour.area;
-            if (Options.diffusion > 0)
+            Forest.faceNeighbours(node.key, axis, side, across);
+            for (const auto& neighbour : across)
             {
-              const double distance = 0.5 * (Forest.cellSize(axis, node.key.level) +
-                                             Forest.cellSize(axis, neighbour.node->key.level));
-              flux += -Options.diffusion * (v - u) / distance * neighbour.area;
+              const double v = valueAcross(neighbour);
+              const double normal = velocityAt(Forest.faceCenter(neighbour, axis))[axis] * side;
+              double flux = normal * (normal > 0 ? u : v) * neighbour.area;
+              if (Options.diffusion > 0)
+              {
+                const double distance = 0.5 * (Forest.cellSize(axis, node.key.level) +
+                                               Forest.cellSize(axis, neighbour.node->key.level));
+                flux += -Options.diffusion * (v - u) / distance * neighbour.area;
+              }
+              outflow += flux;
             }
-            outflow += flux;
           }
-        }
-      next[index] = u - Dt * outflow / Forest.cellVolume(node.key.level);
-    }
-  }
+        next[index] = u - Dt * outflow / Forest.cellVolume(node.key.level);
+      });
   Scalar.swap(next);
   Time += Dt;
   Step += 1;
@@ -220,42 +210,36 @@ std::vector<std::int8_t> Simulation::ownWishes(bool objectsOnly) const
 {
   std::vector<std::int8_t> wishes(Scalar.size(), 0);
   std::vector<AmrForest::FaceNeighbour> across;
-  for (auto tree : OwnTrees)
-  {
-    const auto offset = LeafOffset[static_cast<std::size_t>(tree)];
-    for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
-    {
-      if (node.firstChild >= 0)
-        continue;
-      const auto index = static_cast<std::size_t>(offset + node.leaf);
-      if (Exact)
+  forEachOwnLeaf(
+      [&](const Tree::Node& node, std::size_t index)
       {
-        // A uniform mesh at the finest level, whatever the profile looks like.
-        wishes[index] = node.key.level < Options.maxLevel ? 1 : 0;
-        continue;
-      }
-      auto low = Forest.cellLow(node.key);
-      auto high = low;
-      for (int a = 0; a < Options.dimension; ++a)
-        high[a] += Forest.cellSize(a, node.key.level);
-      if (Objects.surfaceCrosses(low, high, objectClock()))
-      {
-        wishes[index] = node.key.level < Options.maxLevel ? 1 : 0;
-        continue;
-      }
-      if (objectsOnly)
-        continue;
-      double jump = 0;
-      for (int axis = 0; axis < Options.dimension; ++axis)
-        for (int side = -1; side <= 1; side += 2)
+        if (Exact)
         {
-          Forest.faceNeighbours(node.key, axis, side, across);
-          for (const auto& neighbour : across)
-            jump = std::max(jump, std::abs(valueAcross(neighbour) - Scalar[index]));
+          // A uniform mesh at the finest level, whatever the profile looks like.
+          wishes[index] = node.key.level < Options.maxLevel ? 1 : 0;
+          return;
         }
-      wishes[index] = jump > Options.refineGradient ? 1 : jump < Options.coarsenGradient ? -1 : 0;
-    }
-  }
+        auto low = Forest.cellLow(node.key);
+        auto high = low;
+        for (int a = 0; a < Options.dimension; ++a)
+          high[a] += Forest.cellSize(a, node.key.level);
+        if (Objects.surfaceCrosses(low, high, objectClock()))
+        {
+          wishes[index] = node.key.level < Options.maxLevel ? 1 : 0;
+          return;
+        }
+        if (objectsOnly)
+          return;
+        double jump = 0;
+        for (int axis = 0; axis < Options.dimension; ++axis)
+          for (int side = -1; side <= 1; side += 2)
+          {
+            Forest.faceNeighbours(node.key, axis, side, across);
+            for (const auto& neighbour : across)
+              jump = std::max(jump, std::abs(valueAcross(neighbour) - Scalar[index]));
+          }
+        wishes[index] = jump > Options.refineGradient ? 1 : jump < Options.coarsenGradient ? -1 : 0;
+      });
   return wishes;
 }
 
@@ -319,13 +303,7 @@ bool Simulation::regrid(bool initial, bool objectsOnly)
   Scalar.swap(values);
   afterTopologyChange();
   if (initial)
-  {
-    for (auto tree : OwnTrees)
-      for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
-        if (node.firstChild < 0)
-          Scalar[static_cast<std::size_t>(LeafOffset[static_cast<std::size_t>(tree)] + node.leaf)] =
-              initialCellValue(node.key);
-  }
+    sampleInitialValues();
   return true;
 }
 
@@ -398,28 +376,22 @@ void Simulation::afterTopologyChange()
   RankField.assign(static_cast<std::size_t>(leaves), static_cast<double>(Rank));
   std::vector<HaloExchange::Remote> remote;
   std::vector<AmrForest::FaceNeighbour> across;
-  for (auto tree : OwnTrees)
-  {
-    const auto offset = LeafOffset[static_cast<std::size_t>(tree)];
-    for (const auto& node : trees[static_cast<std::size_t>(tree)].nodes)
-    {
-      if (node.firstChild >= 0)
-        continue;
-      const auto index = static_cast<std::size_t>(offset + node.leaf);
-      const auto v = velocityAt(Forest.cellCenter(node.key));
-      std::copy(v.begin(), v.end(), Velocity.begin() + static_cast<std::ptrdiff_t>(3 * index));
-      Level[index] = node.key.level;
-      for (int axis = 0; axis < Options.dimension; ++axis)
-        for (int side = -1; side <= 1; side += 2)
-        {
-          Forest.faceNeighbours(node.key, axis, side, across);
-          for (const auto& neighbour : across)
-            if (Owner[static_cast<std::size_t>(neighbour.leaf.tree)] != Rank)
-              remote.push_back({Owner[static_cast<std::size_t>(neighbour.leaf.tree)],
-                                neighbour.leaf.tree, neighbour.node->leaf});
-        }
-    }
-  }
+  forEachOwnLeaf(
+      [&](const Tree::Node& node, std::size_t index)
+      {
+        const auto v = velocityAt(Forest.cellCenter(node.key));
+        std::copy(v.begin(), v.end(), Velocity.begin() + static_cast<std::ptrdiff_t>(3 * index));
+        Level[index] = node.key.level;
+        for (int axis = 0; axis < Options.dimension; ++axis)
+          for (int side = -1; side <= 1; side += 2)
+          {
+            Forest.faceNeighbours(node.key, axis, side, across);
+            for (const auto& neighbour : across)
+              if (Owner[static_cast<std::size_t>(neighbour.leaf.tree)] != Rank)
+                remote.push_back({Owner[static_cast<std::size_t>(neighbour.leaf.tree)],
+                                  neighbour.leaf.tree, neighbour.node->leaf});
+          }
+      });
   Halo.plan(Communicator, remote,
             [this](std::int32_t tree, std::int32_t leaf) {
               return static_cast<std::size_t>(LeafOffset[static_cast<std::size_t>(tree)] + leaf);
@@ -429,14 +401,8 @@ void Simulation::afterTopologyChange()
 double Simulation::totalMass() const
 {
   double local = 0;
-  for (auto tree : OwnTrees)
-  {
-    const auto offset = LeafOffset[static_cast<std::size_t>(tree)];
-    for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
-      if (node.firstChild < 0)
-        local += Scalar[static_cast<std::size_t>(offset + node.leaf)] *
-                 Forest.cellVolume(node.key.level);
-  }
+  forEachOwnLeaf([&](const Tree::Node& node, std::size_t index)
+                 { local += Scalar[index] * Forest.cellVolume(node.key.level); });
   double total = 0;
   MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, Communicator);
   return total;
@@ -503,17 +469,14 @@ void Simulation::dump(const std::string& path) const
     throw std::runtime_error("cannot write " + path);
   // Five doubles per leaf: level, x, y, z, value.
   std::vector<double> mine;
-  for (auto tree : OwnTrees)
-  {
-    const auto offset = LeafOffset[static_cast<std::size_t>(tree)];
-    for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
-      if (node.firstChild < 0)
+  forEachOwnLeaf(
+      [&](const Tree::Node& node, std::size_t index)
+      {
         mine.insert(mine.end(),
                     {static_cast<double>(node.key.level), static_cast<double>(node.key.position[0]),
                      static_cast<double>(node.key.position[1]),
-                     static_cast<double>(node.key.position[2]),
-                     Scalar[static_cast<std::size_t>(offset + node.leaf)]});
-  }
+                     static_cast<double>(node.key.position[2]), Scalar[index]});
+      });
   int count = static_cast<int>(mine.size());
   std::vector<int> counts(static_cast<std::size_t>(Size)), offsets(static_cast<std::size_t>(Size));
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, Communicator);

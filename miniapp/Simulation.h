@@ -47,7 +47,6 @@ public:
   double imbalance() const;
   std::int64_t globalLeaves() const { return Forest.totalLeaves(); }
   std::int64_t globalNodes() const { return Forest.totalNodes(); }
-  std::int64_t localLeaves() const { return static_cast<std::int64_t>(Scalar.size()); }
   int repartitions() const { return Repartitions; }
 
   /// This rank's trees and leaves-only fields, borrowed: valid until advance().
@@ -77,6 +76,21 @@ public:
   double objectClock() const { return Step / 100.0; }
 
 private:
+  /// Calls f(node, index) for each leaf of this rank's trees, in storage order
+  /// (tree order, breadth-first): `index` is the leaf's place in the own-leaf arrays.
+  template <typename F>
+  void forEachOwnLeaf(F&& f) const
+  {
+    for (auto tree : OwnTrees)
+    {
+      const auto offset = LeafOffset[static_cast<std::size_t>(tree)];
+      for (const auto& node : Forest.trees()[static_cast<std::size_t>(tree)].nodes)
+        if (node.firstChild < 0)
+          f(node, static_cast<std::size_t>(offset + node.leaf));
+    }
+  }
+  /// Every own leaf's initial value (initialCellValue).
+  void sampleInitialValues();
   double valueAcross(const AmrForest::FaceNeighbour& neighbour) const;
   std::array<double, 3> velocityAt(const std::array<double, 3>& x) const;
   double initialValue(const std::array<double, 3>& x) const;

@@ -16,6 +16,11 @@ wraps them so that
   others leave partial files). ``discard_outputs`` removes what a failed step of
   a script wrote.
 
+It also keeps each script's arguments (``register_arguments``), which
+canopy_catalyst's settings() reads. canopy_catalyst imports this module, never
+the reverse; the reductions here run on Canopy's own communicator, through the
+C++ driver's agreement (``agree_before_extracts``), never on ParaView's.
+
 ``StepTimeLimitExceeded`` is what the driver's watchdog raises in a script that
 runs past the step time limit.
 """
@@ -30,11 +35,14 @@ _in_script = False  # the script's own code is running: the time limit may inter
 _extractors = {}  # script path -> the extractors its import created
 _outputs = {}  # script path -> (start of its last run, the files that run was to write)
 _measures = {}  # name -> this rank's value of what the running script measured (report_measure)
+_arguments = {}  # script path -> the arguments the simulation gave it (register_arguments)
 
 # Disk space the extracts of one rank may need at most: the data in memory
 # times 4/3 for base64 (compression only shrinks it) and a margin (an image:
 # its raw pixels and a margin), and per extract 16 KiB for the XML around the
-# data, the summary file and the filesystem's blocks.
+# data, the summary file and the filesystem's blocks. Python checks once, for
+# every extract (_refuse_unless_fits); the VTKHDF writer checks its own file again
+# in C++ (adaptor/io/VtkHdfWriter.cxx, freeSpaceProblem), from its exact size.
 DATA_FACTOR = 1.5
 IMAGE_FACTOR = 1.1
 PER_EXTRACT_BYTES = 16 * 1024
@@ -94,6 +102,17 @@ def _guarded(call):
     return guarded
 
 
+def register_arguments(path, arguments):
+    """The arguments the simulation gave the script at `path` (the C++ driver
+    registers them at open through canopy_catalyst._register_arguments)."""
+    _arguments[os.path.abspath(path)] = list(arguments)
+
+
+def script_arguments(path):
+    """The arguments registered for the script at `path` ([] if none)."""
+    return _arguments.get(os.path.abspath(path), [])
+
+
 def guard_catalyst_calls():
     from paraview.catalyst import detail, v2_internals
     if getattr(v2_internals.do_catalyst_execute, "_canopy_guarded", False):
@@ -150,8 +169,13 @@ def _due_outputs(script, directory, step, step_time):
             source = writer.Input
             source.UpdatePipeline(step_time)  # as the writer will (the result is kept)
             kib = source.GetDataInformation().GetMemorySize()
-            needed += DATA_FACTOR * 1024 * kib + PER_EXTRACT_BYTES
+            needed += _written_bytes(1024 * kib) + PER_EXTRACT_BYTES
     return paths, needed
+
+
+def _written_bytes(memory_bytes):
+    """The disk space data of `memory_bytes` in memory may take once written."""
+    return DATA_FACTOR * memory_bytes
 
 
 def _free_bytes(directory):
@@ -192,26 +216,29 @@ def _before_extracts(execute):
         if failed:
             raise RuntimeError("catalyst_execute failed on another rank; no rank writes the "
                                "step's extracts")
-        if total_needed > free:
-            raise NotEnoughDiskSpace(
-                "could not write its extracts: not enough free disk space in '%s' (up to %s "
-                "needed by all ranks, %s free); nothing written"
-                % (directory, _size(total_needed), _size(free)))
+        _refuse_unless_fits(directory, total_needed, free)
         return result
 
     return execute_then_agree
 
 
-def ensure_step_fits(own_bytes, directory):
+def ensure_step_fits(own_data_bytes, directory):
     """For a script that writes files itself in catalyst_execute (data_extracts.py's
-    grid writers), before it writes them: agrees over ranks that those
-    (`own_bytes` on this rank) and the step's extracts fit on the disk; raises
-    NotEnoughDiskSpace on every rank otherwise, with nothing written. Collective:
-    every rank calls it (the agreement after catalyst_execute follows as usual)."""
+    grid writers), before it writes them: agrees over ranks that those (data of
+    `own_data_bytes` in memory on this rank) and the step's extracts fit on the
+    disk; raises NotEnoughDiskSpace on every rank otherwise, with nothing written.
+    Collective: every rank calls it (the agreement after catalyst_execute follows
+    as usual)."""
     script, step, step_time = _active_step()
     _, needed = _due_outputs(script, directory, step, step_time)
-    needed += own_bytes
+    needed += _written_bytes(own_data_bytes)
     failed, total_needed, free = agree_before_extracts("", needed, _free_bytes(directory))
+    _refuse_unless_fits(directory, total_needed, free)
+
+
+def _refuse_unless_fits(directory, total_needed, free):
+    """Raises NotEnoughDiskSpace when what all ranks need exceeds the least free
+    space (both agreed over ranks: every rank decides alike)."""
     if total_needed > free:
         raise NotEnoughDiskSpace(
             "could not write its extracts: not enough free disk space in '%s' (up to %s "
@@ -273,8 +300,20 @@ def take_measures(evaluate):
             local.append(float(measures[name]()))
         except Exception:  # a measure is never worth a deadlock: report NaN
             local.append(float("nan"))
-    from canopy_catalyst import _reduce
-    return dict(zip(names, _reduce(local, "SUM_OP")))
+    return dict(zip(names, _sum_over_ranks(local)))
+
+
+def _sum_over_ranks(values):
+    """`values` summed element-wise over Canopy's communicator (collective). The
+    C++ driver gives Python one reduction, agree_before_extracts, which sums its
+    `needed` and takes the least `free` there; ParaView's communicator is not
+    the driver's to use (docs/design.md, "Two communicators")."""
+    # First the most values any rank has, so that every rank makes as many
+    # reductions even if a script reported different names on some ranks: a
+    # measure is never worth a deadlock (the misreported sums are then wrong).
+    most = int(-agree_before_extracts("", 0.0, -float(len(values)))[2])
+    padded = list(values) + [float("nan")] * (most - len(values))
+    return [agree_before_extracts("", value, 0.0)[1] for value in padded]
 
 
 def take_failure():

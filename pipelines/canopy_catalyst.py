@@ -6,11 +6,18 @@ its settings with ``settings(...)``: defaults given by the script, overridden by
 environment variables (``CANOPY_FREQUENCY=5``), overridden by the arguments the
 simulation gave this script (``--frequency=5``). Names use underscores in Python
 and in variables, dashes or underscores in arguments.
+
+The driver's side of Python (``_canopy_driver``: script arguments, agreements
+over ranks) is imported from here, never the reverse.
+
+Longer than the project's usual file (about 850 lines) on purpose: it is the one
+module a user's script imports, so what scripts share (settings, the plugin,
+ImageScript and its view, legend and time label, the extractors and their
+disk-space agreement) stays behind one import that works the same from
+Catalyst and from pvbatch, where a package of modules would have to be found on
+the path too.
 """
 import os
-
-# Filled by the driver at open: script path -> its arguments.
-_arguments = {}
 
 COMMON_DEFAULTS = {
     "output_directory": "canopy-output",
@@ -23,14 +30,28 @@ COMMON_DEFAULTS = {
 (steps start, start + frequency, ...) and the fields it asks for."""
 
 
+def _driver():
+    """Canopy's in-situ driver's module, or None when it cannot be imported
+    (canopy_catalyst.py copied alone, e.g. for pvbatch)."""
+    try:
+        import _canopy_driver
+    except ImportError:
+        return None
+    return _canopy_driver
+
+
 def _register_arguments(path, arguments):
-    _arguments[os.path.abspath(path)] = list(arguments)
+    """The name the C++ driver registers each script's arguments by
+    (DriverPython.cxx); the registry is _canopy_driver's."""
+    import _canopy_driver
+    _canopy_driver.register_arguments(path, arguments)
 
 
 def _script_arguments():
     from paraview import catalyst
     name = catalyst.get_script_filename()
-    return _arguments.get(os.path.abspath(name), []) if name else []
+    driver = _driver()
+    return driver.script_arguments(name) if name and driver is not None else []
 
 
 class Settings(dict):
@@ -526,7 +547,6 @@ class ImageScript:
     cut-away box, time). Collective calls happen in execute(), on every rank."""
 
     def __init__(self, values, cinema=None):
-        from paraview.simple import CreateExtractor
         self.settings = values
         self.fixed_range = fixed_color_range(values)
         self.options = catalyst_options(values, cinema=cinema)
@@ -539,11 +559,7 @@ class ImageScript:
         self.displays = []  # (display, the Canopy filter it shows or None)
         self.edges = []  # (Canopy filter, its edge overlay)
         self.shaded = []
-        image = CreateExtractor("PNG", self.view, registrationName=values.file_prefix + "_image")
-        image.Writer.FileName = values.file_prefix + "_{timestep:06d}.png"
-        image.Writer.ImageResolution = image_size(values)
-        image.Writer.Format.CompressionLevel = str(values.png_compression)
-        set_trigger(image, values)
+        png_extractor(self.view, values)
         self.legend = color_legend(self.view, values.color_by) if values.legend else None
         self.label = time_label(self.view) if values.time_label else None
 
@@ -633,6 +649,45 @@ class ImageScript:
             self.label.Text = time_text(info.time)
 
 
+def png_extractor(view, values):
+    """The PNG extractor of an image script: <file_prefix>_<step>.png of the
+    image size, at png_compression, on the script's trigger."""
+    from paraview.simple import CreateExtractor
+    image = CreateExtractor("PNG", view, registrationName=values.file_prefix + "_image")
+    image.Writer.FileName = values.file_prefix + "_{timestep:06d}.png"
+    image.Writer.ImageResolution = image_size(values)
+    image.Writer.Format.CompressionLevel = str(values.png_compression)
+    set_trigger(image, values)
+    return image
+
+
+SURFACE_DEFAULTS = dict(IMAGE_DEFAULTS, surface_extract=False, cinema=False)
+"""The settings of SurfaceImage's scripts but file_prefix (surface_image.py's docstring)."""
+
+
+class SurfaceImage(ImageScript):
+    """surface_image.py's pipeline, also that of surface_image_second_view.py (the
+    driver runs a script file once, so a second camera needs a second file): the
+    adaptive surface of the selected region in ImageScript's frame, and with
+    surface_extract that surface as .pvtp files; execute() reports the quads drawn
+    as "<file_prefix> quads"."""
+
+    def __init__(self, values):
+        from paraview import simple
+        ImageScript.__init__(self, values, cinema="surface.cdb" if values.cinema else None)
+        self.surface = simple.CanopyAdaptiveSurface(
+            Input=self.region, PixelThreshold=values.pixel_threshold, Fields=values.list("fields"),
+            SkipBackFaces=int(values.skip_back_faces))
+        self.show(self.surface)
+        if values.surface_extract:
+            data_extractor("VTP", self.surface, "surface_data",
+                           values.file_prefix + "_{timestep:06d}.pvtp", values)
+
+    def execute(self, info):
+        ImageScript.execute(self, info)
+        report(self.settings.file_prefix + " quads", output_cells(self.surface))
+
+
 def time_label(view):
     """A text in the view's upper left corner; set its Text each step (time_text)."""
     from paraview.simple import Show, Text
@@ -654,11 +709,10 @@ def report(name, local_value):
     the sum over ranks goes into the step's canopy::StepReport::measures under `name`
     (and the driver's step summary). Call it in catalyst_execute, on every rank, with
     the same names; each call covers one step."""
-    try:
-        import _canopy_driver
-    except ImportError:
+    driver = _driver()
+    if driver is None:
         return  # not run by Canopy's driver (e.g. pvbatch): nobody to tell
-    _canopy_driver.report_measure(name, local_value)
+    driver.report_measure(name, local_value)
 
 
 def output_cells(proxy):
@@ -783,18 +837,15 @@ def write_grid(writers, info):
     failed on all ranks)."""
     if not writers:
         return
-    try:
-        import _canopy_driver
-    except ImportError:
-        _canopy_driver = None  # not run by Canopy's driver: no agreement to join
+    driver = _driver()  # None: not run by Canopy's driver, no agreement to join
     folder = os.path.dirname(writers[0].FileName)
-    if _canopy_driver is not None and os.path.isdir(folder):
+    if driver is not None and os.path.isdir(folder):
         # A step whose extracts would not fit is refused before any file is written
         # (the driver's own check comes after catalyst_execute, too late for these).
         # A folder that does not exist: the writers say why they cannot create it.
         data = _local_data(writers[0].Input)
         size = data.GetActualMemorySize() * 1024.0 if data is not None else 0.0
-        _canopy_driver.ensure_step_fits(_canopy_driver.DATA_FACTOR * size * len(writers), folder)
+        driver.ensure_step_fits(size * len(writers), folder)
     problems = []
     for writer in writers:
         writer.TimeStep = info.timestep

@@ -58,21 +58,11 @@ Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI
 Reports "<prefix> quads" (the quads drawn, all ranks) in the step's StepReport::measures.
 """
 import canopy_catalyst as canopy
-from paraview import simple
 
-settings = canopy.settings(**dict(canopy.IMAGE_DEFAULTS, file_prefix="surface"),
-                           surface_extract=False, cinema=False)
-image = canopy.ImageScript(settings, cinema="surface.cdb" if settings.cinema else None)
+settings = canopy.settings(**dict(canopy.SURFACE_DEFAULTS, file_prefix="surface"))
+# The pipeline is canopy_catalyst.SurfaceImage, which surface_image_second_view.py shares.
+image = canopy.SurfaceImage(settings)
 options = image.options
-
-surface = simple.CanopyAdaptiveSurface(Input=image.region, PixelThreshold=settings.pixel_threshold,
-                                       Fields=settings.list("fields"),
-                                       SkipBackFaces=int(settings.skip_back_faces))
-image.show(surface)
-
-if settings.surface_extract:
-    canopy.data_extractor("VTP", surface, "surface_data",
-                          settings.file_prefix + "_{timestep:06d}.pvtp", settings)
 
 
 def RequestDataDescription(datadescription):
@@ -82,4 +72,3 @@ def RequestDataDescription(datadescription):
 def catalyst_execute(info):
     # Collective (bounds and colour ranges agree over ranks): every rank calls it.
     image.execute(info)
-    canopy.report(settings.file_prefix + " quads", canopy.output_cells(surface))

@@ -26,13 +26,14 @@ Writes, in the output directory:
   <prefix>_<step>.png   the image
 """
 import canopy_catalyst as canopy
-from paraview.simple import CreateExtractor, Show
+from paraview.simple import Show
 
-settings = canopy.settings(image_size="800x600", color_by="", show_edges=False,
-                           representation="Surface", camera_position="", png_compression=3,
-                           legend=True, time_label=True,
-                           camera_focal_point="", camera_view_up="", parallel_scale=0.0,
-                           file_prefix="paraview")
+# surface_image.py's defaults (IMAGE_DEFAULTS) for the settings this route shares
+# with it, and only those: another of its settings would do nothing here (an error).
+SHARED = ("image_size", "color_by", "show_edges", "camera_position", "camera_focal_point",
+          "camera_view_up", "parallel_scale", "png_compression", "legend", "time_label")
+settings = canopy.settings(**{name: canopy.IMAGE_DEFAULTS[name] for name in SHARED},
+                           representation="Surface", file_prefix="paraview")
 options = canopy.catalyst_options(settings)
 
 grid = canopy.simulation_grid(settings)
@@ -41,13 +42,9 @@ display = Show(grid, view)
 display.SetRepresentationType(settings.representation +
                               (" With Edges" if settings.show_edges else ""))
 if settings.show_edges:
-    display.EdgeColor = [0.15, 0.15, 0.15]
+    display.EdgeColor = canopy.EDGE_COLOR
 
-image = CreateExtractor("PNG", view, registrationName=settings.file_prefix + "_image")
-image.Writer.FileName = settings.file_prefix + "_{timestep:06d}.png"
-image.Writer.ImageResolution = canopy.image_size(settings)
-image.Writer.Format.CompressionLevel = str(settings.png_compression)
-canopy.set_trigger(image, settings)
+image = canopy.png_extractor(view, settings)
 
 
 def RequestDataDescription(datadescription):
