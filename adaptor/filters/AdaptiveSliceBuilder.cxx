@@ -1,8 +1,7 @@
 #include "AdaptiveSliceBuilder.h"
 
+#include "TreeProgress.h"
 #include "TreeTraversal.h"
-
-#include <vtkSMPTools.h>
 
 #include <algorithm>
 #include <cmath>
@@ -38,8 +37,9 @@ std::string AdaptiveSliceBuilder::validate(const HyperTreeAccess& grid,
 
 AdaptiveSliceBuilder::AdaptiveSliceBuilder(const HyperTreeAccess& grid,
                                            std::vector<SlicePlane> planes,
-                                           const SliceOptions& options)
-    : Grid(grid), Planes(std::move(planes)), Options(options)
+                                           const SliceOptions& options,
+                                           const ProgressShare& progress)
+    : Grid(grid), Planes(std::move(planes)), Options(options), Progress(progress)
 {
 }
 
@@ -82,15 +82,12 @@ std::size_t AdaptiveSliceBuilder::count()
   }
   Kept.assign(Pieces.size(), TreeCells());
   std::vector<std::size_t> visited(Pieces.size(), 0);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(Pieces.size()),
-                   [&](vtkIdType begin, vtkIdType end)
-                   {
-                     for (vtkIdType i = begin; i < end; ++i)
-                     {
-                       const auto k = static_cast<std::size_t>(i);
-                       slice(Pieces[k], Kept[k], visited[k]);
-                     }
-                   });
+  forEachTree(Progress, static_cast<vtkIdType>(Pieces.size()),
+              [&](vtkIdType i)
+              {
+                const auto k = static_cast<std::size_t>(i);
+                slice(Pieces[k], Kept[k], visited[k]);
+              });
   Offsets.assign(Pieces.size() + 1, 0);
   Visited = 0;
   for (std::size_t k = 0; k < Pieces.size(); ++k)
@@ -198,8 +195,7 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
                                 : averageColor(Grid, tree, n, 2, *Options.colors, cutChildren);
           for (double channel : color)
           {
-            cells.colors.push_back(
-                static_cast<unsigned char>(std::lround(std::clamp(channel, 0.0, 255.0))));
+            cells.colors.push_back(colorByte(channel));
           }
         }
         return WalkStep::Skip;
@@ -209,23 +205,7 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
 
 void AdaptiveSliceBuilder::write(const SurfaceArrays& arrays) const
 {
-  vtkSMPTools::For(
-      0, static_cast<vtkIdType>(Kept.size()),
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        for (vtkIdType i = begin; i < end; ++i)
-        {
-          const TreeCells& cells = Kept[static_cast<std::size_t>(i)];
-          const std::size_t first = Offsets[static_cast<std::size_t>(i)];
-          std::copy(cells.points.begin(), cells.points.end(), arrays.points + 12 * first);
-          std::copy(cells.cellIds.begin(), cells.cellIds.end(), arrays.cellIds + first);
-          std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
-          if (arrays.colors)
-          {
-            std::copy(cells.colors.begin(), cells.colors.end(), arrays.colors + 3 * first);
-          }
-        }
-      });
+  copyKeptCells(Kept, Offsets, 4, arrays);
 }
 
 } // namespace canopy

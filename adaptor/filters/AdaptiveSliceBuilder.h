@@ -34,6 +34,7 @@
 #include "AdaptiveSurfaceBuilder.h"
 #include "HyperTreeAccess.h"
 #include "LeafColorAverage.h"
+#include "TreeProgress.h"
 #include "ViewVolume.h"
 
 #include <cstddef>
@@ -62,9 +63,11 @@ public:
   /// that is not 3D, an axis other than 0, 1, 2, a position that is not finite).
   static std::string validate(const HyperTreeAccess& grid, const std::vector<SlicePlane>& planes);
 
-  /// Precondition: validate(grid, planes) is empty.
+  /// Precondition: validate(grid, planes) is empty. `progress`: where count()
+  /// reports and learns that the execution was aborted; stopped, it leaves out
+  /// the trees not begun, and its result is to be discarded.
   AdaptiveSliceBuilder(const HyperTreeAccess& grid, std::vector<SlicePlane> planes,
-                       const SliceOptions& options);
+                       const SliceOptions& options, const ProgressShare& progress = {});
 
   /// Walks every tree each plane cuts (in parallel over trees) and keeps the
   /// quads; returns their number. The order is plane by plane, and within a
@@ -87,6 +90,7 @@ private:
   const HyperTreeAccess& Grid;
   std::vector<SlicePlane> Planes;
   SliceOptions Options;
+  ProgressShare Progress;
   std::vector<Piece> Pieces;
   std::vector<TreeCells> Kept;
   std::vector<std::size_t> Offsets;

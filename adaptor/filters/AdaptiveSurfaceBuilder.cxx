@@ -2,6 +2,7 @@
 
 #include "FullSurfaceWalk.h"
 #include "GridSection.h"
+#include "TreeProgress.h"
 #include "TreeTraversal.h"
 
 #include <vtkSMPTools.h>
@@ -47,11 +48,6 @@ Index3 childIndex(const NodeFrame& parent, int child, const HyperTreeAccess& gri
   return grid.childPosition(parent.ijk, child);
 }
 
-} // namespace
-
-namespace
-{
-
 /// Where cells go: counted in the first pass, written in place in the second,
 /// so the output is allocated once and never grown or copied.
 struct CellSink
@@ -72,8 +68,6 @@ template <std::size_t N>
 void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level,
               const Rgb* color)
 {
-  auto byte = [](double c)
-  { return static_cast<unsigned char>(std::lround(std::clamp(c, 0.0, 255.0))); };
   if (out.keep)
   {
     for (const Vec3& c : corners)
@@ -84,8 +78,9 @@ void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellI
     out.keep->levels.push_back(static_cast<unsigned char>(level));
     if (color)
     {
-      out.keep->colors.insert(out.keep->colors.end(),
-                              {byte((*color)[0]), byte((*color)[1]), byte((*color)[2])});
+      out.keep->colors.insert(
+          out.keep->colors.end(),
+          {colorByte((*color)[0]), colorByte((*color)[1]), colorByte((*color)[2])});
     }
   }
   else if (!out.counting && out.next < out.limit)
@@ -104,7 +99,7 @@ void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellI
       unsigned char* rgb = out.arrays.colors + 3 * out.next;
       for (int k = 0; k < 3; ++k)
       {
-        rgb[k] = byte((*color)[k]);
+        rgb[k] = colorByte((*color)[k]);
       }
     }
   }
@@ -432,11 +427,9 @@ struct TreeWalk
       }
       if (grid.dimension() == 1)
       {
-        const int u = grid.activeAxes()[0];
-        std::array<Vec3, 2> segment{{lo, lo}};
-        segment[1][u] = hi[u];
         const Rgb color = colorOf(n, global, leaf);
-        emitCell(out, segment, global, n.level, options.colors ? &color : nullptr);
+        emitCell(out, segmentEnds(lo, hi, grid.activeAxes()[0]), global, n.level,
+                 options.colors ? &color : nullptr);
       }
       else if (grid.dimension() == 2)
       {
@@ -519,31 +512,18 @@ struct TreeWalk
     {
       return;
     }
-    if (options.view && options.cullOutsideView && !inside)
+    Vec3 flo = plo;
+    Vec3 fhi = phi;
+    flo[axis] = fhi[axis] = x;
+    // A visible node's face can still lie outside the view: a face with no
+    // area inside the view volume is not drawn.
+    if (options.view && options.cullOutsideView && !inside && !options.view->overlapsBox(flo, fhi))
     {
-      // A visible node's face can still lie outside the view: a face with no
-      // area inside the view volume is not drawn.
-      Vec3 flo = plo;
-      Vec3 fhi = phi;
-      flo[axis] = fhi[axis] = x;
-      if (!options.view->overlapsBox(flo, fhi))
-      {
-        return;
-      }
+      return;
     }
-    std::array<Vec3, 4> q;
-    for (auto& p : q)
-    {
-      p[axis] = x;
-    }
-    q[0][b] = plo[b];
-    q[0][c] = plo[c];
-    q[1][b] = phi[b];
-    q[1][c] = plo[c];
-    q[2][b] = phi[b];
-    q[2][c] = phi[c];
-    q[3][b] = plo[b];
-    q[3][c] = phi[c];
+    // Counter-clockwise seen from +axis (b x c); reversed on the low side, whose
+    // outward normal is -axis.
+    std::array<Vec3, 4> q = rectangleCorners(flo, fhi, b, c);
     if (!side)
     {
       std::swap(q[1], q[3]);
@@ -670,10 +650,35 @@ struct TreeWalk
 
 } // namespace
 
+void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& offsets,
+                   std::size_t pointsPerCell, const SurfaceArrays& arrays)
+{
+  // A copy: not worth reporting progress or stopping.
+  vtkSMPTools::For(
+      0, static_cast<vtkIdType>(kept.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          const TreeCells& cells = kept[static_cast<std::size_t>(i)];
+          const std::size_t first = offsets[static_cast<std::size_t>(i)];
+          std::copy(cells.points.begin(), cells.points.end(),
+                    arrays.points + 3 * pointsPerCell * first);
+          std::copy(cells.cellIds.begin(), cells.cellIds.end(), arrays.cellIds + first);
+          std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
+          if (arrays.colors)
+          {
+            std::copy(cells.colors.begin(), cells.colors.end(), arrays.colors + 3 * first);
+          }
+        }
+      });
+}
+
 AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
                                                const SurfaceOptions& options,
-                                               std::vector<TreeCells>* buffers)
-    : Grid(grid), Options(options), Lent(buffers)
+                                               std::vector<TreeCells>* buffers,
+                                               const ProgressShare& progress)
+    : Grid(grid), Options(options), Progress(progress), Lent(buffers)
 {
   if (Lent)
   {
@@ -708,6 +713,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
   // many per tree, so one walk (the writing one) suffices.
   const bool known = std::all_of(trees.begin(), trees.end(),
                                  [](const TreeAccess& t) { return t.visibleLeaves >= 0; });
+  CountWalked = false;
   if (fullPlanarSurface() && known)
   {
     std::transform(trees.begin(), trees.end(), counts.begin(),
@@ -728,18 +734,17 @@ std::size_t AdaptiveSurfaceBuilder::count()
         cells.asked.clear();
       }
     }
-    vtkSMPTools::For(
-        0, static_cast<vtkIdType>(trees.size()),
-        [&](vtkIdType begin, vtkIdType end)
+    // Kept cells (3D) are only copied afterwards: then this walk is all the work.
+    CountWalked = true;
+    forEachTree(
+        Kept.empty() ? Progress.part(0, 0.5) : Progress, static_cast<vtkIdType>(trees.size()),
+        [&](vtkIdType t)
         {
-          for (vtkIdType t = begin; t < end; ++t)
-          {
-            CellSink sink;
-            sink.keep = Kept.empty() ? nullptr : &Kept[static_cast<std::size_t>(t)];
-            TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
-            walk.walk();
-            counts[static_cast<std::size_t>(t)] = sink.next;
-          }
+          CellSink sink;
+          sink.keep = Kept.empty() ? nullptr : &Kept[static_cast<std::size_t>(t)];
+          TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
+          walk.walk();
+          counts[static_cast<std::size_t>(t)] = sink.next;
         });
   }
   AskedAt.clear();
@@ -861,66 +866,45 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
   const std::size_t perCell = pointsPerCell();
   if (!Kept.empty())
   {
-    vtkSMPTools::For(
-        0, static_cast<vtkIdType>(trees.size()),
-        [&](vtkIdType begin, vtkIdType end)
-        {
-          for (vtkIdType t = begin; t < end; ++t)
-          {
-            const TreeCells& cells = Kept[static_cast<std::size_t>(t)];
-            const std::size_t first = Offsets[static_cast<std::size_t>(t)];
-            std::copy(cells.points.begin(), cells.points.end(),
-                      arrays.points + 3 * perCell * first);
-            std::copy(cells.cellIds.begin(), cells.cellIds.end(), arrays.cellIds + first);
-            std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
-            if (arrays.colors)
-            {
-              std::copy(cells.colors.begin(), cells.colors.end(), arrays.colors + 3 * first);
-            }
-          }
-        });
+    copyKeptCells(Kept, Offsets, perCell, arrays);
     return;
   }
   const bool full = fullPlanarSurface();
   std::atomic<bool> mismatch{false};
-  vtkSMPTools::For(
-      0, static_cast<vtkIdType>(trees.size()),
-      [&](vtkIdType begin, vtkIdType end)
+  // The second half of the work, or all of it when count() did not walk.
+  forEachTree(
+      CountWalked ? Progress.part(0.5, 1) : Progress, static_cast<vtkIdType>(trees.size()),
+      [&](vtkIdType t)
       {
-        for (vtkIdType t = begin; t < end; ++t)
+        const std::size_t first = Offsets[static_cast<std::size_t>(t)];
+        CellSink sink;
+        sink.counting = false;
+        sink.limit = Offsets[static_cast<std::size_t>(t) + 1] - first;
+        sink.arrays = {arrays.points + 3 * perCell * first, arrays.cellIds + first,
+                       arrays.levels + first, arrays.colors ? arrays.colors + 3 * first : nullptr};
+        const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
+        if (full)
         {
-          const std::size_t first = Offsets[static_cast<std::size_t>(t)];
-          CellSink sink;
-          sink.counting = false;
-          sink.limit = Offsets[static_cast<std::size_t>(t) + 1] - first;
-          sink.arrays = {arrays.points + 3 * pointsPerCell() * first, arrays.cellIds + first,
-                         arrays.levels + first,
-                         arrays.colors ? arrays.colors + 3 * first : nullptr};
-          const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
-          if (full)
+          sink.next = writeFullSurface(Grid, tree, sink.arrays, sink.limit);
+          // Every cell of a full surface is a leaf: its own colour.
+          for (std::size_t i = 0;
+               Options.colors && sink.arrays.colors && i < std::min(sink.next, sink.limit); ++i)
           {
-            sink.next = writeFullSurface(Grid, tree, sink.arrays, sink.limit);
-            // Every cell of a full surface is a leaf: its own colour.
-            for (std::size_t i = 0;
-                 Options.colors && sink.arrays.colors && i < std::min(sink.next, sink.limit); ++i)
+            const Rgb c = Options.colors->mapCell(sink.arrays.cellIds[i]);
+            for (int k = 0; k < 3; ++k)
             {
-              const Rgb c = Options.colors->mapCell(sink.arrays.cellIds[i]);
-              for (int k = 0; k < 3; ++k)
-              {
-                sink.arrays.colors[3 * i + k] =
-                    static_cast<unsigned char>(std::lround(std::clamp(c[k], 0.0, 255.0)));
-              }
+              sink.arrays.colors[3 * i + k] = colorByte(c[k]);
             }
           }
-          else
-          {
-            TreeWalk walk{Grid, tree, Options, Region.get(), sink};
-            walk.walk();
-          }
-          if (sink.next != Offsets[static_cast<std::size_t>(t) + 1] - first)
-          {
-            mismatch = true; // never expected: counts come from the same topology
-          }
+        }
+        else
+        {
+          TreeWalk walk{Grid, tree, Options, Region.get(), sink};
+          walk.walk();
+        }
+        if (sink.next != Offsets[static_cast<std::size_t>(t) + 1] - first)
+        {
+          mismatch = true; // never expected: counts come from the same topology
         }
       });
   if (mismatch)

@@ -24,6 +24,7 @@
 
 #include "HyperTreeAccess.h"
 #include "LeafColorAverage.h"
+#include "TreeProgress.h"
 #include "ViewVolume.h"
 
 #include <vtkType.h>
@@ -93,14 +94,6 @@ struct SurfaceArrays
   unsigned char* colors = nullptr; ///< RGB per cell, with SurfaceOptions::colors
 };
 
-/// Two passes over the trees (in parallel with vtkSMPTools): count, then write
-/// each tree's cells at its offset. The output is allocated once, in its final
-/// place; its order is the tree order for any number of threads. A full 1D/2D
-/// surface of a kept access is not counted (the access knows its leaves) and is
-/// written by a walk of its own (no view to test: the cost is the output); a 3D
-/// surface is walked once, its cells kept per tree and copied.
-class GridSection;
-
 /// A remote face as the asking rank keeps it, to draw the pieces it is sent.
 struct AskedFace
 {
@@ -120,14 +113,31 @@ struct TreeCells
   std::vector<AskedFace> asked;
 };
 
+/// Copies the cells kept per tree (or per piece) into `arrays`, each list at
+/// its offset (in cells), in parallel.
+void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& offsets,
+                   std::size_t pointsPerCell, const SurfaceArrays& arrays);
+
+class GridSection;
+
+/// Two passes over the trees (in parallel with vtkSMPTools): count, then write
+/// each tree's cells at its offset. The output is allocated once, in its final
+/// place; its order is the tree order for any number of threads. A full 1D/2D
+/// surface of a kept access is not counted (the access knows its leaves) and is
+/// written by a walk of its own (no view to test: the cost is the output); a 3D
+/// surface is walked once, its cells kept per tree and copied.
 class AdaptiveSurfaceBuilder
 {
 public:
   /// `buffers`: per-tree cell buffers lent for the builder's life (their
   /// capacity kept between executions: fresh memory costs page faults); they
   /// are given back, emptied or not, when the builder is destroyed.
+  /// `progress`: where the walks of count() and write() report and learn that
+  /// the execution was aborted; stopped, they leave out the trees not begun,
+  /// and their results are to be discarded.
   AdaptiveSurfaceBuilder(const HyperTreeAccess& grid, const SurfaceOptions& options,
-                         std::vector<TreeCells>* buffers = nullptr);
+                         std::vector<TreeCells>* buffers = nullptr,
+                         const ProgressShare& progress = {});
   ~AdaptiveSurfaceBuilder();
   AdaptiveSurfaceBuilder(const AdaptiveSurfaceBuilder&) = delete;
   AdaptiveSurfaceBuilder& operator=(const AdaptiveSurfaceBuilder&) = delete;
@@ -158,6 +168,8 @@ private:
 
   const HyperTreeAccess& Grid;
   SurfaceOptions Options;
+  ProgressShare Progress;
+  bool CountWalked = false;            ///< count() walked the trees: write() has half the progress
   std::unique_ptr<GridSection> Region; ///< 1D/2D culling region, built once for both passes
   void computeOffsets(const std::vector<std::size_t>& counts);
 

@@ -6,7 +6,6 @@
 
 #include <vtkAOSDataArrayTemplate.h>
 #include <vtkDataArray.h>
-#include <vtkSMPTools.h>
 
 #include <algorithm>
 #include <cmath>
@@ -181,37 +180,37 @@ std::vector<SelectedNode> CellSelection::byId(const std::vector<vtkIdType>& ids,
   // One traversal of all trees for all ids; output in tree order. The walk's
   // inherited bit says that an ancestor is hidden.
   std::size_t found = 0;
-  for (const TreeAccess& tree : Grid.trees())
-  {
-    const bool allFound =
-        !walkTree(Grid, tree,
-                  [&](WalkNode& n)
-                  {
-                    if (found >= wanted.size())
-                    {
-                      return WalkStep::Stop;
-                    }
-                    const vtkIdType global = tree.globalIndex(n.node);
-                    n.inherited = n.inherited || hidden(tree, n.node);
-                    if (wanted.count(global))
-                    {
-                      ++found;
-                      if (n.inherited)
-                      {
-                        ++report.masked;
-                      }
-                      else
-                      {
-                        selected.push_back({&tree, n.node, global, n.level, n.ijk});
-                      }
-                    }
-                    return WalkStep::Descend;
-                  });
-    if (allFound)
-    {
-      break;
-    }
-  }
+  const auto& trees = Grid.trees();
+  forEachTreeInOrder(Progress, static_cast<vtkIdType>(trees.size()),
+                     [&](vtkIdType t)
+                     {
+                       const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
+                       // False (the loop ends) once every id is found.
+                       return walkTree(
+                           Grid, tree,
+                           [&](WalkNode& n)
+                           {
+                             if (found >= wanted.size())
+                             {
+                               return WalkStep::Stop;
+                             }
+                             const vtkIdType global = tree.globalIndex(n.node);
+                             n.inherited = n.inherited || hidden(tree, n.node);
+                             if (wanted.count(global))
+                             {
+                               ++found;
+                               if (n.inherited)
+                               {
+                                 ++report.masked;
+                               }
+                               else
+                               {
+                                 selected.push_back({&tree, n.node, global, n.level, n.ijk});
+                               }
+                             }
+                             return WalkStep::Descend;
+                           });
+                     });
   return selected;
 }
 
@@ -240,18 +239,14 @@ double valueAt(Array* values, vtkIdType tuple, int component, int components)
 /// Runs walk(tree, out) for every tree in parallel, each into its own list,
 /// and joins the lists in tree order (the same for any number of threads).
 template <typename Walk>
-std::vector<SelectedNode> perTree(const HyperTreeAccess& grid, const Walk& walk)
+std::vector<SelectedNode> perTree(const HyperTreeAccess& grid, const ProgressShare& progress,
+                                  const Walk& walk)
 {
   const auto& trees = grid.trees();
   std::vector<std::vector<SelectedNode>> found(trees.size());
-  vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
-                   [&](vtkIdType begin, vtkIdType end)
-                   {
-                     for (vtkIdType t = begin; t < end; ++t)
-                     {
-                       walk(trees[static_cast<std::size_t>(t)], found[static_cast<std::size_t>(t)]);
-                     }
-                   });
+  forEachTree(progress, static_cast<vtkIdType>(trees.size()),
+              [&](vtkIdType t)
+              { walk(trees[static_cast<std::size_t>(t)], found[static_cast<std::size_t>(t)]); });
   std::size_t total = 0;
   for (const auto& list : found)
   {
@@ -294,7 +289,7 @@ std::function<bool(vtkIdType)> CellSelection::valueInRange(vtkDataArray* values,
 template <typename Skip, typename Keep>
 std::vector<SelectedNode> CellSelection::visibleLeaves(const Skip& skip, const Keep& keep) const
 {
-  return perTree(Grid,
+  return perTree(Grid, Progress,
                  [&](const TreeAccess& tree, std::vector<SelectedNode>& out)
                  {
                    walkTree(Grid, tree,
@@ -347,28 +342,33 @@ std::vector<SelectedNode> CellSelection::byRegion(const Overlaps& overlaps,
   std::vector<SelectedNode> selected;
   Vec3 lo;
   Vec3 hi;
-  for (const TreeAccess& tree : Grid.trees())
-  {
-    walkTree(Grid, tree,
-             [&](WalkNode& n)
-             {
-               ++report.visited;
-               if (hidden(tree, n.node))
-               {
-                 return WalkStep::Skip;
-               }
-               Grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
-               if (!overlaps(lo, hi))
-               {
-                 return WalkStep::Skip; // nothing below can overlap: children lie inside
-               }
-               if (tree.isLeaf(n.node))
-               {
-                 selected.push_back({&tree, n.node, tree.globalIndex(n.node), n.level, n.ijk});
-               }
-               return WalkStep::Descend;
-             });
-  }
+  const auto& trees = Grid.trees();
+  forEachTreeInOrder(
+      Progress, static_cast<vtkIdType>(trees.size()),
+      [&](vtkIdType t)
+      {
+        const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
+        walkTree(Grid, tree,
+                 [&](WalkNode& n)
+                 {
+                   ++report.visited;
+                   if (hidden(tree, n.node))
+                   {
+                     return WalkStep::Skip;
+                   }
+                   Grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
+                   if (!overlaps(lo, hi))
+                   {
+                     return WalkStep::Skip; // nothing below can overlap: children lie inside
+                   }
+                   if (tree.isLeaf(n.node))
+                   {
+                     selected.push_back({&tree, n.node, tree.globalIndex(n.node), n.level, n.ijk});
+                   }
+                   return WalkStep::Descend;
+                 });
+        return true;
+      });
   return selected;
 }
 

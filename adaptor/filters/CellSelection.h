@@ -21,6 +21,7 @@
 #include "Frustum.h"
 #include "HalfSpace.h"
 #include "HyperTreeAccess.h"
+#include "TreeProgress.h"
 
 #include <vtkType.h>
 
@@ -57,6 +58,12 @@ class CellSelection
 {
 public:
   CellSelection(const HyperTreeAccess& grid, bool allowMasked);
+
+  /// Where the next selections' loops over trees report and learn that the
+  /// execution was aborted; stopped, they leave out the trees not begun, and
+  /// their results are to be discarded. (Locations are looked up point by
+  /// point, without a loop over trees.)
+  void setProgress(const ProgressShare& progress) { Progress = progress; }
 
   /// The unmasked leaf containing each point (see the rule above).
   std::vector<SelectedNode> byLocation(const std::vector<Vec3>& points,
@@ -102,6 +109,7 @@ private:
   std::vector<SelectedNode> byRegion(const Overlaps& overlaps, SelectionReport& report) const;
   const HyperTreeAccess& Grid;
   bool AllowMasked;
+  ProgressShare Progress;
 };
 
 } // namespace canopy

@@ -48,11 +48,6 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables, bool m
     {
       ActiveAxes.push_back(a);
     }
-    else
-    {
-      FlatAxis = a;
-      FlatCoordinate = Bounds[2 * a];
-    }
   }
   Mask = htg->HasMask() ? htg->GetMask() : nullptr;
   MaskSize = Mask ? Mask->GetNumberOfValues() : 0;

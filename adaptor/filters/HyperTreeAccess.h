@@ -111,10 +111,6 @@ public:
   int childrenPerNode() const { return Children; }
   /// Axes along which cells have extent (1 in 1D, 2 in 2D, 3 in 3D), increasing.
   const std::vector<int>& activeAxes() const { return ActiveAxes; }
-  /// 2D only: the axis with a single point, and its coordinate (1D grids have
-  /// two: bounds() gives their coordinates).
-  int flatAxis() const { return FlatAxis; }
-  double flatCoordinate() const { return FlatCoordinate; }
   /// Root cells per axis (1 on the flat axis).
   const std::array<unsigned int, 3>& rootCells() const { return RootCells; }
   /// Bounds of the whole root grid.
@@ -253,8 +249,6 @@ private:
   int BranchFactor = 2;
   int Children = 4;
   std::vector<int> ActiveAxes;
-  int FlatAxis = -1;
-  double FlatCoordinate = 0;
   std::array<unsigned int, 3> RootCells{{1, 1, 1}};
   std::array<double, 6> Bounds{{0, 0, 0, 0, 0, 0}};
   std::vector<TreeAccess> Trees;

@@ -19,6 +19,7 @@
 #include <vtkDataArray.h>
 #include <vtkType.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <type_traits>
@@ -30,6 +31,12 @@ namespace canopy
 {
 
 using Rgb = std::array<double, 3>; ///< 0..255
+
+/// A channel as the output's unsigned char colours store it: rounded, clamped.
+inline unsigned char colorByte(double channel)
+{
+  return static_cast<unsigned char>(std::lround(std::clamp(channel, 0.0, 255.0)));
+}
 
 /// A colour map sampled once into a table, read without touching VTK (so from
 /// any thread): linear interpolation between 1024 samples over the map's range

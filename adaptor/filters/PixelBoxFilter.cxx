@@ -1,5 +1,6 @@
 #include "PixelBoxFilter.h"
 
+#include "LeafColorAverage.h"
 #include "ViewVolume.h"
 
 #include <algorithm>
@@ -182,7 +183,7 @@ PixelBoxFilterCounts PixelBoxFilter::finish(unsigned char* colors) const
     unsigned char* rgb = colors + 3 * Owners[s];
     for (std::size_t k = 0; k < 3; ++k)
     {
-      rgb[k] = static_cast<unsigned char>(std::lround(std::clamp(sum[k] / sum[3], 0.0, 255.0)));
+      rgb[k] = colorByte(sum[k] / sum[3]);
     }
     ++counts.recoloured;
   }

@@ -1,5 +1,6 @@
 #include "SelectionMask.h"
 
+#include "TreeProgress.h"
 #include "TreeTraversal.h"
 
 #include <vtkBitArray.h>
@@ -31,75 +32,71 @@ struct TreeMask
   }
 };
 
-} // namespace
-
-namespace
-{
-
 /// The mask's common part. `markTree(t, tree, mask)` marks tree t's visible
 /// selected nodes (with their subtrees) in mask.visible and their bounds; the
 /// ancestors, the nodes above other ranks' parts, the pure mask and the packing
 /// are the same for every way of selecting.
 template <typename MarkTree>
-SelectionMaskResult buildSelectionMask(const HyperTreeAccess& grid, const MarkTree& markTree)
+SelectionMaskResult buildSelectionMask(const HyperTreeAccess& grid, const ProgressShare& progress,
+                                       const MarkTree& markTree)
 {
   const auto& trees = grid.trees();
   std::vector<TreeMask> masks(trees.size());
   // Per cell: bit 0 visible, bit 1 pure (VTK's pure mask, PureMask.h).
   std::vector<unsigned char> visibleCells(static_cast<std::size_t>(grid.numberOfCells()), 0);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(trees.size()),
-                   [&](vtkIdType begin, vtkIdType end)
-                   {
-                     for (vtkIdType t = begin; t < end; ++t)
-                     {
-                       const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
-                       TreeMask& mask = masks[static_cast<std::size_t>(t)];
-                       mask.visible.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
-                       auto& visible = mask.visible;
-                       markTree(static_cast<std::size_t>(t), tree, mask);
-                       // One reverse pass (children follow their parents in local order):
-                       // ancestors of visible nodes become visible (and so do nodes with
-                       // other ranks' parts below), then VTK's pure mark: hidden, or refined
-                       // with a marked child. Nodes below a hidden one keep whatever they
-                       // have: VTK's walk never reaches them. Bit 0 visible, bit 1 pure.
-                       const int children = grid.childrenPerNode();
-                       for (vtkIdType n = tree.numberOfVertices; n-- > 0;)
-                       {
-                         auto& flags = visible[static_cast<std::size_t>(n)];
-                         if (tree.isLeaf(n))
-                         {
-                           flags = static_cast<unsigned char>(flags ? 1 : 2);
-                           continue;
-                         }
-                         const vtkIdType first = tree.firstChild(n);
-                         unsigned char below = 0;
-                         for (vtkIdType c = first; c < first + children; ++c)
-                         {
-                           below |= visible[static_cast<std::size_t>(c)];
-                         }
-                         const bool shown = flags || (below & 1) || tree.hasAbsentDescendant(n);
-                         flags = static_cast<unsigned char>(shown ? 1 | (below & 2) : 2);
-                       }
-                       if (tree.implicitGlobalIndex)
-                       {
-                         std::copy(visible.begin(), visible.end(),
-                                   visibleCells.begin() +
-                                       static_cast<std::ptrdiff_t>(tree.globalIndexStart));
-                       }
-                       else
-                       {
-                         for (vtkIdType n = 0; n < tree.numberOfVertices; ++n)
-                         {
-                           visibleCells[static_cast<std::size_t>(tree.globalIndex(n))] =
-                               visible[static_cast<std::size_t>(n)];
-                         }
-                       }
-                       std::vector<unsigned char>().swap(visible);
-                     }
-                   });
-
+  const bool done = forEachTree(
+      progress, static_cast<vtkIdType>(trees.size()),
+      [&](vtkIdType t)
+      {
+        const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
+        TreeMask& mask = masks[static_cast<std::size_t>(t)];
+        mask.visible.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
+        auto& visible = mask.visible;
+        markTree(static_cast<std::size_t>(t), tree, mask);
+        // One reverse pass (children follow their parents in local order):
+        // ancestors of visible nodes become visible (and so do nodes with
+        // other ranks' parts below), then VTK's pure mark: hidden, or refined
+        // with a marked child. Nodes below a hidden one keep whatever they
+        // have: VTK's walk never reaches them. Bit 0 visible, bit 1 pure.
+        const int children = grid.childrenPerNode();
+        for (vtkIdType n = tree.numberOfVertices; n-- > 0;)
+        {
+          auto& flags = visible[static_cast<std::size_t>(n)];
+          if (tree.isLeaf(n))
+          {
+            flags = static_cast<unsigned char>(flags ? 1 : 2);
+            continue;
+          }
+          const vtkIdType first = tree.firstChild(n);
+          unsigned char below = 0;
+          for (vtkIdType c = first; c < first + children; ++c)
+          {
+            below |= visible[static_cast<std::size_t>(c)];
+          }
+          const bool shown = flags || (below & 1) || tree.hasAbsentDescendant(n);
+          flags = static_cast<unsigned char>(shown ? 1 | (below & 2) : 2);
+        }
+        if (tree.implicitGlobalIndex)
+        {
+          std::copy(visible.begin(), visible.end(),
+                    visibleCells.begin() + static_cast<std::ptrdiff_t>(tree.globalIndexStart));
+        }
+        else
+        {
+          for (vtkIdType n = 0; n < tree.numberOfVertices; ++n)
+          {
+            visibleCells[static_cast<std::size_t>(tree.globalIndex(n))] =
+                visible[static_cast<std::size_t>(n)];
+          }
+        }
+        std::vector<unsigned char>().swap(visible);
+      });
   SelectionMaskResult result;
   result.bounds = {{1e300, -1e300, 1e300, -1e300, 1e300, -1e300}};
+  if (!done)
+  {
+    return result; // stopped: no mask
+  }
   for (const TreeMask& mask : masks)
   {
     for (int a = 0; a < 3; ++a)
@@ -190,7 +187,7 @@ void markLeaves(const HyperTreeAccess& grid, const TreeAccess& tree, bool allowM
 
 SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
                                   const std::vector<SelectedNode>& selected, bool invert,
-                                  bool allowMasked)
+                                  bool allowMasked, const ProgressShare& progress)
 {
   const auto& trees = grid.trees();
   // The selected nodes of each tree (selections by location come in points' order).
@@ -199,7 +196,7 @@ SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
   {
     byTree[static_cast<std::size_t>(n.tree - trees.data())].push_back(&n);
   }
-  return buildSelectionMask(grid,
+  return buildSelectionMask(grid, progress,
                             [&](std::size_t t, const TreeAccess& tree, TreeMask& mask)
                             {
                               auto& visible = mask.visible;
@@ -250,9 +247,9 @@ SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
 
 SelectionMaskResult selectionMaskOfLeaves(const HyperTreeAccess& grid,
                                           const std::function<bool(vtkIdType)>& picked, bool invert,
-                                          bool allowMasked)
+                                          bool allowMasked, const ProgressShare& progress)
 {
-  return buildSelectionMask(grid,
+  return buildSelectionMask(grid, progress,
                             [&](std::size_t, const TreeAccess& tree, TreeMask& mask)
                             {
                               markLeaves(grid, tree, allowMasked, mask,

@@ -18,6 +18,7 @@
 
 #include "CellSelection.h"
 #include "HyperTreeAccess.h"
+#include "TreeProgress.h"
 
 #include <vtkSmartPointer.h>
 
@@ -41,15 +42,17 @@ struct SelectionMaskResult
 };
 
 /// `selected`: what the selection picked (any order). `allowMasked`: masked
-/// cells count as selectable (as CellSelection's).
+/// cells count as selectable (as CellSelection's). `progress`: where the loop
+/// over trees reports and learns that the execution was aborted; stopped, the
+/// result has no mask.
 SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
                                   const std::vector<SelectedNode>& selected, bool invert,
-                                  bool allowMasked);
+                                  bool allowMasked, const ProgressShare& progress = {});
 
 /// The same for a selection of leaves by a test of their global index (a value
 /// range): the leaves are tested in the mask's own pass, no node list is made.
 SelectionMaskResult selectionMaskOfLeaves(const HyperTreeAccess& grid,
                                           const std::function<bool(vtkIdType)>& picked, bool invert,
-                                          bool allowMasked);
+                                          bool allowMasked, const ProgressShare& progress = {});
 
 } // namespace canopy

@@ -1,5 +1,7 @@
 #include "ViewVolume.h"
 
+#include "Vec3.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -8,21 +10,6 @@ namespace canopy
 {
 namespace
 {
-
-double dot(const Vec3& a, const Vec3& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-Vec3 cross(const Vec3& a, const Vec3& b)
-{
-  return {{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}};
-}
-
-Vec3 sub(const Vec3& a, const Vec3& b)
-{
-  return {{a[0] - b[0], a[1] - b[1], a[2] - b[2]}};
-}
 
 Vec3 scaled(const Vec3& a, double s)
 {

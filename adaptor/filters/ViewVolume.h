@@ -124,9 +124,7 @@ double ViewVolume::footprintInPixels(const std::array<Vec3, N>& points) const
   {
     if (!Camera.parallelProjection)
     {
-      const Vec3 q{
-          {p[0] - Camera.position[0], p[1] - Camera.position[1], p[2] - Camera.position[2]}};
-      if (q[0] * Forward[0] + q[1] * Forward[1] + q[2] * Forward[2] <= 0)
+      if (dot(sub(p, Camera.position), Forward) <= 0)
       {
         return 1e300;
       }

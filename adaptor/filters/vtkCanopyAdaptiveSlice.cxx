@@ -3,6 +3,7 @@
 #include "AdaptiveSliceBuilder.h"
 #include "HyperTreeAccess.h"
 #include "HyperTreeAccessCache.h"
+#include "TreeProgress.h"
 #include "ViewVolume.h"
 
 #include <vtkDoubleArray.h>
@@ -103,9 +104,14 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
     }
     canopy::SliceOptions options;
     const ViewResources resources = this->ViewOptionsFor(camera, input, options);
-    canopy::AdaptiveSliceBuilder builder(*access, std::move(planes), options);
+    canopy::TreeProgress progress(this);
+    canopy::AdaptiveSliceBuilder builder(*access, std::move(planes), options, {&progress});
     quads = static_cast<vtkIdType>(builder.count());
     this->LastVisited = static_cast<vtkIdType>(builder.visited());
+    if (progress.stopped())
+    {
+      return 1; // aborted: the output stays empty
+    }
     builder.write(this->SizeCellArrays(arrays, quads, 4));
   }
   catch (const std::exception& e)
@@ -138,6 +144,10 @@ void vtkCanopyAdaptiveSlice::PrintSelf(ostream& os, vtkIndent indent)
     }
     os << "\n";
   }
-  os << indent << "InvalidAxes: " << this->InvalidAxes.size() << "\n"
-     << indent << "LastVisited: " << this->LastVisited << "\n";
+  os << indent << "InvalidAxes:";
+  for (int axis : this->InvalidAxes)
+  {
+    os << " " << axis;
+  }
+  os << "\n" << indent << "LastVisited: " << this->LastVisited << "\n";
 }

@@ -4,6 +4,7 @@
 #include "HyperTreeAccess.h"
 #include "HyperTreeAccessCache.h"
 #include "RemoteFaceExchange.h"
+#include "TreeProgress.h"
 #include "ViewVolume.h"
 
 #include <vtkDoubleArray.h>
@@ -82,6 +83,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   const CellArrays arrays = this->NewCellArrays();
   vtkIdType quads = 0; // cells: quads, or segments of a 1D grid
   vtkIdType perCell = 4;
+  canopy::TreeProgress progress(this);
   try
   {
     canopy::SurfaceOptions options;
@@ -89,15 +91,24 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     options.skipBackFaces = this->SkipBackFaces;
     options.remoteFaces = collective && agreed[1] && agreed[2];
     options.memoize = this->Topology->lastWasKept();
-    canopy::AdaptiveSurfaceBuilder builder(*access, options, &this->CellBuffers);
+    canopy::AdaptiveSurfaceBuilder builder(*access, options, &this->CellBuffers, {&progress});
     builder.count();
     if (options.remoteFaces)
     {
+      // Collective: an aborted rank still answers the others.
       canopy::exchangeRemoteFaces(builder, controller);
+    }
+    if (progress.stopped())
+    {
+      return 1; // aborted: the output stays empty
     }
     quads = static_cast<vtkIdType>(builder.cells());
     perCell = static_cast<vtkIdType>(builder.pointsPerCell());
     builder.write(this->SizeCellArrays(arrays, quads, perCell));
+    if (progress.stopped())
+    {
+      return 1; // aborted: the arrays are partly written, the output stays empty
+    }
   }
   catch (const std::exception& e)
   {

@@ -8,6 +8,7 @@
 #include "PointMerger.h"
 #include "PureMask.h"
 #include "SelectionMask.h"
+#include "TreeProgress.h"
 
 #include <vtkBitArray.h>
 #include <vtkCellArray.h>
@@ -181,20 +182,23 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
     selection.bounds(n, lo, hi);
     if (dimension == 1)
     {
-      canopy::Vec3 end = lo;
-      end[static_cast<std::size_t>(grid.activeAxes()[0])] = hi[grid.activeAxes()[0]];
-      *ids++ = merger.id(lo);
-      *ids++ = merger.id(end);
+      for (const canopy::Vec3& c : canopy::segmentEnds(lo, hi, grid.activeAxes()[0]))
+      {
+        *ids++ = merger.id(c);
+      }
     }
     else if (dimension == 3)
     {
+      // VTK_HEXAHEDRON: the bottom face (z = lo), then the top one, both
+      // counter-clockwise seen from +z.
       for (int k = 0; k < 2; ++k)
       {
-        const double z = k ? hi[2] : lo[2];
-        *ids++ = merger.id({{lo[0], lo[1], z}});
-        *ids++ = merger.id({{hi[0], lo[1], z}});
-        *ids++ = merger.id({{hi[0], hi[1], z}});
-        *ids++ = merger.id({{lo[0], hi[1], z}});
+        canopy::Vec3 layer = lo;
+        layer[2] = k ? hi[2] : lo[2];
+        for (const canopy::Vec3& c : canopy::rectangleCorners(layer, hi, 0, 1))
+        {
+          *ids++ = merger.id(c);
+        }
       }
     }
     else
@@ -452,6 +456,14 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     }
   }
 
+  canopy::TreeProgress progress(this);
+  const canopy::ProgressShare share{&progress};
+  // An aborted execution leaves an empty output.
+  const auto abandon = [outputObject]
+  {
+    outputObject->Initialize();
+    return 1;
+  };
   try
   {
     // Neither index tables nor masked-descendant flags: selections read only
@@ -459,7 +471,8 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     const std::shared_ptr<const canopy::HyperTreeAccess> access =
         this->Topology->get(input, false, false);
     const canopy::HyperTreeAccess& grid = *access;
-    const canopy::CellSelection selection(grid, this->AllowMasked);
+    canopy::CellSelection selection(grid, this->AllowMasked);
+    selection.setProgress(share.part(0, 0.5));
     canopy::SelectionReport report;
     std::vector<canopy::SelectedNode> nodes;
     if (mode == LOCATIONS)
@@ -487,6 +500,10 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     this->LastOutOfRange = static_cast<vtkIdType>(report.outOfRange);
     this->LastDuplicates = static_cast<vtkIdType>(report.duplicates);
     this->LastVisited = static_cast<vtkIdType>(report.visited);
+    if (progress.stopped())
+    {
+      return abandon();
+    }
     if (this->PreserveTopology)
     {
       // The same grid with a mask: no node list for the complement, no copy.
@@ -496,8 +513,12 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
               ? canopy::selectionMaskOfLeaves(
                     grid,
                     canopy::CellSelection::valueInRange(values, component, range[0], range[1]),
-                    invert, this->AllowMasked)
-              : canopy::selectionMask(grid, nodes, invert, this->AllowMasked);
+                    invert, this->AllowMasked, share.part(0.5, 1))
+              : canopy::selectionMask(grid, nodes, invert, this->AllowMasked, share.part(0.5, 1));
+      if (progress.stopped())
+      {
+        return abandon();
+      }
       std::copy(shown.bounds.begin(), shown.bounds.end(), this->LastSelectedBounds);
       shareWithMask(input, vtkHyperTreeGrid::SafeDownCast(outputObject), shown.mask, shown.pure);
     }
@@ -505,7 +526,12 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     {
       if (invert)
       {
+        selection.setProgress(share.part(0.5, 1));
         nodes = selection.complement(nodes);
+        if (progress.stopped())
+        {
+          return abandon();
+        }
       }
       for (const canopy::SelectedNode& n : nodes)
       {

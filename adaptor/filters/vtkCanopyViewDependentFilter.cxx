@@ -6,6 +6,7 @@
 #include "HyperTreeAccessCache.h"
 #include "LeafColorAverage.h"
 #include "PixelBoxFilter.h"
+#include "Vec3.h"
 #include "ViewVolume.h"
 
 #include <vtkAOSDataArrayTemplate.h>
@@ -446,23 +447,23 @@ void vtkCanopyViewDependentFilter::AddAxisNormals(vtkPolyData* output)
   // The builders write quads as 4 consecutive points each.
   const double* p = vtkDoubleArray::SafeDownCast(output->GetPoints()->GetData())->GetPointer(0);
   float* n = normals->GetPointer(0);
-  vtkSMPTools::For(0, cells,
-                   [&](vtkIdType begin, vtkIdType end)
-                   {
-                     for (vtkIdType q = begin; q < end; ++q)
-                     {
-                       const double* c = p + 12 * q;
-                       const double e1[3] = {c[3] - c[0], c[4] - c[1], c[5] - c[2]};
-                       const double e2[3] = {c[9] - c[0], c[10] - c[1], c[11] - c[2]};
-                       const double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1],
-                                                e1[2] * e2[0] - e1[0] * e2[2],
-                                                e1[0] * e2[1] - e1[1] * e2[0]};
-                       for (int a = 0; a < 3; ++a)
-                       {
-                         n[3 * q + a] = cross[a] > 0 ? 1.0f : cross[a] < 0 ? -1.0f : 0.0f;
-                       }
-                     }
-                   });
+  vtkSMPTools::For(
+      0, cells,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType q = begin; q < end; ++q)
+        {
+          const double* c = p + 12 * q;
+          auto corner = [c](int k) { return canopy::Vec3{{c[3 * k], c[3 * k + 1], c[3 * k + 2]}}; };
+          const canopy::Vec3 normal =
+              canopy::cross(canopy::sub(corner(1), corner(0)), canopy::sub(corner(3), corner(0)));
+          for (int a = 0; a < 3; ++a)
+          {
+            const double x = normal[a];
+            n[3 * q + a] = x > 0 ? 1.0f : x < 0 ? -1.0f : 0.0f;
+          }
+        }
+      });
   output->GetCellData()->SetNormals(normals);
 }
 

@@ -7,6 +7,7 @@
 #include "ConvexClip.h"
 #include "HtgWalk.h"
 #include "RandomForest.h"
+#include "SurfaceRuns.h"
 
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSurface.h"
@@ -17,7 +18,6 @@
 #include <vtkCellType.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdTypeArray.h>
-#include <vtkMatrix4x4.h>
 #include <vtkPolyData.h>
 #include <vtkUnsignedCharArray.h>
 
@@ -26,36 +26,12 @@
 #include <map>
 #include <random>
 #include <set>
+#include <string>
 
 namespace canopy::testing
 {
 namespace
 {
-
-struct View
-{
-  ClipPoint position;
-  ClipPoint focal;
-  ClipPoint up;
-  bool parallel;
-  double scale; // parallel scale or view angle
-  int width;
-  int height;
-};
-
-vtkSmartPointer<vtkCamera> cameraFor(const View& v)
-{
-  auto camera = vtkSmartPointer<vtkCamera>::New();
-  camera->SetPosition(v.position.data());
-  camera->SetFocalPoint(v.focal.data());
-  camera->SetViewUp(v.up.data());
-  camera->SetParallelProjection(v.parallel);
-  camera->SetParallelScale(v.scale);
-  camera->SetViewAngle(v.parallel ? 30 : v.scale);
-  const double distance = camera->GetDistance();
-  camera->SetClippingRange(distance / 1e6, distance * 1e6);
-  return camera;
-}
 
 /// VTK's frustum side planes (near and far are far away and left out).
 std::vector<ClipPlane> sidePlanes(const View& v)
@@ -94,33 +70,6 @@ std::set<vtkIdType> bruteForceVisible(vtkHyperTreeGrid* htg, const View& view)
     }
   }
   return ids;
-}
-
-vtkSmartPointer<vtkPolyData> runFilter(vtkHyperTreeGrid* htg, const View& v, bool lod,
-                                       double threshold = 1.0)
-{
-  vtkNew<vtkCanopyAdaptiveSurface> filter;
-  filter->SetInputData(htg);
-  filter->SetCamera(cameraFor(v));
-  filter->SetViewportSize(v.width, v.height);
-  filter->SetLevelOfDetail(lod);
-  filter->SetPixelThreshold(threshold);
-  filter->Update();
-  vtkSmartPointer<vtkPolyData> out = filter->GetPolyDataOutput();
-  return out;
-}
-
-std::set<vtkIdType> emittedIds(vtkPolyData* surface)
-{
-  auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
-  std::set<vtkIdType> result;
-  for (vtkIdType i = 0; ids && i < ids->GetNumberOfTuples(); ++i)
-  {
-    result.insert(ids->GetValue(i));
-  }
-  EXPECT_EQ(result.size(), static_cast<std::size_t>(surface->GetNumberOfCells()))
-      << "a cell emitted twice";
-  return result;
 }
 
 RandomForestOptions lineOptions(std::uint64_t seed)
@@ -175,33 +124,7 @@ TEST(AdaptiveSurface1D, EverySegmentIsAVtkLineOnItsCellInAnyStorageOrder)
   {
     RandomForest forest(lineOptions(seed));
     auto htg = buildHyperTreeGrid(forest.description());
-    vtkNew<vtkCanopyAdaptiveSurface> filter;
-    filter->SetInputData(htg);
-    filter->ViewDependentOff();
-    filter->Update();
-    vtkPolyData* surface = filter->GetPolyDataOutput();
-    const auto leaves = visibleLeafBoxes(htg);
-    ASSERT_EQ(surface->GetNumberOfCells(), static_cast<vtkIdType>(leaves.size()));
-    EXPECT_EQ(surface->GetNumberOfLines(), surface->GetNumberOfCells());
-    std::map<vtkIdType, const LeafBox*> byId;
-    for (const LeafBox& leaf : leaves)
-    {
-      byId[leaf.global] = &leaf;
-    }
-    auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
-    auto* levels = vtkUnsignedCharArray::SafeDownCast(surface->GetCellData()->GetArray("Level"));
-    for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
-    {
-      ASSERT_EQ(surface->GetCellType(c), VTK_LINE) << "seed " << seed;
-      const LeafBox* leaf = byId.at(ids->GetValue(c));
-      EXPECT_EQ(levels->GetValue(c), leaf->level);
-      double b[6];
-      surface->GetCell(c)->GetBounds(b);
-      for (int i = 0; i < 6; ++i)
-      {
-        ASSERT_NEAR(b[i], leaf->bounds[i], 1e-12) << "seed " << seed << " bound " << i;
-      }
-    }
+    expectOneCellPerVisibleLeaf(htg, VTK_LINE, "seed " + std::to_string(seed));
   }
 }
 
@@ -218,36 +141,11 @@ TEST(AdaptiveSurface1D, RandomViewsEmitExactlyTheOverlappingLeaves)
     std::mt19937_64 random(seed);
     const View v = randomView(b, o.activeAxis, random, seed);
     const auto expected = bruteForceVisible(htg, v);
-    EXPECT_EQ(emittedIds(runFilter(htg, v, false)), expected)
+    EXPECT_EQ(emittedIds(runSurface(htg, v, false)), expected)
         << "seed " << seed << (v.parallel ? " parallel" : " perspective");
     nonTrivial += !expected.empty() && expected.size() < visibleLeafBoxes(htg).size();
   }
   EXPECT_GE(nonTrivial, 20);
-}
-
-/// Pixel footprint of a segment by VTK's own projection matrix.
-double vtkFootprint(const View& v, const double b[6])
-{
-  // The camera owns the matrix: it must outlive its use (a temporary camera here was
-  // a heap-use-after-free, found by the sanitizer build).
-  const vtkSmartPointer<vtkCamera> camera = cameraFor(v);
-  vtkMatrix4x4* m =
-      camera->GetCompositeProjectionTransformMatrix(double(v.width) / v.height, -1, 1);
-  double lo[2] = {1e300, 1e300};
-  double hi[2] = {-1e300, -1e300};
-  for (int k = 0; k < 2; ++k)
-  {
-    const double p[4] = {b[k], b[2 + k], b[4 + k], 1};
-    double q[4];
-    m->MultiplyPoint(p, q);
-    const double xy[2] = {(q[0] / q[3] + 1) * 0.5 * v.width, (q[1] / q[3] + 1) * 0.5 * v.height};
-    for (int a = 0; a < 2; ++a)
-    {
-      lo[a] = std::min(lo[a], xy[a]);
-      hi[a] = std::max(hi[a], xy[a]);
-    }
-  }
-  return std::max(hi[0] - lo[0], hi[1] - lo[1]);
 }
 
 TEST(AdaptiveSurface1D, LevelOfDetailStopsOnlyAtNodesBelowTheThreshold)
@@ -265,7 +163,7 @@ TEST(AdaptiveSurface1D, LevelOfDetailStopsOnlyAtNodesBelowTheThreshold)
     v.width /= 8; // coarse viewports so that level of detail engages
     v.height /= 8;
     const double threshold = 2.5;
-    auto surface = runFilter(htg, v, true, threshold);
+    auto surface = runSurface(htg, v, true, threshold);
     std::map<vtkIdType, bool> leafById;
     for (std::size_t t = 0; t < forest.nodes().size(); ++t)
     {
@@ -292,45 +190,8 @@ TEST(AdaptiveSurface1D, LevelOfDetailStopsOnlyAtNodesBelowTheThreshold)
 
 TEST(AdaptiveSurface1D, LevelOfDetailMatchesTheClosedForm)
 {
-  // Uniformly refined roots of length 10 along x, seen across: every segment is
-  // at level ceil(log(S / (t p)) / log f), capped by the depth.
-  for (int f : {2, 3})
-  {
-    RandomForestOptions o;
-    o.dimension = 1;
-    o.activeAxis = 0;
-    o.branchFactor = f;
-    o.rootCells = {{3, 1, 1}};
-    o.maxLevels = f == 2 ? 12 : 8;
-    o.refineProbability = 1.0;
-    RandomForest forest(o);
-    auto& g = const_cast<std::array<std::vector<double>, 3>&>(forest.coordinates());
-    for (std::size_t i = 0; i < g[0].size(); ++i)
-    {
-      g[0][i] = 10.0 * static_cast<double>(i);
-    }
-    auto htg = buildHyperTreeGrid(forest.description());
-    for (double scale : {3.0, 15.0, 40.0, 200.0})
-    {
-      for (double threshold : {1.0, 3.0})
-      {
-        const View v{{{15, g[1][0], 50}}, {{15, g[1][0], 0}}, {{0, 1, 0}}, true, scale, 512, 512};
-        auto surface = runFilter(htg, v, true, threshold);
-        const double pixel = 2 * scale / 512;
-        const double exact = std::log(10.0 / (threshold * pixel)) / std::log(double(f));
-        const int expected =
-            std::min(o.maxLevels - 1, std::max(0, static_cast<int>(std::ceil(exact - 1e-12))));
-        auto* levels =
-            vtkUnsignedCharArray::SafeDownCast(surface->GetCellData()->GetArray("Level"));
-        ASSERT_GT(surface->GetNumberOfCells(), 0);
-        for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
-        {
-          ASSERT_EQ(levels->GetValue(c), expected)
-              << "f " << f << " scale " << scale << " threshold " << threshold;
-        }
-      }
-    }
-  }
+  // Uniformly refined roots of length 10 along x, seen across.
+  expectLevelsMatchClosedForm(1);
 }
 
 TEST(AdaptiveSurface1D, SegmentsTileTheVisiblePartOfTheLine)
@@ -353,7 +214,7 @@ TEST(AdaptiveSurface1D, SegmentsTileTheVisiblePartOfTheLine)
       const auto planes = sidePlanes(v);
       const auto [p, q] = segmentOf(b);
       const double visible = clippedLength(p, q, planes);
-      auto surface = runFilter(htg, v, lod);
+      auto surface = runSurface(htg, v, lod);
       double covered = 0;
       for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
       {

@@ -3,9 +3,11 @@
 // nonzero area (VTK's own camera frustum planes, polygon clipping), level of
 // detail must stop exactly where the closed form says, and the emitted cells
 // must tile the visible domain.
+#include "ErrorMessages.h"
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
+#include "SurfaceRuns.h"
 
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSurface.h"
@@ -16,13 +18,13 @@
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkCellType.h>
 #include <vtkCommand.h>
 #include <vtkDoubleArray.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
 #include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
-#include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -39,6 +41,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <string>
 
 namespace canopy::testing
 {
@@ -48,42 +51,10 @@ namespace
 using Point = std::array<double, 3>;
 using Plane = std::array<double, 4>; // a x + b y + c z + d >= 0 inside
 
-struct View
-{
-  Point position;
-  Point focal;
-  Point up;
-  bool parallel;
-  double scale; // parallel scale or view angle
-  int width;
-  int height;
-};
-
-/// A vtkCamera for the view, its clipping range far from the data.
-vtkSmartPointer<vtkCamera> vtkCameraFor(const View& v, double rangeFactor)
-{
-  auto camera = vtkSmartPointer<vtkCamera>::New();
-  camera->SetPosition(v.position.data());
-  camera->SetFocalPoint(v.focal.data());
-  camera->SetViewUp(v.up.data());
-  camera->SetParallelProjection(v.parallel);
-  if (v.parallel)
-  {
-    camera->SetParallelScale(v.scale);
-  }
-  else
-  {
-    camera->SetViewAngle(v.scale);
-  }
-  const double distance = camera->GetDistance();
-  camera->SetClippingRange(distance / rangeFactor, distance * rangeFactor);
-  return camera;
-}
-
 /// VTK's own frustum planes for the view (an independent implementation).
 std::vector<Plane> vtkFrustum(const View& v)
 {
-  vtkSmartPointer<vtkCamera> camera = vtkCameraFor(v, 1e9);
+  vtkSmartPointer<vtkCamera> camera = cameraFor(v, 1e9);
   double planes[24];
   camera->GetFrustumPlanes(static_cast<double>(v.width) / v.height, planes);
   std::vector<Plane> result;
@@ -178,44 +149,6 @@ std::set<vtkIdType> bruteForceVisible(vtkHyperTreeGrid* htg, const View& view)
   return ids;
 }
 
-vtkSmartPointer<vtkPolyData> runFilter(vtkHyperTreeGrid* htg, const View& v, bool lod,
-                                       double threshold = 1.0)
-{
-  vtkNew<vtkCanopyAdaptiveSurface> filter;
-  filter->SetInputData(htg);
-  filter->SetCameraPosition(v.position.data());
-  filter->SetCameraFocalPoint(v.focal.data());
-  filter->SetCameraViewUp(v.up.data());
-  filter->SetParallelProjection(v.parallel);
-  if (v.parallel)
-  {
-    filter->SetParallelScale(v.scale);
-  }
-  else
-  {
-    filter->SetViewAngle(v.scale);
-  }
-  filter->SetViewportSize(v.width, v.height);
-  filter->SetLevelOfDetail(lod);
-  filter->SetPixelThreshold(threshold);
-  filter->Update();
-  vtkSmartPointer<vtkPolyData> out = filter->GetPolyDataOutput();
-  return out;
-}
-
-std::set<vtkIdType> emittedIds(vtkPolyData* surface)
-{
-  auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
-  std::set<vtkIdType> result;
-  for (vtkIdType i = 0; ids && i < ids->GetNumberOfTuples(); ++i)
-  {
-    result.insert(ids->GetValue(i));
-  }
-  EXPECT_EQ(result.size(), static_cast<std::size_t>(surface->GetNumberOfCells()))
-      << "a cell emitted twice";
-  return result;
-}
-
 /// The paper's view of case A as a vtkCamera.
 vtkSmartPointer<vtkCamera> paperCamera()
 {
@@ -239,7 +172,7 @@ TEST(AdaptiveSurface2D, PaperCaseAViewEmitsExactlyTheOverlappingLeaves)
     DescriptorForest forest(paperCaseA(withMask));
     auto htg = buildHyperTreeGrid(forest.description());
     const auto expected = bruteForceVisible(htg, paperView());
-    auto surface = runFilter(htg, paperView(), true);
+    auto surface = runSurface(htg, paperView(), true);
     const auto emitted = emittedIds(surface);
     EXPECT_EQ(emitted, expected);
     // The paper's conservative culling kept 67 (54 with the mask).
@@ -254,7 +187,7 @@ TEST(AdaptiveSurface2D, OutputCarriesFieldsIdsLevelsAndDoublePoints)
 {
   DescriptorForest forest(paperCaseA(true));
   auto htg = buildHyperTreeGrid(forest.description());
-  auto surface = runFilter(htg, paperView(), false);
+  auto surface = runSurface(htg, paperView(), false);
   ASSERT_GT(surface->GetNumberOfCells(), 0);
   EXPECT_EQ(surface->GetPoints()->GetDataType(), VTK_DOUBLE);
   auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
@@ -354,29 +287,9 @@ TEST(AdaptiveSurface2D, EveryQuadSitsOnItsCellInAnyStorageOrder)
     {
       RandomForest forest(smallPlaneForest(f, order, 11 + f));
       auto htg = buildHyperTreeGrid(forest.description());
-      vtkNew<vtkCanopyAdaptiveSurface> filter;
-      filter->SetInputData(htg);
-      filter->ViewDependentOff();
-      filter->Update();
-      vtkPolyData* surface = filter->GetPolyDataOutput();
-      const auto leaves = visibleLeafBoxes(htg);
-      ASSERT_EQ(surface->GetNumberOfCells(), static_cast<vtkIdType>(leaves.size()));
-      std::map<vtkIdType, const LeafBox*> byId;
-      for (const LeafBox& leaf : leaves)
-      {
-        byId[leaf.global] = &leaf;
-      }
-      auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
-      for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
-      {
-        double b[6];
-        surface->GetCell(q)->GetBounds(b);
-        const LeafBox* leaf = byId.at(ids->GetValue(q));
-        for (int i = 0; i < 6; ++i)
-        {
-          ASSERT_NEAR(b[i], leaf->bounds[i], 1e-12) << "quad " << q << " bound " << i;
-        }
-      }
+      expectOneCellPerVisibleLeaf(htg, VTK_QUAD,
+                                  "f " + std::to_string(f) +
+                                      (order == StorageOrder::DepthFirst ? " depth first" : ""));
     }
   }
 }
@@ -416,11 +329,7 @@ TEST(AdaptiveSurface2D, FullSurfaceFieldsAreTheSimulationsValuesInEveryLayout)
         FieldDescription::strided("strided", &records[0].value, sizeof(Record), slots));
     d.fields.push_back(FieldDescription::aos("integer", integers.data(), slots));
     auto htg = buildHyperTreeGrid(d);
-    vtkNew<vtkCanopyAdaptiveSurface> filter;
-    filter->SetInputData(htg);
-    filter->ViewDependentOff();
-    filter->Update();
-    vtkPolyData* surface = filter->GetPolyDataOutput();
+    vtkSmartPointer<vtkPolyData> surface = fullSurface(htg);
     std::map<vtkIdType, std::int64_t> slotOfCell;
     for (std::size_t t = 0; t < forest.nodes().size(); ++t)
       for (std::size_t n = 0; n < forest.nodes()[t].size(); ++n)
@@ -508,35 +417,12 @@ TEST(AdaptiveSurface2D, RandomViewsEmitExactlyTheOverlappingLeaves)
   {
     RandomCase c = randomCase(seed);
     const auto expected = bruteForceVisible(c.htg, c.view);
-    const auto emitted = emittedIds(runFilter(c.htg, c.view, false));
+    const auto emitted = emittedIds(runSurface(c.htg, c.view, false));
     EXPECT_EQ(emitted, expected) << "seed " << seed;
     nonTrivial += !expected.empty() && expected.size() < visibleLeafBoxes(c.htg).size();
   }
   // Most views must cut through the grid, or the test proves little.
   EXPECT_GE(nonTrivial, 20);
-}
-
-/// Pixel footprint of a box by VTK's own projection matrix.
-double vtkFootprint(const View& v, const double b[6])
-{
-  vtkSmartPointer<vtkCamera> camera = vtkCameraFor(v, 1e6);
-  vtkMatrix4x4* m =
-      camera->GetCompositeProjectionTransformMatrix(double(v.width) / v.height, -1, 1);
-  double lo[2] = {1e300, 1e300};
-  double hi[2] = {-1e300, -1e300};
-  for (int k = 0; k < 8; ++k)
-  {
-    const double p[4] = {b[(k & 1) ? 1 : 0], b[(k & 2) ? 3 : 2], b[(k & 4) ? 5 : 4], 1};
-    double q[4];
-    m->MultiplyPoint(p, q);
-    const double x = (q[0] / q[3] + 1) * 0.5 * v.width;
-    const double y = (q[1] / q[3] + 1) * 0.5 * v.height;
-    lo[0] = std::min(lo[0], x);
-    hi[0] = std::max(hi[0], x);
-    lo[1] = std::min(lo[1], y);
-    hi[1] = std::max(hi[1], y);
-  }
-  return std::max(hi[0] - lo[0], hi[1] - lo[1]);
 }
 
 TEST(AdaptiveSurface2D, LevelOfDetailStopsAtTheFirstNodeBelowThreshold)
@@ -548,7 +434,7 @@ TEST(AdaptiveSurface2D, LevelOfDetailStopsAtTheFirstNodeBelowThreshold)
     c.view.width /= 8; // coarse viewports so that level of detail engages
     c.view.height /= 8;
     const double threshold = 2.5;
-    auto surface = runFilter(c.htg, c.view, true, threshold);
+    auto surface = runSurface(c.htg, c.view, true, threshold);
     auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
     for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
     {
@@ -656,48 +542,8 @@ TEST(AdaptiveSurface2D, FollowsTheRendererAndDoesNotKeepItAlive)
 
 TEST(AdaptiveSurface2D, LevelOfDetailMatchesTheClosedForm)
 {
-  // A uniformly refined grid of square roots: every emitted node must be at
-  // level ceil(log(S / (t p)) / log f), capped by the depth.
-  for (int f : {2, 3})
-  {
-    RandomForestOptions o;
-    o.dimension = 2;
-    o.branchFactor = f;
-    o.rootCells = {{3, 3, 1}};
-    o.maxLevels = f == 2 ? 9 : 6;
-    o.refineProbability = 1.0;
-    RandomForest forest(o);
-    // Make the roots square and uniform.
-    auto& g = const_cast<std::array<std::vector<double>, 3>&>(forest.coordinates());
-    for (int a = 0; a < 2; ++a)
-    {
-      for (std::size_t i = 0; i < g[a].size(); ++i)
-      {
-        g[a][i] = 10.0 * i;
-      }
-    }
-    auto htg = buildHyperTreeGrid(forest.description());
-    for (double scale : {3.0, 15.0, 40.0, 200.0})
-    {
-      for (double threshold : {1.0, 3.0})
-      {
-        const View v{{{15, 15, 50}}, {{15, 15, 0}}, {{0, 1, 0}}, true, scale, 512, 512};
-        auto surface = runFilter(htg, v, true, threshold);
-        const double pixel = 2 * scale / 512;
-        const double exact = std::log(10.0 / (threshold * pixel)) / std::log(double(f));
-        const int expected =
-            std::min(o.maxLevels - 1, std::max(0, static_cast<int>(std::ceil(exact - 1e-12))));
-        auto* levels =
-            vtkUnsignedCharArray::SafeDownCast(surface->GetCellData()->GetArray("Level"));
-        ASSERT_GT(surface->GetNumberOfCells(), 0);
-        for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
-        {
-          ASSERT_EQ(levels->GetValue(q), expected)
-              << "f " << f << " scale " << scale << " threshold " << threshold;
-        }
-      }
-    }
-  }
+  // A uniformly refined grid of square roots.
+  expectLevelsMatchClosedForm(2);
 }
 
 TEST(AdaptiveSurface2D, EmittedCellsTileTheVisibleDomain)
@@ -718,7 +564,7 @@ TEST(AdaptiveSurface2D, EmittedCellsTileTheVisibleDomain)
       v.height /= lod ? 16 : 1;
       const auto planes = vtkFrustum(v);
       const double visibleDomain = polygonArea(clip(rectangle(b), planes));
-      auto surface = runFilter(c.htg, v, lod);
+      auto surface = runSurface(c.htg, v, lod);
       double covered = 0;
       for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
       {
@@ -762,14 +608,7 @@ TEST(AdaptiveSurface2D, InvalidSettingsAreReportedNotCrashed)
     filter->SetCameraFocalPoint(v.focal.data());
     filter->SetViewportSize(400, 400);
     bad.apply(filter);
-    int errors = 0;
-    vtkNew<vtkCallbackCommand> onError;
-    onError->SetClientData(&errors);
-    onError->SetCallback([](vtkObject*, unsigned long, void* data, void*)
-                         { ++*static_cast<int*>(data); });
-    filter->AddObserver(vtkCommand::ErrorEvent, onError);
-    filter->Update();
-    EXPECT_GE(errors, 1) << bad.what;
+    EXPECT_GE(errorsOfUpdate(filter).size(), 1u) << bad.what;
     EXPECT_EQ(filter->GetPolyDataOutput()->GetNumberOfCells(), 0) << bad.what;
   }
 }
@@ -882,7 +721,7 @@ void expectExactDeepView(const DeepTree& tree, double tx, double ty,
     const View v{{{tx, ty, 10}}, {{tx, ty, 0}}, {{0, 1, 0}}, true, scale, 640, 480};
     const auto expected = axisAlignedReference(htg, v);
     EXPECT_FALSE(expected.empty());
-    auto surface = runFilter(htg, v, false);
+    auto surface = runSurface(htg, v, false);
     EXPECT_EQ(emittedIds(surface), expected) << "scale " << scale;
     auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
     for (vtkIdType q = 0; q < surface->GetNumberOfCells(); ++q)
@@ -926,11 +765,11 @@ TEST(AdaptiveSurfaceStress, ExtremeScalesAndViewportsMatchBruteForce)
     for (int size : {1, 7, 400, 16384})
     {
       const View v{{{0.75, 1.5, 10}}, {{0.75, 1.5, 0}}, {{0, 1, 0}}, true, scale, size, size};
-      EXPECT_EQ(emittedIds(runFilter(htg, v, false)), axisAlignedReference(htg, v))
+      EXPECT_EQ(emittedIds(runSurface(htg, v, false)), axisAlignedReference(htg, v))
           << "scale " << scale << " viewport " << size;
       // With level of detail: never more cells than without, never empty when visible.
-      auto lod = runFilter(htg, v, true);
-      EXPECT_LE(lod->GetNumberOfCells(), runFilter(htg, v, false)->GetNumberOfCells());
+      auto lod = runSurface(htg, v, true);
+      EXPECT_LE(lod->GetNumberOfCells(), runSurface(htg, v, false)->GetNumberOfCells());
       EXPECT_GT(lod->GetNumberOfCells(), 0);
     }
   }
@@ -947,8 +786,8 @@ TEST(AdaptiveSurfaceStress, CameraLookingAlongThePlane)
   };
   for (const View& v : views)
   {
-    EXPECT_EQ(emittedIds(runFilter(htg, v, false)), bruteForceVisible(htg, v));
-    runFilter(htg, v, true); // level of detail seen edge-on: no crash
+    EXPECT_EQ(emittedIds(runSurface(htg, v, false)), bruteForceVisible(htg, v));
+    runSurface(htg, v, true); // level of detail seen edge-on: no crash
   }
 }
 
@@ -963,7 +802,7 @@ TEST(AdaptiveSurfaceStress, NonFiniteFieldValuesPassThrough)
   auto htg = buildHyperTreeGrid(forest.description());
   View v = paperView();
   v.scale = 10; // everything in view
-  auto surface = runFilter(htg, v, false);
+  auto surface = runSurface(htg, v, false);
   EXPECT_EQ(surface->GetNumberOfCells(), 75);
   auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
   vtkDataArray* out = surface->GetCellData()->GetArray("weird");
@@ -983,7 +822,7 @@ TEST(AdaptiveSurfaceStress, OutputIsIdenticalForAnyThreadCount)
   {
     vtkSMPTools::SetBackend(backend);
     vtkSMPTools::Initialize(threads);
-    auto surface = runFilter(c.htg, v, true);
+    auto surface = runSurface(c.htg, v, true);
     std::vector<double> points(static_cast<std::size_t>(3 * surface->GetNumberOfPoints()));
     for (vtkIdType p = 0; p < surface->GetNumberOfPoints(); ++p)
     {

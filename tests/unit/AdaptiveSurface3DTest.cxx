@@ -7,6 +7,7 @@
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
+#include "SurfaceRuns.h"
 #include "VoxelBoundary.h"
 
 #include "canopy/HtgBuilder.h"
@@ -35,21 +36,12 @@ namespace canopy::testing
 namespace
 {
 
-vtkSmartPointer<vtkPolyData> fullSurface(vtkHyperTreeGrid* htg)
-{
-  vtkNew<vtkCanopyAdaptiveSurface> filter;
-  filter->SetInputData(htg);
-  filter->ViewDependentOff();
-  filter->Update();
-  return filter->GetPolyDataOutput();
-}
-
 TEST(AdaptiveSurface3D, CaseBFullSurfaceIsExactlyTheBoundary)
 {
   DescriptorForest plain(paperCaseB(false));
   auto htg = buildHyperTreeGrid(plain.description());
   const std::size_t outer = expectExactBoundary(htg, fullSurface(htg), "case B");
-  EXPECT_EQ(outer, 466u); // faces with no neighbour (paper_cases.md)
+  EXPECT_EQ(outer, 466u); // faces with no neighbour (../shared/testdata/paper_cases.md)
 
   DescriptorForest masked(paperCaseB(true));
   auto maskedHtg = buildHyperTreeGrid(masked.description());

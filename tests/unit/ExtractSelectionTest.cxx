@@ -2,6 +2,7 @@
 // by location (points inside cells, on shared faces, edges and corners, on the
 // domain's upper boundary, outside), by id (leaves, coarse cells, out of range,
 // duplicates) and by value range; both output modes.
+#include "ErrorMessages.h"
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
@@ -10,10 +11,8 @@
 #include "vtkCanopyExtractSelection.h"
 
 #include <gtest/gtest.h>
-#include <vtkCallbackCommand.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
-#include <vtkCommand.h>
 #include <vtkDoubleArray.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdTypeArray.h>
@@ -400,29 +399,18 @@ TEST(ExtractSelection, BadInputIsReportedNotCrashed)
 {
   DescriptorForest forest(paperCaseA(false));
   auto htg = buildHyperTreeGrid(forest.description());
-  auto errorsOf = [&](vtkCanopyExtractSelection* filter)
-  {
-    int errors = 0;
-    vtkNew<vtkCallbackCommand> onError;
-    onError->SetClientData(&errors);
-    onError->SetCallback([](vtkObject*, unsigned long, void* data, void*)
-                         { ++*static_cast<int*>(data); });
-    filter->AddObserver(vtkCommand::ErrorEvent, onError);
-    filter->Update();
-    return errors;
-  };
   {
     vtkNew<vtkCanopyExtractSelection> f;
     f->SetInputData(htg);
     f->AddLocation(std::nan(""), 0, 0);
-    EXPECT_EQ(errorsOf(f), 1);
+    EXPECT_EQ(errorsOfUpdate(f).size(), 1u);
   }
   {
     vtkNew<vtkCanopyExtractSelection> f;
     f->SetInputData(htg);
     f->SetSelectionMode(vtkCanopyExtractSelection::VALUE_RANGE);
     f->SetValueArrayName("Pressure");
-    EXPECT_EQ(errorsOf(f), 1);
+    EXPECT_EQ(errorsOfUpdate(f).size(), 1u);
   }
   {
     vtkNew<vtkSelection> selection;
@@ -436,14 +424,14 @@ TEST(ExtractSelection, BadInputIsReportedNotCrashed)
     vtkNew<vtkCanopyExtractSelection> f;
     f->SetInputData(0, htg);
     f->SetInputData(1, selection);
-    EXPECT_EQ(errorsOf(f), 1);
+    EXPECT_EQ(errorsOfUpdate(f).size(), 1u);
   }
   {
     // An empty selection is an empty result, not an error.
     vtkNew<vtkCanopyExtractSelection> f;
     f->SetInputData(htg);
     f->SetSelectionMode(vtkCanopyExtractSelection::IDS);
-    EXPECT_EQ(errorsOf(f), 0);
+    EXPECT_EQ(errorsOfUpdate(f).size(), 0u);
     EXPECT_EQ(vtkUnstructuredGrid::SafeDownCast(f->GetOutput())->GetNumberOfCells(), 0);
   }
 }

@@ -6,6 +6,7 @@
 // parallel vtkCameras (GetFrustumPlanes, and the corners of the same frustum);
 // both output modes; ids and counts exactly equal.
 #include "ConvexClip.h"
+#include "ErrorMessages.h"
 #include "HtgWalk.h"
 #include "RandomForest.h"
 
@@ -13,10 +14,8 @@
 #include "vtkCanopyExtractSelection.h"
 
 #include <gtest/gtest.h>
-#include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
 #include <vtkCellData.h>
-#include <vtkCommand.h>
 #include <vtkDoubleArray.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdTypeArray.h>
@@ -232,6 +231,12 @@ RandomFrustum randomFrustum(const double b[6], std::mt19937_64& random, bool par
   return f;
 }
 
+void useBox(vtkCanopyExtractSelection* filter, const double box[6])
+{
+  filter->SetSelectionMode(vtkCanopyExtractSelection::BOX);
+  filter->SetBox(box);
+}
+
 void usePlanes(vtkCanopyExtractSelection* filter, const std::vector<ClipPlane>& planes)
 {
   double values[24];
@@ -262,18 +267,6 @@ vtkSmartPointer<vtkSelection> frustumSelection(const std::array<ClipPoint, 8>& c
   node->SetSelectionList(list);
   selection->AddNode(node);
   return selection;
-}
-
-int errorsOf(vtkCanopyExtractSelection* filter)
-{
-  int errors = 0;
-  vtkNew<vtkCallbackCommand> onError;
-  onError->SetClientData(&errors);
-  onError->SetCallback([](vtkObject*, unsigned long, void* data, void*)
-                       { ++*static_cast<int*>(data); });
-  filter->AddObserver(vtkCommand::ErrorEvent, onError);
-  filter->Update();
-  return errors;
 }
 
 TEST(SelectionByBox, RandomBoxesEqualBruteForceIn2DAnd3D)
@@ -307,13 +300,7 @@ TEST(SelectionByBox, RandomBoxesEqualBruteForceIn2DAnd3D)
     for (bool preserve : {false, true})
     {
       EXPECT_EQ(selected(
-                    htg,
-                    [&](vtkCanopyExtractSelection* f)
-                    {
-                      f->SetSelectionMode(vtkCanopyExtractSelection::BOX);
-                      f->SetBox(box.data());
-                    },
-                    preserve),
+                    htg, [&](vtkCanopyExtractSelection* f) { useBox(f, box.data()); }, preserve),
                 expected)
           << "seed " << seed << (preserve ? " (masked grid output)" : " (cells)");
     }
@@ -348,13 +335,7 @@ TEST(SelectionByBox, CellsTouchingTheBoxAreNotSelected)
       Box box;
       std::copy(leaves[i].bounds, leaves[i].bounds + 6, box.begin());
       const auto one = selected(
-          htg,
-          [&](vtkCanopyExtractSelection* f)
-          {
-            f->SetSelectionMode(vtkCanopyExtractSelection::BOX);
-            f->SetBox(box.data());
-          },
-          false);
+          htg, [&](vtkCanopyExtractSelection* f) { useBox(f, box.data()); }, false);
       EXPECT_EQ(one, std::set<vtkIdType>{leaves[i].global}) << "dimension " << dimension;
       // A box of zero thickness along an active axis has no volume: nothing.
       const int axis = dimension == 3 ? 1 : (o.flatAxis + 1) % 3;
@@ -362,13 +343,7 @@ TEST(SelectionByBox, CellsTouchingTheBoxAreNotSelected)
       auto flat = [&](bool preserve)
       {
         return selected(
-            htg,
-            [&](vtkCanopyExtractSelection* f)
-            {
-              f->SetSelectionMode(vtkCanopyExtractSelection::BOX);
-              f->SetBox(box.data());
-            },
-            preserve);
+            htg, [&](vtkCanopyExtractSelection* f) { useBox(f, box.data()); }, preserve);
       };
       EXPECT_TRUE(flat(false).empty());
       EXPECT_TRUE(flat(true).empty());
@@ -379,13 +354,7 @@ TEST(SelectionByBox, CellsTouchingTheBoxAreNotSelected)
     double b[6];
     htg->GetBounds(b);
     EXPECT_EQ(selected(
-                  htg,
-                  [&](vtkCanopyExtractSelection* f)
-                  {
-                    f->SetSelectionMode(vtkCanopyExtractSelection::BOX);
-                    f->SetBox(b);
-                  },
-                  false)
+                  htg, [&](vtkCanopyExtractSelection* f) { useBox(f, b); }, false)
                   .size(),
               leaves.size());
   }
@@ -518,13 +487,7 @@ TEST(SelectionByFrustum, SixAxisAlignedPlanesSelectWhatTheBoxSelects)
       planes.push_back(high);
     }
     const auto byBox = selected(
-        htg,
-        [&](vtkCanopyExtractSelection* f)
-        {
-          f->SetSelectionMode(vtkCanopyExtractSelection::BOX);
-          f->SetBox(box.data());
-        },
-        false);
+        htg, [&](vtkCanopyExtractSelection* f) { useBox(f, box.data()); }, false);
     EXPECT_FALSE(byBox.empty());
     EXPECT_EQ(selected(
                   htg, [&](vtkCanopyExtractSelection* f) { usePlanes(f, planes); }, false),
@@ -563,12 +526,7 @@ TEST(SelectionOnLines, BoxesAndFrustaEqualBruteForce)
     for (bool preserve : {false, true})
     {
       EXPECT_EQ(selected(
-                    htg,
-                    [&](vtkCanopyExtractSelection* filter)
-                    {
-                      filter->SetSelectionMode(vtkCanopyExtractSelection::BOX);
-                      filter->SetBox(box.data());
-                    },
+                    htg, [&](vtkCanopyExtractSelection* filter) { useBox(filter, box.data()); },
                     preserve),
                 inBox)
           << "seed " << seed << " box" << (preserve ? " (masked grid output)" : "");
@@ -647,8 +605,7 @@ TEST(SelectionByRegion, OnlySubtreesThatOverlapAreDescended)
       }
       else
       {
-        filter->SetSelectionMode(vtkCanopyExtractSelection::BOX);
-        filter->SetBox(box.data());
+        useBox(filter, box.data());
       }
       filter->Update();
       const auto count = static_cast<std::size_t>(
@@ -714,7 +671,7 @@ TEST(SelectionByRegion, BadRegionsAreReportedNotCrashed)
     vtkNew<vtkCanopyExtractSelection> f;
     f->SetInputData(htg);
     configure(f);
-    EXPECT_EQ(errorsOf(f), 1) << what;
+    EXPECT_EQ(errorsOfUpdate(f).size(), 1u) << what;
   }
   // A FRUSTUM node with the wrong number of values, and a content type the
   // filter does not select by.
@@ -734,7 +691,7 @@ TEST(SelectionByRegion, BadRegionsAreReportedNotCrashed)
     vtkNew<vtkCanopyExtractSelection> f;
     f->SetInputData(0, htg);
     f->SetInputData(1, selection);
-    EXPECT_EQ(errorsOf(f), 1) << vtkSelectionNode::GetContentTypeAsString(type);
+    EXPECT_EQ(errorsOfUpdate(f).size(), 1u) << vtkSelectionNode::GetContentTypeAsString(type);
   }
   // Planes that exclude each other (x >= 1 and x <= 0) are a valid, empty region.
   vtkNew<vtkCanopyExtractSelection> f;
@@ -745,7 +702,7 @@ TEST(SelectionByRegion, BadRegionsAreReportedNotCrashed)
                 {{0, -1, 0, 1e9}},
                 {{0, 0, 1, 1e9}},
                 {{0, 0, -1, 1e9}}});
-  EXPECT_EQ(errorsOf(f), 0);
+  EXPECT_EQ(errorsOfUpdate(f).size(), 0u);
   EXPECT_EQ(vtkUnstructuredGrid::SafeDownCast(f->GetOutput())->GetNumberOfCells(), 0);
 }
 

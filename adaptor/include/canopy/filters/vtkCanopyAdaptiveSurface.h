@@ -64,10 +64,11 @@ protected:
   bool OneLayerFacing(vtkHyperTreeGrid* input, int axis) const override;
 
   bool SkipBackFaces = false;
-  /// 3D: the builder's per-tree cell buffers, kept between executions.
-  std::vector<canopy::TreeCells> CellBuffers;
 
 private:
   vtkCanopyAdaptiveSurface(const vtkCanopyAdaptiveSurface&) = delete;
   void operator=(const vtkCanopyAdaptiveSurface&) = delete;
+
+  /// 3D: the builder's per-tree cell buffers, kept between executions.
+  std::vector<canopy::TreeCells> CellBuffers;
 };

@@ -46,6 +46,10 @@
  * vtkUnstructuredGrid of VTK_LINE (1D), VTK_QUAD (2D) or VTK_HEXAHEDRON (3D)
  * cells with merged points, the input's cell fields, "OriginalCellId" and
  * "Level". Grids of any dimension (1, 2, 3) and any axis-aligned orientation.
+ *
+ * An execution reports its progress a few times (UpdateProgress) and checks
+ * once per tree whether it was aborted (AbortExecute, CheckAbort): aborted, it
+ * leaves an empty output.
  */
 #pragma once
 
@@ -185,9 +189,10 @@ protected:
   double LastSelectedBounds[6] = {1, -1, 1, -1, 1, -1};
 
 private:
+  vtkCanopyExtractSelection(const vtkCanopyExtractSelection&) = delete;
+  void operator=(const vtkCanopyExtractSelection&) = delete;
+
   /// The input's topology read once while it is unchanged (a value range that
   /// changes every step re-reads nothing but the values).
   std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
-  vtkCanopyExtractSelection(const vtkCanopyExtractSelection&) = delete;
-  void operator=(const vtkCanopyExtractSelection&) = delete;
 };

@@ -14,6 +14,11 @@
  * properties. With ViewDependent off neither culling nor level of detail apply.
  * Re-executes only when the input, the camera, the viewport size or a property
  * changed (GetMTime).
+ *
+ * An execution reports its progress a few times (UpdateProgress) and, as VTK's
+ * hypertree-grid filters do, checks once per tree whether it was aborted
+ * (AbortExecute, CheckAbort): aborted, it leaves an empty output, still taking
+ * part in the steps collective over the Controller so that no rank waits.
  */
 #pragma once
 
@@ -254,18 +259,20 @@ protected:
   int ColorComponent = -1;
   bool FilterColorsOnPixels = true;
   vtkMultiProcessController* Controller = nullptr;
-  /// The view CurrentView() last accepted in this execution (none: no view).
-  std::unique_ptr<canopy::CameraParameters> ExecutedView;
   vtkIdType LastPixelFiltered = 0;
-  /// What the input's topology costs to read (index tables, masked-descendant
-  /// flags), kept while the topology is unchanged: a camera move does not pay it.
+  /// Internal, shared with the subclasses: what the input's topology costs to
+  /// read (index tables, masked-descendant flags), kept while the topology is
+  /// unchanged, so that a camera move does not pay it.
   std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
-  /// The colour map as last sampled, reused while it is unchanged.
-  mutable std::shared_ptr<canopy::ColorTable> SampledColorMap;
 
 private:
   vtkCanopyViewDependentFilter(const vtkCanopyViewDependentFilter&) = delete;
   void operator=(const vtkCanopyViewDependentFilter&) = delete;
+
+  /// The view CurrentView() last accepted in this execution (none: no view).
+  std::unique_ptr<canopy::CameraParameters> ExecutedView;
+  /// The colour map as last sampled, reused while it is unchanged.
+  mutable std::shared_ptr<canopy::ColorTable> SampledColorMap;
 
   /// Output arrays of the previous execution, reused when nobody else holds them.
   std::map<std::string, vtkSmartPointer<vtkDataArray>> Reusable;
