@@ -1,3 +1,8 @@
+// The adaptive surface's traversal (AdaptiveSurfaceBuilder.h says what it
+// computes and why). Longer than the project's usual file (about 900 lines) on
+// purpose: the walk (TreeWalk) and the face queries (FaceSide) are one algorithm
+// sharing the walk's node frames and ancestor paths; split, those internals
+// would have to become a header of their own for no other user.
 #include "AdaptiveSurfaceBuilder.h"
 
 #include "FullSurfaceWalk.h"
