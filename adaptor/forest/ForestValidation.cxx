@@ -1,8 +1,10 @@
-#include "ForestLayout.h"
 #include "canopy/ForestValidation.h"
+#include "ForestLayout.h"
 
 #include "StorageSlots.h"
 #include "ValidatedTrees.h"
+
+#include "ProblemList.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,24 +30,6 @@ std::string joinLines(const std::vector<std::string>& lines)
   }
   return out.str();
 }
-
-/// Collects problems; each message is prefixed with what it concerns.
-class ProblemList
-{
-public:
-  template <typename... Parts>
-  void add(const Parts&... parts)
-  {
-    std::ostringstream out;
-    (out << ... << parts);
-    Lines.push_back(out.str());
-  }
-  bool empty() const { return Lines.empty(); }
-  std::vector<std::string> take() { return std::move(Lines); }
-
-private:
-  std::vector<std::string> Lines;
-};
 
 std::string treeName(std::size_t t, const TreeDescription& tree)
 {

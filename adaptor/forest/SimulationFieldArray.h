@@ -100,9 +100,6 @@ public:
     this->Computed = std::move(computedValues);
   }
 
-  /// True while values are read from simulation memory.
-  bool isBorrowing() const { return this->Borrowing; }
-
   ValueType GetValue(vtkIdType valueIdx) const
   {
     const int nc = this->NumberOfComponents;

@@ -1,22 +1,23 @@
 #include "CollectiveAgreement.h"
 
-#include <numeric>
+#include "GatherText.h"
+
 #include <sstream>
 #include <thread>
 
 namespace canopy
 {
 
-RankAgreement::RankAgreement(MPI_Comm communicator, const JobOutput& output, double limitSeconds,
-                             double graceSeconds)
+CollectiveAgreement::CollectiveAgreement(MPI_Comm communicator, const JobOutput& output,
+                                         double limitSeconds, double graceSeconds)
     : Communicator(communicator), Output(output), LimitSeconds(limitSeconds),
       GraceSeconds(graceSeconds)
 {
   MPI_Comm_rank(communicator, &this->Rank);
 }
 
-void RankAgreement::maxReduce(std::vector<int>& values, const After* after,
-                              const std::string& localFailure) const
+void CollectiveAgreement::maxReduce(std::vector<int>& values, const After* after,
+                                    const std::string& localFailure) const
 {
   std::vector<int> local = values;
   const int count = static_cast<int>(values.size());
@@ -70,9 +71,9 @@ void RankAgreement::maxReduce(std::vector<int>& values, const After* after,
   }
 }
 
-std::vector<std::string> RankAgreement::gatherFailures(const std::string& localFailure,
-                                                       const After* after,
-                                                       const std::string& localDetail) const
+std::vector<std::string> CollectiveAgreement::gatherFailures(const std::string& localFailure,
+                                                             const After* after,
+                                                             const std::string& localDetail) const
 {
   std::vector<int> anyFailed{localFailure.empty() ? 0 : 1};
   this->maxReduce(anyFailed, after,
@@ -81,30 +82,19 @@ std::vector<std::string> RankAgreement::gatherFailures(const std::string& localF
   {
     return {};
   }
-  int size = 1;
-  MPI_Comm_size(this->Communicator, &size);
-  int localLength = static_cast<int>(localFailure.size());
-  std::vector<int> lengths(size, 0);
-  MPI_Allgather(&localLength, 1, MPI_INT, lengths.data(), 1, MPI_INT, this->Communicator);
-  std::vector<int> offsets(size, 0);
-  std::exclusive_scan(lengths.begin(), lengths.end(), offsets.begin(), 0);
-  std::string all(static_cast<std::size_t>(offsets.back() + lengths.back()), '\0');
-  MPI_Allgatherv(localFailure.data(), localLength, MPI_CHAR, all.data(), lengths.data(),
-                 offsets.data(), MPI_CHAR, this->Communicator);
+  const std::vector<std::string> texts = gatherTextsToAll(this->Communicator, localFailure);
   std::vector<std::string> failures;
-  for (int rank = 0; rank < size; ++rank)
+  for (std::size_t rank = 0; rank < texts.size(); ++rank)
   {
-    if (lengths[rank] > 0)
+    if (!texts[rank].empty())
     {
-      failures.push_back("rank " + std::to_string(rank) + ", " +
-                         all.substr(static_cast<std::size_t>(offsets[rank]),
-                                    static_cast<std::size_t>(lengths[rank])));
+      failures.push_back("rank " + std::to_string(rank) + ", " + texts[rank]);
     }
   }
   return failures;
 }
 
-bool RankAgreement::allOf(bool local) const
+bool CollectiveAgreement::allOf(bool local) const
 {
   int value = local ? 1 : 0;
   int every = 0;
@@ -112,7 +102,7 @@ bool RankAgreement::allOf(bool local) const
   return every == 1;
 }
 
-std::vector<double> RankAgreement::reduce(std::vector<double> values, MPI_Op operation) const
+std::vector<double> CollectiveAgreement::reduce(std::vector<double> values, MPI_Op operation) const
 {
   std::vector<double> reduced(values.size());
   MPI_Allreduce(values.data(), reduced.data(), static_cast<int>(values.size()), MPI_DOUBLE,
@@ -120,30 +110,13 @@ std::vector<double> RankAgreement::reduce(std::vector<double> values, MPI_Op ope
   return reduced;
 }
 
-std::vector<std::string> RankAgreement::gatherOnRoot(const std::string& local) const
+std::vector<std::string> CollectiveAgreement::gatherOnRoot(const std::string& local) const
 {
-  int size = 1;
-  MPI_Comm_size(this->Communicator, &size);
-  int localLength = static_cast<int>(local.size());
-  std::vector<int> lengths(this->Rank == 0 ? size : 0, 0);
-  MPI_Gather(&localLength, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, this->Communicator);
-  std::vector<int> offsets(lengths.size(), 0);
-  std::exclusive_scan(lengths.begin(), lengths.end(), offsets.begin(), 0);
-  std::string all(lengths.empty() ? 0 : static_cast<std::size_t>(offsets.back() + lengths.back()),
-                  '\0');
-  MPI_Gatherv(local.data(), localLength, MPI_CHAR, all.data(), lengths.data(), offsets.data(),
-              MPI_CHAR, 0, this->Communicator);
-  std::vector<std::string> texts;
-  for (std::size_t rank = 0; rank < lengths.size(); ++rank)
-  {
-    texts.push_back(all.substr(static_cast<std::size_t>(offsets[rank]),
-                               static_cast<std::size_t>(lengths[rank])));
-  }
-  return texts;
+  return gatherTextsToRoot(this->Communicator, local, 0);
 }
 
-RankAgreement::States RankAgreement::agree(const std::vector<ScriptState>& local,
-                                           const After* after) const
+CollectiveAgreement::States CollectiveAgreement::agree(const std::vector<ScriptState>& local,
+                                                       const After* after) const
 {
   // One reduction for both: the minimum is the negated maximum of the negations.
   const std::size_t count = local.size();

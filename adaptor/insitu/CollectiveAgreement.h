@@ -1,4 +1,4 @@
-// Rank agreement for the in-situ driver: every decision that leads into a
+// The in-situ driver's collective agreement: every decision that leads into a
 // collective (building, running a pipeline) is taken by all ranks together,
 // so a problem on one rank makes every rank skip instead of leaving the
 // others waiting. The agreement has its own communicator, apart from
@@ -25,13 +25,13 @@ enum class ScriptState : int
   Failed = 2
 };
 
-class RankAgreement
+class CollectiveAgreement
 {
 public:
   /// With a time limit (> 0), an agreement that follows a script call
   /// (`After`) does not wait forever for a rank that never arrives.
-  RankAgreement(MPI_Comm communicator, const JobOutput& output, double limitSeconds,
-                double graceSeconds);
+  CollectiveAgreement(MPI_Comm communicator, const JobOutput& output, double limitSeconds,
+                      double graceSeconds);
 
   /// The script call the ranks agree after, and when this rank started it.
   struct After

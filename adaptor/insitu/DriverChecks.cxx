@@ -29,7 +29,7 @@ void requireUsableMpi(MPI_Comm communicator)
   }
 }
 
-std::vector<std::string> optionProblems(InSituOptions& options)
+std::vector<std::string> normalizeAndCheckOptions(InSituOptions& options)
 {
   std::vector<std::string> problems;
   const std::string session = CatalystSession::whyNotStartable();
@@ -80,7 +80,7 @@ std::vector<std::string> optionProblems(InSituOptions& options)
   return problems;
 }
 
-std::string outputDirectoryProblem(const std::string& directory)
+std::string prepareOutputDirectory(const std::string& directory)
 {
   std::error_code error;
   std::filesystem::create_directories(directory, error);

@@ -23,9 +23,10 @@ void requireUsableMpi(MPI_Comm communicator);
 /// script, a script missing (with every place looked at) or given twice, an empty channel or output
 /// directory, a time limit that is not a number of seconds >= 0, Catalyst not startable in this
 /// process.
-std::vector<std::string> optionProblems(InSituOptions& options);
+std::vector<std::string> normalizeAndCheckOptions(InSituOptions& options);
 
-/// Empty when `directory` exists (it is created if missing) and is writable.
-std::string outputDirectoryProblem(const std::string& directory);
+/// Creates `directory` if it is missing; returns what is wrong with it, empty
+/// when it exists and is writable.
+std::string prepareOutputDirectory(const std::string& directory);
 
 } // namespace canopy

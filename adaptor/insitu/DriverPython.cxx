@@ -43,7 +43,7 @@ std::string pythonLiteral(const std::string& text)
   return out.str();
 }
 
-const RankAgreement* connectedAgreement = nullptr;
+const CollectiveAgreement* connectedAgreement = nullptr;
 StepWatchdog* connectedWatchdog = nullptr;
 
 /// agree_before_extracts(outcome, needed, free) -> (any failed, needed in all, least free);
@@ -180,7 +180,7 @@ std::map<std::string, double> takeScriptMeasures(bool evaluate)
   return measures;
 }
 
-void connectAgreement(const RankAgreement* agreement, StepWatchdog* watchdog)
+void connectAgreement(const CollectiveAgreement* agreement, StepWatchdog* watchdog)
 {
   connectedAgreement = agreement;
   connectedWatchdog = watchdog;

@@ -38,14 +38,14 @@ ScriptFailureText takeScriptFailure();
 /// forgets them and returns nothing. Names whose measure failed map to NaN.
 std::map<std::string, double> takeScriptMeasures(bool evaluate);
 
-class RankAgreement;
+class CollectiveAgreement;
 class StepWatchdog;
 
 /// Gives the Python side the ranks' agreement before a script's extracts are
 /// written (_canopy_driver.agree_before_extracts), on Canopy's communicator:
 /// ParaView's may still be busy on a rank whose script is stuck in a collective.
 /// The watchdog learns that this rank waits there. nullptr disconnects it.
-void connectAgreement(const RankAgreement* agreement, StepWatchdog* watchdog);
+void connectAgreement(const CollectiveAgreement* agreement, StepWatchdog* watchdog);
 
 /// Removes what the last run of the script wrote (pipelines/_canopy_driver.py).
 void discardStepOutputs(const std::string& scriptPath);

@@ -29,7 +29,7 @@ void FailureLog::log(const std::vector<std::string>& failures) const
 
 std::vector<std::string> FailureLog::gather(const std::string& localFailure,
                                             const std::string& localTraceback,
-                                            const RankAgreement::After* after) const
+                                            const CollectiveAgreement::After* after) const
 {
   const std::string traceback = localFailure.empty() ? std::string() : localTraceback;
   auto failures = this->Agreement.gatherFailures(localFailure, after, traceback);

@@ -17,7 +17,7 @@ std::string joined(const std::vector<std::string>& items, const char* separator)
 class FailureLog
 {
 public:
-  explicit FailureLog(const RankAgreement& agreement) : Agreement(agreement) {}
+  explicit FailureLog(const CollectiveAgreement& agreement) : Agreement(agreement) {}
 
   /// Logs these failures (known on every rank) once: on rank 0.
   void log(const std::vector<std::string>& failures) const;
@@ -28,10 +28,10 @@ public:
   /// step time limit.
   std::vector<std::string> gather(const std::string& localFailure,
                                   const std::string& localTraceback = {},
-                                  const RankAgreement::After* after = nullptr) const;
+                                  const CollectiveAgreement::After* after = nullptr) const;
 
 private:
-  const RankAgreement& Agreement;
+  const CollectiveAgreement& Agreement;
 };
 
 } // namespace canopy

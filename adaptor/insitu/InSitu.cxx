@@ -3,7 +3,6 @@
 #include "CatalystScript.h"
 #include "CatalystSession.h"
 #include "CollectiveAgreement.h"
-#include "DisplayProbe.h"
 #include "DriverChecks.h"
 #include "DriverPython.h"
 #include "FailureLog.h"
@@ -14,6 +13,7 @@
 #include "RuntimePaths.h"
 #include "StepRequests.h"
 #include "StepWatchdog.h"
+#include "XDisplayConnection.h"
 
 #include "canopy/GridBuilder.h"
 #include "canopy/HtgBuilder.h"
@@ -81,7 +81,7 @@ private:
   int Rank = 0;
   std::unique_ptr<JobOutput> Output;
   std::unique_ptr<StepWatchdog> Watchdog;
-  std::unique_ptr<RankAgreement> Agreement;
+  std::unique_ptr<CollectiveAgreement> Agreement;
   std::unique_ptr<FailureLog> Failures;
   /// Held while scripts may render: xvfb-run's server resets when its last client leaves.
   std::unique_ptr<XDisplayConnection> Display;
@@ -104,16 +104,16 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   this->Output = std::make_unique<JobOutput>();
 
   // Every rank checks its options; all ranks throw together, naming each rank's problem.
-  const auto problems = RankAgreement(comm, *this->Output, 0.0, 0.0)
-                            .gatherFailures(joined(optionProblems(this->Options), "; "));
+  const auto problems = CollectiveAgreement(comm, *this->Output, 0.0, 0.0)
+                            .gatherFailures(joined(normalizeAndCheckOptions(this->Options), "; "));
   if (!problems.empty())
   {
     throw InSituError("canopy::InSitu: " + joined(problems, "\n"));
   }
   const double limit = this->Options.stepTimeLimitSeconds;
   this->Watchdog = std::make_unique<StepWatchdog>(limit, this->Rank, comm, *this->Output);
-  this->Agreement =
-      std::make_unique<RankAgreement>(comm, *this->Output, limit, this->Watchdog->graceSeconds());
+  this->Agreement = std::make_unique<CollectiveAgreement>(comm, *this->Output, limit,
+                                                          this->Watchdog->graceSeconds());
   this->Failures = std::make_unique<FailureLog>(*this->Agreement);
   if (this->Options.verbosity >= vtkLogger::VERBOSITY_TRACE - 18)
   {
@@ -125,7 +125,7 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   this->CanRender = plan.canRender;
 
   exportScriptEnvironment(this->Options.outputDirectory, this->Options.channel);
-  outputDirectoryProblem(this->Options.outputDirectory); // created now; reported at each step
+  prepareOutputDirectory(this->Options.outputDirectory); // created now; reported at each step
   this->Session = std::make_unique<CatalystSession>(comm);
   if (!this->Agreement->allOf(this->Session->started()))
   {
@@ -238,7 +238,7 @@ vtkSmartPointer<vtkHyperTreeGrid> InSitu::Driver::buildGrid(const ForestDescript
 {
   // Built only now, and only with the fields some due pipeline asked for.
   vtkSmartPointer<vtkHyperTreeGrid> grid;
-  std::string localProblem = outputDirectoryProblem(this->Options.outputDirectory);
+  std::string localProblem = prepareOutputDirectory(this->Options.outputDirectory);
   if (localProblem.empty())
   {
     try
@@ -280,9 +280,10 @@ void InSitu::Driver::runScript(CatalystScript& script, vtkHyperTreeGrid* grid, s
   {
     std::string what = phaseText;
     what.replace(what.find('%'), 1, phase);
-    return RankAgreement::After{what, since, extra};
+    return CollectiveAgreement::After{what, since, extra};
   };
-  auto agree = [&](const std::string& localError, const RankAgreement::After* waited = nullptr)
+  auto agree =
+      [&](const std::string& localError, const CollectiveAgreement::After* waited = nullptr)
   {
     const std::string traceback = script.lastTraceback().empty()
                                       ? std::string()
@@ -362,7 +363,7 @@ void InSitu::Driver::finalizeScripts()
       }
     }
   }
-  const RankAgreement::After finalizing{"catalyst_finalize of the scripts at close", since};
+  const CollectiveAgreement::After finalizing{"catalyst_finalize of the scripts at close", since};
   this->Failures->gather(localErrors.empty() ? "" : "close: " + localErrors, tracebacks,
                          &finalizing);
 }

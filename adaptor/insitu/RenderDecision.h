@@ -4,7 +4,7 @@
 // every rank has a display.
 #pragma once
 
-#include "DisplayProbe.h"
+#include "XDisplayConnection.h"
 
 #include "canopy/InSitu.h"
 

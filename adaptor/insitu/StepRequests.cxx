@@ -13,7 +13,7 @@ bool StepRequests::anyDue() const
   return std::any_of(this->due.begin(), this->due.end(), [](bool due) { return due; });
 }
 
-StepRequests requestScripts(const ScriptList& scripts, const RankAgreement& agreement,
+StepRequests requestScripts(const ScriptList& scripts, const CollectiveAgreement& agreement,
                             const FailureLog& failureLog, std::int64_t step, double time)
 {
   const std::string stepText = "step " + std::to_string(step) + ": ";
@@ -39,7 +39,7 @@ StepRequests requestScripts(const ScriptList& scripts, const RankAgreement& agre
       }
     }
   }
-  const RankAgreement::After asking{
+  const CollectiveAgreement::After asking{
       "RequestDataDescription of the scripts at step " + std::to_string(step), since, extraSeconds};
   const auto agreed = agreement.agree(states, &asking);
   bool anyProblem = false;

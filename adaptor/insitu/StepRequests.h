@@ -30,7 +30,7 @@ struct StepRequests
 };
 
 /// Asks every script, then agrees over ranks. Collective.
-StepRequests requestScripts(const ScriptList& scripts, const RankAgreement& agreement,
+StepRequests requestScripts(const ScriptList& scripts, const CollectiveAgreement& agreement,
                             const FailureLog& failureLog, std::int64_t step, double time);
 
 /// The forest's fields the due scripts asked for (all of them if one asked for all).

@@ -1,5 +1,8 @@
 #include "canopy/P4estForest.h"
 
+// Internal to Canopy (adaptor/common, not installed): validateForest's problem list.
+#include "ProblemList.h"
+
 #include <p4est.h>
 #include <p4est_connectivity.h>
 #include <p8est.h>
@@ -9,7 +12,6 @@
 #include <array>
 #include <cmath>
 #include <map>
-#include <sstream>
 #include <vector>
 
 namespace canopy
@@ -61,31 +63,9 @@ struct Api<3>
   static std::array<p4est_qcoord_t, 3> position(const Quadrant* q) { return {{q->x, q->y, q->z}}; }
 };
 
-/// Collects every problem before anything is thrown, as validateForest does.
-class Problems
-{
-public:
-  template <typename... Parts>
-  void add(const Parts&... parts)
-  {
-    std::ostringstream out;
-    out << "p4est forest: ";
-    (out << ... << parts);
-    Lines.push_back(out.str());
-  }
-  bool empty() const { return Lines.empty(); }
-  [[noreturn]] void raise() { throw InvalidForest(std::move(Lines)); }
-  void raiseIfAny()
-  {
-    if (!empty())
-    {
-      raise();
-    }
-  }
-
-private:
-  std::vector<std::string> Lines;
-};
+/// Every message names the p4est bridge: the problem is in the p4est forest, not
+/// in a description the simulation wrote.
+constexpr const char* problemPrefix = "p4est forest: ";
 
 /// The root grid of a brick-like connectivity, and each tree's root cell.
 struct BrickLattice
@@ -97,7 +77,7 @@ struct BrickLattice
 /// Each tree must be an unrotated axis-aligned box (corner c at lo + bit_a(c) (hi - lo)
 /// in vertex coordinates), one cell of a rectilinear lattice, every cell one tree.
 template <int D>
-BrickLattice latticeOf(const typename Api<D>::Connectivity* connectivity, Problems& problems)
+BrickLattice latticeOf(const typename Api<D>::Connectivity* connectivity, ProblemList& problems)
 {
   BrickLattice lattice;
   const std::size_t trees = static_cast<std::size_t>(connectivity->num_trees);
@@ -226,7 +206,7 @@ struct DescribedTree
 
 template <int D>
 DescribedTree describeTree(const typename Api<D>::Tree* tree, std::int64_t root,
-                           std::int64_t firstSlot, std::size_t treeIndex, Problems& problems)
+                           std::int64_t firstSlot, std::size_t treeIndex, ProblemList& problems)
 {
   using A = Api<D>;
   constexpr int children = A::Children;
@@ -372,27 +352,23 @@ struct BasicP4estForest<D>::State
 
   void addField(FieldDescription field)
   {
-    std::vector<std::string> problems;
+    ProblemList problems(problemPrefix);
     if (field.name.empty())
     {
-      problems.push_back("p4est forest: a field name is empty");
+      problems.add("a field name is empty");
     }
     for (const auto& existing : description.fields)
     {
       if (existing.name == field.name)
       {
-        problems.push_back("p4est forest: field '" + field.name + "' is already described");
+        problems.add("field '", field.name, "' is already described");
       }
     }
     if (field.components < 1)
     {
-      problems.push_back("p4est forest: field '" + field.name + "' has " +
-                         std::to_string(field.components) + " components (at least 1)");
+      problems.add("field '", field.name, "' has ", field.components, " components (at least 1)");
     }
-    if (!problems.empty())
-    {
-      throw InvalidForest(std::move(problems));
-    }
+    problems.raiseIfAny();
     description.fields.push_back(std::move(field));
   }
 };
@@ -401,7 +377,7 @@ template <int D>
 BasicP4estForest<D>::BasicP4estForest(const Forest* forest) : Impl(std::make_unique<State>())
 {
   using A = Api<D>;
-  Problems problems;
+  ProblemList problems(problemPrefix);
   const typename A::Forest* p = forest;
   if (p == nullptr)
   {
@@ -496,17 +472,17 @@ void BasicP4estForest<D>::addUserDataField(std::string name, ValueType type, std
   State& s = *Impl;
   const auto* p = s.forest;
   const std::size_t bytes = sizeOf(type) * static_cast<std::size_t>(std::max(components, 0));
+  ProblemList problems(problemPrefix);
   if (p->data_size == 0)
   {
-    throw InvalidForest(
-        {"p4est forest: field '" + name + "': the forest has no user data (data_size is 0)"});
+    problems.add("field '", name, "': the forest has no user data (data_size is 0)");
+    problems.raise();
   }
   if (byteOffset + bytes > p->data_size)
   {
-    throw InvalidForest({"p4est forest: field '" + name + "': " + std::to_string(bytes) +
-                         " bytes at offset " + std::to_string(byteOffset) +
-                         " do not fit in the quadrants' " + std::to_string(p->data_size) +
-                         " bytes of user data"});
+    problems.add("field '", name, "': ", bytes, " bytes at offset ", byteOffset,
+                 " do not fit in the quadrants' ", p->data_size, " bytes of user data");
+    problems.raise();
   }
   // One address per local quadrant, in local order: user_data lives in p4est's
   // memory pool, not at a fixed stride.
@@ -548,11 +524,11 @@ const ForestDescription& BasicP4estForest<D>::description() const
   const auto current = static_cast<std::size_t>(s.forest->local_num_quadrants);
   if (s.forest->revision != s.revision || current != s.quadrants)
   {
-    std::ostringstream out;
-    out << "p4est forest: it changed since it was described (revision " << s.revision << ", now "
-        << s.forest->revision << "; " << s.quadrants << " local quadrants, now " << current
-        << "): describe it again after refine, coarsen, balance or partition";
-    throw InvalidForest({out.str()});
+    ProblemList problems(problemPrefix);
+    problems.add("it changed since it was described (revision ", s.revision, ", now ",
+                 s.forest->revision, "; ", s.quadrants, " local quadrants, now ", current,
+                 "): describe it again after refine, coarsen, balance or partition");
+    problems.raise();
   }
   return s.description;
 }

@@ -91,14 +91,9 @@ struct FieldDescription
   static FieldDescription aos(std::string name, const T* data, std::size_t numberOfTuples,
                               int components = 1, Centering centering = Centering::EveryNode)
   {
-    FieldDescription f;
-    f.name = std::move(name);
-    f.type = valueTypeOf<T>();
-    f.components = components;
-    f.layout = Layout::AoS;
-    f.centering = centering;
+    FieldDescription f =
+        typed<T>(std::move(name), Layout::AoS, components, centering, numberOfTuples);
     f.data = data;
-    f.numberOfTuples = numberOfTuples;
     return f;
   }
 
@@ -107,14 +102,10 @@ struct FieldDescription
                               std::size_t numberOfTuples,
                               Centering centering = Centering::EveryNode)
   {
-    FieldDescription f;
-    f.name = std::move(name);
-    f.type = valueTypeOf<T>();
-    f.components = static_cast<int>(componentData.size());
-    f.layout = Layout::SoA;
-    f.centering = centering;
+    FieldDescription f =
+        typed<T>(std::move(name), Layout::SoA, static_cast<int>(componentData.size()), centering,
+                 numberOfTuples);
     f.componentData.assign(componentData.begin(), componentData.end());
-    f.numberOfTuples = numberOfTuples;
     return f;
   }
 
@@ -125,15 +116,10 @@ struct FieldDescription
                                   std::size_t tupleStrideBytes, std::size_t numberOfTuples,
                                   int components = 1, Centering centering = Centering::EveryNode)
   {
-    FieldDescription f;
-    f.name = std::move(name);
-    f.type = valueTypeOf<T>();
-    f.components = components;
-    f.layout = Layout::Strided;
-    f.centering = centering;
+    FieldDescription f =
+        typed<T>(std::move(name), Layout::Strided, components, centering, numberOfTuples);
     f.data = firstValue;
     f.tupleStrideBytes = tupleStrideBytes;
-    f.numberOfTuples = numberOfTuples;
     return f;
   }
 
@@ -144,13 +130,24 @@ struct FieldDescription
                                    std::size_t numberOfTuples, int components = 1,
                                    Centering centering = Centering::EveryNode)
   {
+    FieldDescription f =
+        typed<T>(std::move(name), Layout::Indirect, components, centering, numberOfTuples);
+    f.tupleAddresses = tupleAddresses;
+    return f;
+  }
+
+private:
+  /// What every factory sets; the caller adds where the values are.
+  template <typename T>
+  static FieldDescription typed(std::string name, Layout layout, int components,
+                                Centering centering, std::size_t numberOfTuples)
+  {
     FieldDescription f;
     f.name = std::move(name);
     f.type = valueTypeOf<T>();
     f.components = components;
-    f.layout = Layout::Indirect;
+    f.layout = layout;
     f.centering = centering;
-    f.tupleAddresses = tupleAddresses;
     f.numberOfTuples = numberOfTuples;
     return f;
   }
@@ -198,13 +195,16 @@ struct RootGrid
 
 /// A whole (rank-local) forest.
 ///
-/// Storage order. By default each tree's nodes are stored breadth-first and the
-/// trees back to back in the order of `trees`: node n of the t-th tree lives in
-/// slot (nodes of trees before t) + n. A simulation that keeps its own order
-/// (depth-first, Morton, a memory pool) gives every tree a storageSlots map instead;
-/// the slots of all trees together must then be exactly 0 .. totalNodes-1.
-/// EveryNode fields are indexed by slot. LeavesOnly fields hold one tuple per leaf,
-/// leaves ordered by slot (so breadth-first, tree by tree, by default).
+/// Storage order. Slots number the nodes this rank has, 0 .. presentNodes-1 over
+/// the whole forest; absent nodes (TreeDescription::absent) have none. By default
+/// each tree's present nodes are stored breadth-first, absent ones skipped, and the
+/// trees back to back in the order of `trees` (without absent nodes, node n of the
+/// t-th tree lives in slot (nodes of trees before t) + n). A simulation that keeps
+/// its own order (depth-first, Morton, a memory pool) gives every tree a
+/// storageSlots map instead; the slots of all trees' present nodes together must
+/// then be exactly 0 .. presentNodes-1 (the entries of absent nodes are ignored).
+/// EveryNode fields are indexed by slot. LeavesOnly fields hold one tuple per
+/// present leaf, leaves ordered by slot (so breadth-first, tree by tree, by default).
 struct ForestDescription
 {
   int dimension = 3;    ///< 1, 2 or 3

@@ -99,8 +99,9 @@ extern "C"
    * point on one axis, a 1D forest (a line of roots) one point on two axes.
    * [in] dimension      1, 2 or 3.
    * [in] branch_factor  2 or 3.
-   * [in] max_levels     levels any tree may have, the root's included: 1 to 62 (binary), 39
-   * (ternary). [in] x, y, z        borrowed until canopy_forest_destroy (clear keeps the root
+   * [in] max_levels     levels any tree may have, the root's included: 1 to 62
+   *                     for branch factor 2, 1 to 39 for branch factor 3.
+   * [in] x, y, z        borrowed until canopy_forest_destroy (clear keeps the root
    *                     grid): points_x (points_y, points_z) increasing doubles.
    * [in] points_x, points_y, points_z  at least 1 each.
    * [out] forest        a new owned handle without trees or fields; NULL on failure.

@@ -1,5 +1,6 @@
-// Whether this process can render: Debian's ParaView is built for X only, and
-// creating a render window without an X display aborts the process.
+// The X display connection the driver holds, which also tells whether this
+// process can render: Debian's ParaView is built for X only, and creating a
+// render window without an X display aborts the process.
 #pragma once
 
 #include <memory>

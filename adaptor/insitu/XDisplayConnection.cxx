@@ -1,4 +1,4 @@
-#include "DisplayProbe.h"
+#include "XDisplayConnection.h"
 
 #include <X11/Xlib.h>
 
