@@ -1,7 +1,7 @@
 #include "HtgSeriesWriter.h"
 
 #include "HtgFileWriter.h"
-#include "RankAgreement.h"
+#include "WriterAgreement.h"
 
 #include <algorithm>
 #include <cerrno>
