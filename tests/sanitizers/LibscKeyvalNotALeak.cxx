@@ -34,7 +34,8 @@ bool calledFromLibsc(void* returnAddress)
 } // namespace
 
 extern "C" int MPI_Comm_create_keyval(MPI_Comm_copy_attr_function* copy,
-  MPI_Comm_delete_attr_function* remove, int* keyval, void* extraState)
+                                      MPI_Comm_delete_attr_function* remove, int* keyval,
+                                      void* extraState)
 {
   if (!calledFromLibsc(__builtin_return_address(0)))
   {
