@@ -12,9 +12,8 @@ writes it field by field, walking each tree as the decoder does to know which no
 read a byte.
 """
 import os
-import subprocess
-import sys
-import tempfile
+
+import corpus_check
 
 BUDGET = 1200  # NodeBudget in the fuzzer
 WILD_LEVELS = [0, -1, -2**31, 2**31 - 1, 61, 62, 63, 64, 38, 39, 40, 6, 7, 8, 9, 10]
@@ -185,30 +184,16 @@ def write(directory):
 
 
 def check(fuzzer, directory):
-    failures = []
-    for name, data in seeds().items():
-        path = os.path.join(directory, name)
-        if not os.path.exists(path) or open(path, "rb").read() != data:
-            failures.append("%s differs from what make_corpus.py writes (rerun it)" % name)
-    for name in sorted(os.listdir(directory)):
-        env = dict(os.environ, CANOPY_FUZZ_DESCRIBE="1")
-        result = subprocess.run([fuzzer, os.path.join(directory, name)], env=env, text=True,
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-        lines = [l for l in result.stdout.splitlines() if l.startswith("canopy fuzz input:")]
-        outcome = lines[-1].rsplit("; ", 1)[-1] if lines else None
+    def judge(name, line):
+        outcome = line.rsplit("; ", 1)[-1] if line else None
         wanted = {"valid": "built", "invalid": "refused"}.get(name.split("_")[0])
-        ok = result.returncode == 0 and outcome and (wanted is None or outcome == wanted)
-        print(("ok:     " if ok else "FAILED: ") + "%s: %s" % (name, lines[-1] if lines else
-                                                           result.stdout[-2000:]))
-        if not ok:
-            failures.append("%s: %s, wanted %s" % (name, outcome, wanted))
-    print("\n".join(failures) if failures else "all seeds as named")
-    return 1 if failures else 0
+        if outcome and (wanted is None or outcome == wanted):
+            return None
+        return "%s, wanted %s" % (outcome, wanted)
+
+    return corpus_check.check(fuzzer, directory, seeds(), "make_corpus.py",
+                              "canopy fuzz input:", judge, "all seeds as named")
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 4 and sys.argv[1] == "--check":
-        sys.exit(check(sys.argv[2], sys.argv[3]))
-    if len(sys.argv) != 2:
-        sys.exit(__doc__)
-    write(sys.argv[1])
+    corpus_check.main(__doc__, write, check)

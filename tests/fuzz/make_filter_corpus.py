@@ -15,8 +15,8 @@ coordinates, 2 to 4 ranks, parallel and perspective views (along an axis, obliqu
 inside the domain, pixel-sized cells) and every selection mode and source.
 """
 import os
-import subprocess
-import sys
+
+import corpus_check
 
 ORIGINS = [0.0, -3.5, 7.25, 1024.0, -20.5, 0.5, 1048576.0, -96.0]
 LOCATIONS, IDS, VALUE_RANGE, BOX, FRUSTUM = range(5)
@@ -298,33 +298,18 @@ def write(directory):
 
 
 def check(fuzzer, directory):
-    failures = []
     every = seeds()
-    for name, (data, _) in every.items():
-        path = os.path.join(directory, name)
-        if not os.path.exists(path) or open(path, "rb").read() != data:
-            failures.append("%s differs from what make_filter_corpus.py writes (rerun it)" % name)
-    for name in sorted(os.listdir(directory)):
-        env = dict(os.environ, CANOPY_FUZZ_DESCRIBE="1")
-        result = subprocess.run([fuzzer, os.path.join(directory, name)], env=env, text=True,
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-        lines = [l for l in result.stdout.splitlines()
-                 if l.startswith("canopy filters fuzz input:")]
-        expect = every[name][1] if name in every else []
-        missing = [e for e in expect if not lines or e not in lines[-1]]
-        ok = result.returncode == 0 and lines and lines[-1].endswith("checked") and not missing
-        print(("ok:     " if ok else "FAILED: ") + "%s: %s" % (
-            name, lines[-1] if lines else result.stdout[-2000:]))
-        if not ok:
-            failures.append("%s: %s" % (name, "not run through every check" if not lines else
-                                        "its description lacks " + ", ".join(missing)))
-    print("\n".join(failures) if failures else "every seed checked, as named")
-    return 1 if failures else 0
+
+    def judge(name, line):
+        if line is None or not line.endswith("checked"):
+            return "not run through every check"
+        missing = [e for e in (every[name][1] if name in every else []) if e not in line]
+        return "its description lacks " + ", ".join(missing) if missing else None
+
+    return corpus_check.check(fuzzer, directory, {n: d for n, (d, _) in every.items()},
+                              "make_filter_corpus.py", "canopy filters fuzz input:", judge,
+                              "every seed checked, as named")
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 4 and sys.argv[1] == "--check":
-        sys.exit(check(sys.argv[2], sys.argv[3]))
-    if len(sys.argv) != 2:
-        sys.exit(__doc__)
-    write(sys.argv[1])
+    corpus_check.main(__doc__, write, check)
