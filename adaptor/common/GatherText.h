@@ -1,8 +1,8 @@
 // Gathering one text from every rank: the one home of this exchange in Canopy
-// (lengths first, then the characters at their offsets). Canopy::IO's writer
-// agreement uses it; so should every other place that gathers texts (insitu's
-// CollectiveAgreement) instead of writing the exchange again. Header only, MPI's
-// C API only, so any Canopy library can include it.
+// (lengths first, then the characters at their offsets). Used by Canopy::IO's
+// writer agreement and insitu's CollectiveAgreement. Header only, MPI's C API
+// only, so any Canopy library can include it. (The filters' gatherFromAll is
+// the same exchange over a VTK controller, which need not be MPI.)
 #pragma once
 
 #include <mpi.h>
