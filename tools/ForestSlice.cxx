@@ -34,6 +34,9 @@ FieldDescription narrowed(FieldDescription field, std::size_t first, std::size_t
   case Layout::Indirect:
     field.tupleAddresses += first;
     break;
+  case Layout::Blocks:
+    throw std::invalid_argument("field '" + field.name +
+                                "': a block field is per block, not per tuple");
   }
   field.numberOfTuples = count;
   return field;

@@ -50,6 +50,8 @@ struct FieldView
     case Layout::Indirect:
       view.tupleAddress = field.tupleAddresses;
       break;
+    case Layout::Blocks: // read through BlockField, never a view
+      break;
     }
     return view;
   }

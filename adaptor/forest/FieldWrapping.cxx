@@ -107,7 +107,27 @@ vtkSmartPointer<vtkDataArray> wrapLeafTyped(const FieldDescription& field,
   return array;
 }
 
+template <typename T>
+vtkSmartPointer<vtkDataArray> wrapBlockTyped(const FieldDescription& field,
+                                             std::shared_ptr<const BlockCells> blocks)
+{
+  auto array = vtkSmartPointer<SimulationFieldArray<T>>::New();
+  array->borrowBlocks(std::make_shared<const BlockField<T>>(field, std::move(blocks)));
+  return array;
+}
+
 } // namespace
+
+vtkSmartPointer<vtkDataArray> wrapBlockField(const FieldDescription& field,
+                                             std::shared_ptr<const BlockCells> blocks)
+{
+  // Validation admits only floating-point block fields.
+  vtkSmartPointer<vtkDataArray> array = field.type == ValueType::Float32
+                                            ? wrapBlockTyped<float>(field, std::move(blocks))
+                                            : wrapBlockTyped<double>(field, std::move(blocks));
+  array->SetName(field.name.c_str());
+  return array;
+}
 
 vtkSmartPointer<vtkDataArray> wrapNodeField(const FieldDescription& field,
                                             const ForestLayout& layout, const CellSlots& slots)

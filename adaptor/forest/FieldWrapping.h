@@ -1,12 +1,15 @@
 // Turns one borrowed FieldDescription into a vtkDataArray without copying values.
 #pragma once
 
+#include "BlockCells.h"
 #include "CellSlots.h"
 #include "LeafRestriction.h"
 #include "canopy/ForestDescription.h"
 #include "canopy/ForestValidation.h"
 
 #include <vtkSmartPointer.h>
+
+#include <memory>
 
 class vtkDataArray;
 
@@ -22,5 +25,10 @@ vtkSmartPointer<vtkDataArray> wrapNodeField(const FieldDescription& field,
 vtkSmartPointer<vtkDataArray> wrapLeafField(const FieldDescription& field,
                                             const ForestDescription& forest,
                                             const ForestLayout& layout, const LeafTupleMap& map);
+
+/// Block field (block forests): read from the blocks through `blocks`, coarse
+/// values computed when read (BlockField.h).
+vtkSmartPointer<vtkDataArray> wrapBlockField(const FieldDescription& field,
+                                             std::shared_ptr<const BlockCells> blocks);
 
 } // namespace canopy

@@ -24,8 +24,15 @@ struct TreeLayout
   std::size_t numberOfPresentNodes = 0;
   std::size_t numberOfPresentLeaves = 0;
   /// Nodes above the deepest level: the bits VTK's breadth-first descriptor needs.
+  /// Like `levels` and `cells`, of the grid's tree: in a block forest, with the
+  /// cells of its blocks (BlockValidation.h).
   std::size_t descriptorBits = 0;
   int levels = 0;
+  /// Cells of the grid's tree: numberOfNodes, or in a block forest its described
+  /// nodes plus the cells below its blocks' roots.
+  std::size_t cells = 0;
+  /// Block forests: present leaves, each a block.
+  std::size_t blocks = 0;
   /// First storage slot when slots are implicit (present nodes breadth-first, trees
   /// back to back).
   std::size_t firstSlot = 0;
@@ -38,7 +45,10 @@ struct TreeLayout
 struct ForestLayout
 {
   std::vector<TreeLayout> trees; ///< same order as ForestDescription::trees
-  std::size_t totalNodes = 0;    ///< cells of the grid: every described node
+  std::size_t totalNodes = 0;    ///< every described node
+  std::size_t totalCells = 0;    ///< cells of the grid: totalNodes, or with blocks' cells
+  std::size_t totalBlocks = 0;   ///< block forests: present leaves, each a block
+  int blockLevels = 0;           ///< block forests: levels of cells below a block's root
   std::size_t totalLeaves = 0;
   std::size_t totalPresentNodes = 0;  ///< tuples an every-node field holds
   std::size_t totalPresentLeaves = 0; ///< tuples a leaves-only field holds

@@ -1,6 +1,7 @@
 #include "canopy/ForestValidation.h"
 #include "ForestLayout.h"
 
+#include "BlockValidation.h"
 #include "StorageSlots.h"
 #include "ValidatedTrees.h"
 
@@ -213,6 +214,7 @@ bool validateTreeShape(const ForestDescription& forest, std::size_t t, TreeLayou
     return false;
   }
   shape.numberOfNodes = n;
+  shape.cells = n;
   shape.levels = levels;
   shape.descriptorBits = n - lastLevelSize;
   shape.numberOfPresentNodes = n;
@@ -270,6 +272,7 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
     shape.firstSlot = layout.totalPresentNodes;
     shape.firstCell = layout.totalNodes;
     layout.totalNodes += shape.numberOfNodes;
+    layout.totalCells += shape.numberOfNodes;
     layout.totalLeaves += shape.numberOfLeaves;
     layout.totalPresentNodes += shape.numberOfPresentNodes;
     layout.totalPresentLeaves += shape.numberOfPresentLeaves;
@@ -419,6 +422,10 @@ void validateFields(const ForestDescription& forest, const ForestLayout& layout,
         }
       }
       break;
+    case Layout::Blocks:
+      problems.add(name, ": a block field (Layout::Blocks) needs a block forest "
+                         "(ForestDescription::blockCellsPerSide > 0)");
+      continue;
     default:
       problems.add(name, ": unknown layout");
       continue;
@@ -467,6 +474,8 @@ ForestCounts validateForest(const ForestDescription& forest)
   const ForestLayout layout = layoutForest(forest);
   ForestCounts counts;
   counts.totalNodes = layout.totalNodes;
+  counts.totalCells = layout.totalCells;
+  counts.numberOfBlocks = layout.totalBlocks;
   counts.totalLeaves = layout.totalLeaves;
   counts.totalPresentNodes = layout.totalPresentNodes;
   counts.totalPresentLeaves = layout.totalPresentLeaves;
@@ -503,7 +512,15 @@ ForestLayout layoutForest(const ForestDescription& forest, const ValidatedTrees*
   {
     validateTrees(forest, layout, problems, known);
   }
-  if (problems.empty())
+  if (problems.empty() && forest.blockCellsPerSide != 0)
+  {
+    layoutBlocks(forest, layout, problems);
+    if (problems.empty())
+    {
+      validateBlockFields(forest, layout, problems);
+    }
+  }
+  else if (problems.empty())
   {
     validateFields(forest, layout, problems);
   }

@@ -77,7 +77,8 @@ namespace
 /// their deepest level (VTK infers it: it is all leaves).
 vtkSmartPointer<vtkBitArray> packDescriptors(const ForestDescription& forest,
                                              const ForestLayout& layout,
-                                             const std::vector<bool>& rebuild)
+                                             const std::vector<bool>& rebuild,
+                                             const BlockCells* blocks)
 {
   std::size_t total = 0;
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
@@ -99,8 +100,14 @@ vtkSmartPointer<vtkBitArray> packDescriptors(const ForestDescription& forest,
     {
       continue;
     }
-    const std::uint8_t* refinement = forest.trees[t].refinement;
     const std::size_t count = layout.trees[t].descriptorBits;
+    if (blocks)
+    {
+      blocks->writeDescriptor(layout.trees[t].firstCell, count, bytes, position);
+      position += count;
+      continue;
+    }
+    const std::uint8_t* refinement = forest.trees[t].refinement;
     for (std::size_t n = 0; n < count; ++n, ++position)
     {
       // vtkBitArray stores the most significant bit first.
@@ -113,10 +120,20 @@ vtkSmartPointer<vtkBitArray> packDescriptors(const ForestDescription& forest,
 
 } // namespace
 
-void buildTrees(vtkHyperTreeGrid* htg, const ForestDescription& forest, const ForestLayout& layout,
-                const std::vector<bool>& rebuild)
+std::shared_ptr<const BlockCells> indexBlocks(const ForestDescription& forest,
+                                              const ForestLayout& layout)
 {
-  vtkSmartPointer<vtkBitArray> descriptors = packDescriptors(forest, layout, rebuild);
+  if (forest.blockCellsPerSide == 0)
+  {
+    return nullptr;
+  }
+  return std::make_shared<const BlockCells>(BlockCells::build(forest, layout));
+}
+
+void buildTrees(vtkHyperTreeGrid* htg, const ForestDescription& forest, const ForestLayout& layout,
+                const std::vector<bool>& rebuild, const BlockCells* blocks)
+{
+  vtkSmartPointer<vtkBitArray> descriptors = packDescriptors(forest, layout, rebuild, blocks);
   vtkIdType start = 0;
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
   {
@@ -145,18 +162,52 @@ void buildTrees(vtkHyperTreeGrid* htg, const ForestDescription& forest, const Fo
   }
 }
 
+namespace
+{
+
+vtkSmartPointer<vtkBitArray> zeroBits(std::size_t count)
+{
+  auto bits = vtkSmartPointer<vtkBitArray>::New();
+  bits->SetNumberOfValues(static_cast<vtkIdType>(count));
+  if (count > 0)
+  {
+    std::memset(bits->GetPointer(0), 0, (count + 7) / 8);
+  }
+  return bits;
+}
+
+/// A block forest's pure mask: described nodes only (no cell inside a block is
+/// masked), in reverse forest numbering (children after their parents).
+vtkSmartPointer<vtkBitArray> buildBlockPureMask(const BlockCells& blocks, std::size_t cells)
+{
+  vtkSmartPointer<vtkBitArray> pure = zeroBits(cells);
+  std::vector<unsigned char> marked(blocks.numberOfNodes(), 0);
+  for (std::size_t node = blocks.numberOfNodes(); node-- > 0;)
+  {
+    bool here = blocks.isMasked(node) || blocks.isAbsent(node);
+    const std::int64_t first = blocks.firstChildOfNode(node);
+    for (std::size_t c = 0; !here && first >= 0 && c < blocks.childrenPerNode(); ++c)
+    {
+      here = marked[static_cast<std::size_t>(first) + c] != 0;
+    }
+    marked[node] = here;
+    if (here)
+    {
+      pure->SetValue(static_cast<vtkIdType>(blocks.cellOfNode(node)), 1);
+    }
+  }
+  return pure;
+}
+
+} // namespace
+
 /// VTK's pure mask (PureMask.h) of the built mask: per tree, breadth-first
 /// nodes in reverse (children after their parents), a node marked when masked
 /// or, refined, when a child is.
 vtkSmartPointer<vtkBitArray> buildPureMask(const ForestDescription& forest,
                                            const ForestLayout& layout, vtkBitArray* mask)
 {
-  auto pure = vtkSmartPointer<vtkBitArray>::New();
-  pure->SetNumberOfValues(static_cast<vtkIdType>(layout.totalNodes));
-  if (layout.totalNodes > 0)
-  {
-    std::memset(pure->GetPointer(0), 0, (layout.totalNodes + 7) / 8);
-  }
+  vtkSmartPointer<vtkBitArray> pure = zeroBits(layout.totalNodes);
   std::size_t children = 1;
   for (int d = 0; d < forest.dimension; ++d)
   {
@@ -196,14 +247,22 @@ vtkSmartPointer<vtkBitArray> buildPureMask(const ForestDescription& forest,
   return pure;
 }
 
-vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const ForestLayout& layout)
+vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const ForestLayout& layout,
+                                       const BlockCells* blocks)
 {
-  auto mask = vtkSmartPointer<vtkBitArray>::New();
+  vtkSmartPointer<vtkBitArray> mask = zeroBits(layout.totalCells);
   mask->SetName("vtkHyperTreeGridMask");
-  mask->SetNumberOfValues(static_cast<vtkIdType>(layout.totalNodes));
-  if (layout.totalNodes > 0)
+  if (blocks)
   {
-    std::memset(mask->GetPointer(0), 0, (layout.totalNodes + 7) / 8);
+    // Blocks are masked whole, at their root: VTK hides a masked node's subtree.
+    for (std::size_t node = 0; node < blocks->numberOfNodes(); ++node)
+    {
+      if (blocks->isMasked(node) || blocks->isAbsent(node))
+      {
+        mask->SetValue(static_cast<vtkIdType>(blocks->cellOfNode(node)), 1);
+      }
+    }
+    return mask;
   }
   // Absent cells are masked too: every filter skips them, as it skips holes.
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
@@ -228,13 +287,25 @@ vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const Fo
 /// VTK's ghost array marks absent cells DUPLICATECELL ("another process owns
 /// it"): what tells an absent cell from a masked one (see docs/api.md).
 vtkSmartPointer<vtkUnsignedCharArray> buildAbsentGhosts(const ForestDescription& forest,
-                                                        const ForestLayout& layout)
+                                                        const ForestLayout& layout,
+                                                        const BlockCells* blocks)
 {
   auto ghosts = vtkSmartPointer<vtkUnsignedCharArray>::New();
   ghosts->SetName(vtkDataSetAttributes::GhostArrayName());
-  ghosts->SetNumberOfValues(static_cast<vtkIdType>(layout.totalNodes));
+  ghosts->SetNumberOfValues(static_cast<vtkIdType>(layout.totalCells));
   unsigned char* values = ghosts->GetPointer(0);
-  std::memset(values, 0, layout.totalNodes);
+  std::memset(values, 0, layout.totalCells);
+  if (blocks)
+  {
+    for (std::size_t node = 0; node < blocks->numberOfNodes(); ++node)
+    {
+      if (blocks->isAbsent(node))
+      {
+        values[blocks->cellOfNode(node)] = vtkDataSetAttributes::DUPLICATECELL;
+      }
+    }
+    return ghosts;
+  }
   for (std::size_t t = 0; t < forest.trees.size(); ++t)
   {
     const TreeDescription& tree = forest.trees[t];
@@ -273,15 +344,16 @@ void setCoordinates(vtkHyperTreeGrid* htg, const RootGrid& grid)
 }
 
 void setTopologyArrays(vtkHyperTreeGrid* htg, const ForestDescription& forest,
-                       const ForestLayout& layout)
+                       const ForestLayout& layout, const BlockCells* blocks)
 {
   if (layout.anyMask || layout.anyAbsent)
   {
-    vtkSmartPointer<vtkBitArray> mask = buildMask(forest, layout);
+    vtkSmartPointer<vtkBitArray> mask = buildMask(forest, layout, blocks);
     htg->SetMask(mask);
     // What ShallowCopy (and ParaView after every filter) would have VTK compute
     // with a cursor walk over every node.
-    setPureMask(htg, buildPureMask(forest, layout, mask));
+    setPureMask(htg, blocks ? buildBlockPureMask(*blocks, layout.totalCells)
+                            : buildPureMask(forest, layout, mask));
   }
   else
   {
@@ -291,7 +363,7 @@ void setTopologyArrays(vtkHyperTreeGrid* htg, const ForestDescription& forest,
   cells->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   if (layout.anyAbsent)
   {
-    cells->AddArray(buildAbsentGhosts(forest, layout));
+    cells->AddArray(buildAbsentGhosts(forest, layout, blocks));
   }
   htg->GetFieldData()->RemoveArray(missingTreesElsewhereName);
   if (forest.missingTreesAreElsewhere)
@@ -316,6 +388,18 @@ void setFields(vtkHyperTreeGrid* htg, const ForestDescription& forest, const For
     {
       cells->RemoveArray(a);
     }
+  }
+  if (forest.blockCellsPerSide != 0)
+  {
+    if (!tables.blocks)
+    {
+      tables.blocks = indexBlocks(forest, layout);
+    }
+    for (const FieldDescription* field : fields)
+    {
+      cells->AddArray(wrapBlockField(*field, tables.blocks));
+    }
+    return;
   }
   if (!tables.slots)
   {

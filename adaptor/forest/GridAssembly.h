@@ -4,14 +4,16 @@
 // layout layoutForest just computed for the same description.
 #pragma once
 
+#include "BlockCells.h"
 #include "CellSlots.h"
+#include "ForestLayout.h"
 #include "LeafRestriction.h"
 #include "canopy/ForestDescription.h"
-#include "ForestLayout.h"
 #include "canopy/HtgBuilder.h"
 
 #include <vtkSmartPointer.h>
 
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -31,18 +33,25 @@ vtkSmartPointer<vtkHyperTreeGrid> newGrid(const ForestDescription& forest);
 /// Borrows the root coordinates again (the simulation may have moved them).
 void setCoordinates(vtkHyperTreeGrid* htg, const RootGrid& grid);
 
+/// The index of a block forest's cells (BlockCells.h), null for other forests.
+std::shared_ptr<const BlockCells> indexBlocks(const ForestDescription& forest,
+                                              const ForestLayout& layout);
+
 /// (Re)builds the trees marked in `rebuild` (one flag per forest tree) from their
-/// refinement bytes, each as a new tree object, and sets every tree's first cell.
+/// refinement bytes (in a block forest, with `blocks`' cells below each block
+/// root), each as a new tree object, and sets every tree's first cell.
 void buildTrees(vtkHyperTreeGrid* htg, const ForestDescription& forest, const ForestLayout& layout,
-                const std::vector<bool>& rebuild);
+                const std::vector<bool>& rebuild, const BlockCells* blocks);
 
 /// The mask (masked and absent cells), the absent cells' ghost marks and the
-/// trees-elsewhere flag, replacing any earlier ones.
+/// trees-elsewhere flag, replacing any earlier ones. `blocks`: as buildTrees.
 void setTopologyArrays(vtkHyperTreeGrid* htg, const ForestDescription& forest,
-                       const ForestLayout& layout);
-vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const ForestLayout& layout);
+                       const ForestLayout& layout, const BlockCells* blocks);
+vtkSmartPointer<vtkBitArray> buildMask(const ForestDescription& forest, const ForestLayout& layout,
+                                       const BlockCells* blocks);
 vtkSmartPointer<vtkUnsignedCharArray> buildAbsentGhosts(const ForestDescription& forest,
-                                                        const ForestLayout& layout);
+                                                        const ForestLayout& layout,
+                                                        const BlockCells* blocks);
 
 /// The requested fields, in the forest's order; throws InvalidForest on unknown names.
 std::vector<const FieldDescription*> selectFields(const ForestDescription& forest,
@@ -54,6 +63,7 @@ struct FieldTables
 {
   std::optional<CellSlots> slots;
   std::optional<LeafTupleMap> leaves;
+  std::shared_ptr<const BlockCells> blocks; ///< block forests: no table per cell
 };
 
 /// Replaces the grid's fields by `fields`, wrapped in place (leaves-only ones get

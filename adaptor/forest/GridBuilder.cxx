@@ -70,6 +70,11 @@ TreeKey keyOf(const TreeDescription& tree)
   key.absent = tree.absent ? hashBytes(tree.absent, n, 2) : 0x2545F4914F6CDD1Dull;
   key.slots = tree.storageSlots ? hashBytes(tree.storageSlots, n * sizeof(std::int64_t), 3)
                                 : 0x94D049BB133111EBull;
+  if (tree.blockIndex)
+  {
+    // The block order is a block forest's slots: fields read through it.
+    key.slots ^= hashBytes(tree.blockIndex, n * sizeof(std::int64_t), 5);
+  }
   key.mask = tree.masked ? hashBytes(tree.masked, n, 4) : 0x51ED270B27E4A4F9ull;
   return key;
 }
@@ -81,6 +86,7 @@ struct GridBuilder::State
   vtkSmartPointer<vtkHyperTreeGrid> grid;
   int dimension = 0;
   int branchFactor = 0;
+  int blockCellsPerSide = 0;
   std::size_t points[3] = {0, 0, 0};
   bool missingTreesAreElsewhere = false;
   std::vector<TreeKey> trees;
@@ -128,10 +134,10 @@ vtkSmartPointer<vtkHyperTreeGrid> GridBuilder::build(const ForestDescription& fo
   const ForestLayout layout = layoutForest(forest, &known);
   const auto fields = assembly::selectFields(forest, request);
   const RootGrid& g = forest.rootGrid;
-  bool sameShape = s.grid && s.dimension == forest.dimension &&
-                   s.branchFactor == forest.branchFactor && s.points[0] == g.pointsX &&
-                   s.points[1] == g.pointsY && s.points[2] == g.pointsZ &&
-                   s.trees.size() == keys.size();
+  bool sameShape =
+      s.grid && s.dimension == forest.dimension && s.branchFactor == forest.branchFactor &&
+      s.blockCellsPerSide == forest.blockCellsPerSide && s.points[0] == g.pointsX &&
+      s.points[1] == g.pointsY && s.points[2] == g.pointsZ && s.trees.size() == keys.size();
   for (std::size_t t = 0; sameShape && t < keys.size(); ++t)
   {
     sameShape = s.trees[t].root == keys[t].root;
@@ -145,6 +151,7 @@ vtkSmartPointer<vtkHyperTreeGrid> GridBuilder::build(const ForestDescription& fo
     s.grid = assembly::newGrid(forest);
     s.dimension = forest.dimension;
     s.branchFactor = forest.branchFactor;
+    s.blockCellsPerSide = forest.blockCellsPerSide;
     s.points[0] = g.pointsX;
     s.points[1] = g.pointsY;
     s.points[2] = g.pointsZ;
@@ -172,18 +179,20 @@ vtkSmartPointer<vtkHyperTreeGrid> GridBuilder::build(const ForestDescription& fo
   }
   // Keep nothing half-updated if VTK throws: forget the state until done.
   s.trees.clear();
-  if (reuse.treesRebuilt > 0 || reuse.newGrid)
-  {
-    // A tree's size moves the cells of the trees after it: every tree's first cell follows.
-    assembly::buildTrees(s.grid, forest, layout, rebuild);
-  }
-  if (arraysChanged)
-  {
-    assembly::setTopologyArrays(s.grid, forest, layout);
-  }
   if (tablesChanged)
   {
     s.tables = assembly::FieldTables();
+    // A block forest's trees are built from its index: before the trees.
+    s.tables.blocks = assembly::indexBlocks(forest, layout);
+  }
+  if (reuse.treesRebuilt > 0 || reuse.newGrid)
+  {
+    // A tree's size moves the cells of the trees after it: every tree's first cell follows.
+    assembly::buildTrees(s.grid, forest, layout, rebuild, s.tables.blocks.get());
+  }
+  if (arraysChanged)
+  {
+    assembly::setTopologyArrays(s.grid, forest, layout, s.tables.blocks.get());
   }
   assembly::setFields(s.grid, forest, layout, fields, s.tables);
   s.grid->Modified();

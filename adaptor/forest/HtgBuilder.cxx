@@ -15,9 +15,11 @@ vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& fo
   const ForestLayout layout = layoutForest(forest);
   const auto fields = assembly::selectFields(forest, request);
   vtkSmartPointer<vtkHyperTreeGrid> htg = assembly::newGrid(forest);
-  assembly::buildTrees(htg, forest, layout, std::vector<bool>(forest.trees.size(), true));
-  assembly::setTopologyArrays(htg, forest, layout);
   assembly::FieldTables tables;
+  tables.blocks = assembly::indexBlocks(forest, layout);
+  assembly::buildTrees(htg, forest, layout, std::vector<bool>(forest.trees.size(), true),
+                       tables.blocks.get());
+  assembly::setTopologyArrays(htg, forest, layout, tables.blocks.get());
   assembly::setFields(htg, forest, layout, fields, tables);
   return htg;
 }

@@ -9,12 +9,15 @@
 //  - mapped fields (leaves-only fields, forests with absent nodes): tuple i (a
 //    cell) maps through a shared table either to a tuple in simulation memory
 //    or to a value that Canopy computed and this array owns (a coarse average,
-//    or the fill value of absent cells).
+//    or the fill value of absent cells);
+//  - block fields (block forests): tuple i (a cell) is read through BlockField,
+//    which finds it in the simulation's block arrays without a table per cell.
 // The simulation's memory is never written: any write (VTK filters write only to
 // arrays they created with NewInstance, which start owned) or a request for a raw
 // pointer first detaches the array into an owned AoS copy.
 #pragma once
 
+#include "BlockField.h"
 #include "FieldView.h"
 #include "FreshMemory.h"
 
@@ -30,6 +33,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -100,6 +104,14 @@ public:
     this->Computed = std::move(computedValues);
   }
 
+  /// Reads a block field: one tuple per cell of its block forest's grid.
+  void borrowBlocks(std::shared_ptr<const BlockField<T>> blocks)
+  {
+    const auto tuples = static_cast<vtkIdType>(blocks->numberOfCells());
+    this->borrow(FieldView(), blocks->components(), tuples);
+    this->Blocks = std::move(blocks);
+  }
+
   ValueType GetValue(vtkIdType valueIdx) const
   {
     const int nc = this->NumberOfComponents;
@@ -132,6 +144,13 @@ public:
     if (!this->Borrowing)
     {
       return this->Owned[static_cast<std::size_t>(tupleIdx * this->NumberOfComponents + comp)];
+    }
+    if constexpr (std::is_floating_point_v<T>)
+    {
+      if (this->Blocks)
+      {
+        return this->Blocks->at(static_cast<std::uint64_t>(tupleIdx), comp);
+      }
     }
     std::int64_t source = tupleIdx;
     if (this->Map)
@@ -242,7 +261,7 @@ public:
     }
     const vtkIdType* ids = tupleIds->GetPointer(0);
     ValueType* to = out->GetPointer(0);
-    if (!this->Borrowing || this->View.tupleAddress)
+    if (!this->Borrowing || this->View.tupleAddress || this->Blocks)
     {
       for (vtkIdType i = 0; i < count; ++i)
       {
@@ -309,6 +328,7 @@ private:
     this->View = FieldView();
     this->Map.reset();
     this->Computed.clear();
+    this->Blocks.reset();
   }
 
   static bool skipped(double value, bool finiteOnly)
@@ -324,6 +344,15 @@ private:
     if (tuples <= 0)
     {
       return false;
+    }
+    if constexpr (std::is_floating_point_v<T>)
+    {
+      // Coarse cells are means of the blocks' cells: the same range, one pass
+      // over the blocks. Absent cells (the only ghosts) read NaN, skipped anyway.
+      if (this->Blocks)
+      {
+        return this->Blocks->leafRanges(ranges, finiteOnly);
+      }
     }
     for (int c = 0; c < components; ++c)
     {
@@ -358,6 +387,13 @@ private:
     if (tuples <= 0)
     {
       return false;
+    }
+    if constexpr (std::is_floating_point_v<T>)
+    {
+      if (this->Blocks)
+      {
+        return this->Blocks->leafNormRange(range, finiteOnly);
+      }
     }
     double low = vtkTypeTraits<double>::Max();
     double high = vtkTypeTraits<double>::Min();
@@ -411,6 +447,7 @@ private:
   bool Borrowing = false;
   std::shared_ptr<const TupleMap> Map;
   std::vector<ValueType> Computed;
+  std::shared_ptr<const BlockField<T>> Blocks;
   std::vector<ValueType> Owned;
 };
 

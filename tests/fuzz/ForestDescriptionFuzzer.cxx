@@ -657,6 +657,8 @@ void fillField(Field& field, std::size_t f, std::size_t stridePadding)
       storeTuple<T>(field, f, i, at.data());
     }
     break;
+  case Layout::Blocks: // not generated: block forests have their own checks
+    break;
   case Layout::Indirect:
     // One allocation per record: reading past a record is caught.
     field.parts.assign(field.tuples, std::vector<unsigned char>(nc * size));
@@ -759,6 +761,8 @@ void generateFields(Input& in, Generated& g)
     case Layout::Indirect:
       d.tupleAddresses =
           nullWhenEmpty || field.addresses.empty() ? nullptr : field.addresses.data();
+      break;
+    case Layout::Blocks: // not generated
       break;
     }
     switch (defect)

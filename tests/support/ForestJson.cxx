@@ -43,6 +43,8 @@ double valueAt(const FieldDescription& field, std::size_t i, int c)
   case Layout::Indirect:
     address = static_cast<const char*>(field.tupleAddresses[i]) + cc * size;
     break;
+  case Layout::Blocks:
+    throw std::invalid_argument("ForestJson: block fields have no tuple order");
   }
   switch (field.type)
   {

@@ -96,6 +96,8 @@ struct VectorStorage
         addresses[s] = &record.vector[0];
       }
       return FieldDescription::indirect<double>("vector", addresses.data(), n, 3);
+    case Layout::Blocks: // BlockForestTest's
+      break;
     }
     return {};
   }

@@ -7,6 +7,7 @@
 // description is in use. Canopy never writes through them.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -27,11 +28,52 @@ enum class ValueType
 /// How a field's components are laid out in simulation memory.
 enum class Layout
 {
-  AoS,     ///< tuples contiguous, components interleaved: x0 y0 z0 x1 y1 z1 ...
-  SoA,     ///< one contiguous array per component
-  Strided, ///< components contiguous within a tuple, tuples tupleStrideBytes apart
-  Indirect ///< components contiguous within a tuple, tuple i at tupleAddresses[i]: records
-           ///< scattered in memory (e.g. p4est's per-quadrant user_data)
+  AoS,      ///< tuples contiguous, components interleaved: x0 y0 z0 x1 y1 z1 ...
+  SoA,      ///< one contiguous array per component
+  Strided,  ///< components contiguous within a tuple, tuples tupleStrideBytes apart
+  Indirect, ///< components contiguous within a tuple, tuple i at tupleAddresses[i]: records
+            ///< scattered in memory (e.g. p4est's per-quadrant user_data)
+  Blocks    ///< block forests only: each block's cells in the code's own block array,
+            ///< ghost zones included (see BlockStrides); the only layout they take
+};
+
+/// How the cells of one block lie in the simulation's block array (a block forest's
+/// field, Layout::Blocks). Interior cell (i, j, k), 0 <= i, j, k < cellsPerSide,
+/// component c is at
+///   blockStart + componentOffset(c)
+///     + (i + ghostCells[0]) * cellBytes[0] + (j + ghostCells[1]) * cellBytes[1]
+///     + (k + ghostCells[2]) * cellBytes[2]
+/// where blockStart is where the block's array begins (its first ghost cell) and
+/// componentOffset(c) = c * componentBytes (or 0 when components are separate arrays).
+/// i, j, k run along the forest's axes that are not flat, in x, y, z order (a 2D
+/// forest in the xz-plane: i along x, j along z); strides and ghosts of missing
+/// axes are ignored. Ghost cells are never read.
+struct BlockStrides
+{
+  std::array<std::size_t, 3> cellBytes{{0, 0, 0}}; ///< from cell i to i+1, j to j+1, k to k+1
+  std::size_t componentBytes = 0;                  ///< from component c to c+1
+  std::array<int, 3> ghostCells{{0, 0, 0}};        ///< ghost cells before the interior
+
+  /// `[var][k][j][i]` (C order; Athena++/Parthenon/AthenaPK MeshBlock arrays, var
+  /// outermost): each component a whole (n + 2 ghosts)^d array, i fastest.
+  template <typename T>
+  static BlockStrides variableOutermost(int dimension, int cellsPerSide, int ghostCells)
+  {
+    return packed(dimension, cellsPerSide, ghostCells, 1, sizeof(T), true);
+  }
+
+  /// `[k][j][i][var]` (C order; FLASH's unk(var, i, j, k, block) in Fortran): the
+  /// components of a cell together.
+  template <typename T>
+  static BlockStrides variableInnermost(int dimension, int cellsPerSide, int ghostCells,
+                                        int components)
+  {
+    return packed(dimension, cellsPerSide, ghostCells, components, sizeof(T), false);
+  }
+
+private:
+  static BlockStrides packed(int dimension, int cellsPerSide, int ghostCells, int components,
+                             std::size_t valueSize, bool variableOutermost);
 };
 
 /// Which nodes a field has values for.
@@ -87,6 +129,18 @@ struct FieldDescription
   /// How many tuples the simulation's array holds (validated against the forest).
   std::size_t numberOfTuples = 0;
 
+  /// Blocks (block forests): how many blocks the arrays below describe (validated
+  /// against the forest's blocks) and where each block's cells lie in its array.
+  std::size_t numberOfBlocks = 0;
+  BlockStrides blockStrides;
+  /// Blocks allocated one by one: where block b's array begins (borrowed table).
+  const void* const* blockAddresses = nullptr;
+  /// Or all blocks in one array: block b's array begins at data + b * blockStrideBytes.
+  std::size_t blockStrideBytes = 0;
+  /// Or each component in arrays of its own, one table per component (borrowed),
+  /// componentBlockAddresses[c][b]: componentBytes is then unused.
+  std::vector<const void* const*> componentBlockAddresses;
+
   template <typename T>
   static FieldDescription aos(std::string name, const T* data, std::size_t numberOfTuples,
                               int components = 1, Centering centering = Centering::EveryNode)
@@ -136,7 +190,61 @@ struct FieldDescription
     return f;
   }
 
+  /// Block forest, blocks allocated one by one (Athena++, Parthenon): block b's
+  /// array begins at blockAddresses[b]. The table is borrowed, as are the blocks.
+  /// A block field's coarse values (inside and above blocks) are volume averages,
+  /// computed when something reads them.
+  template <typename T>
+  static FieldDescription blocks(std::string name, const T* const* blockAddresses,
+                                 std::size_t numberOfBlocks, BlockStrides strides,
+                                 int components = 1)
+  {
+    FieldDescription f = typedBlocks<T>(std::move(name), numberOfBlocks, strides, components);
+    f.blockAddresses = reinterpret_cast<const void* const*>(blockAddresses);
+    return f;
+  }
+
+  /// Block forest, every block in one array (FLASH's unk): block b's array begins at
+  /// firstBlock + b * blockStrideBytes.
+  template <typename T>
+  static FieldDescription blockArray(std::string name, const T* firstBlock,
+                                     std::size_t blockStrideBytes, std::size_t numberOfBlocks,
+                                     BlockStrides strides, int components = 1)
+  {
+    FieldDescription f = typedBlocks<T>(std::move(name), numberOfBlocks, strides, components);
+    f.data = firstBlock;
+    f.blockStrideBytes = blockStrideBytes;
+    return f;
+  }
+
+  /// Block forest, each component its own per-block arrays (a vector field kept as
+  /// three scalar variables): componentBlockAddresses[c][b].
+  template <typename T>
+  static FieldDescription blockComponents(std::string name,
+                                          const std::vector<const T* const*>& componentTables,
+                                          std::size_t numberOfBlocks, BlockStrides strides)
+  {
+    FieldDescription f = typedBlocks<T>(std::move(name), numberOfBlocks, strides,
+                                        static_cast<int>(componentTables.size()));
+    for (const T* const* table : componentTables)
+    {
+      f.componentBlockAddresses.push_back(reinterpret_cast<const void* const*>(table));
+    }
+    return f;
+  }
+
 private:
+  template <typename T>
+  static FieldDescription typedBlocks(std::string name, std::size_t numberOfBlocks,
+                                      BlockStrides strides, int components)
+  {
+    FieldDescription f =
+        typed<T>(std::move(name), Layout::Blocks, components, Centering::LeavesOnly, 0);
+    f.numberOfBlocks = numberOfBlocks;
+    f.blockStrides = strides;
+    return f;
+  }
+
   /// What every factory sets; the caller adds where the values are.
   template <typename T>
   static FieldDescription typed(std::string name, Layout layout, int components,
@@ -178,6 +286,12 @@ struct TreeDescription
   /// and is never the root. Absent nodes have no storage slot and no field values:
   /// the simulation's arrays hold only the nodes this rank has (see docs/api.md).
   const std::uint8_t* absent = nullptr;
+  /// Block forests, optional: per node, breadth-first, the index of the leaf's block
+  /// in the fields' block tables (entries of refined and absent nodes are ignored).
+  /// Without it, blocks are the present leaves breadth-first, tree by tree. Either
+  /// every tree has one or none does; the present leaves' entries must be exactly
+  /// 0 .. blocks-1.
+  const std::int64_t* blockIndex = nullptr;
 };
 
 /// The root grid: rectilinear point coordinates per axis, not necessarily uniform.
@@ -219,6 +333,14 @@ struct ForestDescription
   /// somewhere, as in p4est's bricks), so in 3D the faces toward it are inside the
   /// domain and not drawn; images then composite the same for any rank count.
   bool missingTreesAreElsewhere = false;
+  /// Octrees of blocks (Athena++/Parthenon MeshBlocks, FLASH/PARAMESH, ForestClaw
+  /// patches): 0 for an ordinary forest. n > 0: every present leaf of every tree's
+  /// description is a block of n^d cells, n a power of branchFactor (8, 16, 32, 64
+  /// with branchFactor 2), whose cells become log_branchFactor(n) uniform levels
+  /// of the grid below the leaf. Fields are then block fields (Layout::Blocks),
+  /// read where the blocks are (no per-cell table); storageSlots are not used
+  /// (blockIndex orders blocks). See docs/blocks.md.
+  int blockCellsPerSide = 0;
 };
 
 } // namespace canopy

@@ -33,7 +33,9 @@ private:
 /// information. (The builder's own per-tree layout is internal: ForestLayout.h.)
 struct ForestCounts
 {
-  std::size_t totalNodes = 0;         ///< cells of the grid: every described node
+  std::size_t totalNodes = 0;         ///< every described node
+  std::size_t totalCells = 0;         ///< cells of the grid: totalNodes, or with blocks' cells
+  std::size_t numberOfBlocks = 0;     ///< block forests: present leaves, each a block
   std::size_t totalLeaves = 0;        ///< every described leaf, absent ones included
   std::size_t totalPresentNodes = 0;  ///< tuples an every-node field holds
   std::size_t totalPresentLeaves = 0; ///< tuples a leaves-only field holds

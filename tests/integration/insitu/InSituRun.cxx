@@ -352,6 +352,8 @@ public:
             case canopy::Layout::Indirect:
               source = static_cast<const char*>(field.tupleAddresses[i]) + cc * valueBytes;
               break;
+            case canopy::Layout::Blocks:
+              throw std::invalid_argument("InSituRun splits forests of tuples, not of blocks");
             }
             bytes.insert(bytes.end(), source, source + valueBytes);
           }
