@@ -121,11 +121,11 @@ void BlockField<T>::buildPyramid(std::size_t block) const
   std::size_t side = this->Cells->cellsPerSide() / bf;
   const std::size_t sideJ = dimension >= 2 ? side : 1;
   const std::size_t sideK = dimension >= 3 ? side : 1;
-  std::vector<double> below(side * sideJ * sideK);
+  std::vector<double> below;
   std::vector<double> above;
   for (std::size_t c = 0; c < nc; ++c)
   {
-    std::fill(below.begin(), below.end(), 0.0);
+    below.assign(side * sideJ * sideK, 0.0); // the last component left it a level above
     this->forEachLeaf(
         [&](const std::array<std::uint32_t, 3>& p)
         {
