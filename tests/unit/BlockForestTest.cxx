@@ -417,5 +417,145 @@ INSTANTIATE_TEST_SUITE_P(Layouts, BlockForests, ::testing::ValuesIn(blockCases),
                          [](const ::testing::TestParamInfo<BlockCase>& info)
                          { return info.param.name; });
 
+/// The message of the InvalidForest a description raises ("" when it is valid).
+std::string problemsOf(const ForestDescription& description)
+{
+  try
+  {
+    validateForest(description);
+  }
+  catch (const InvalidForest& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(BlockForestValidation, EachMistakeNamedPrecisely)
+{
+  BlockForest forest(optionsOf(blockCases[0], 0));
+  ASSERT_EQ(problemsOf(forest.description()), "");
+
+  ForestDescription wrongSize = forest.description();
+  wrongSize.blockCellsPerSide = 12;
+  EXPECT_NE(problemsOf(wrongSize).find("blockCellsPerSide must be a power of the branch factor 2 "
+                                       "(2, 4, 8, 16, 32, ...), got 12"),
+            std::string::npos)
+      << problemsOf(wrongSize);
+
+  ForestDescription ordinary = forest.description();
+  ordinary.blockCellsPerSide = 0;
+  EXPECT_NE(problemsOf(ordinary).find("needs a block forest"), std::string::npos);
+
+  ForestDescription nodeField = forest.description();
+  const std::vector<double> values(1000, 0.0);
+  nodeField.fields.push_back(FieldDescription::aos("g", values.data(), values.size()));
+  EXPECT_NE(problemsOf(nodeField).find("field 1 'g': a block forest's fields are block fields"),
+            std::string::npos);
+
+  ForestDescription nullBlock = forest.description();
+  std::vector<const void*> table(forest.blocks().size());
+  for (std::size_t b = 0; b < table.size(); ++b)
+  {
+    table[b] = forest.address(b, {{0, 0, 0}}, 0);
+  }
+  table[1] = nullptr;
+  nullBlock.fields[0].blockAddresses = table.data();
+  EXPECT_NE(problemsOf(nullBlock).find("blockAddresses of block 1 is null"), std::string::npos)
+      << problemsOf(nullBlock);
+
+  ForestDescription fewBlocks = forest.description();
+  fewBlocks.fields[0].numberOfBlocks = forest.blocks().size() - 1;
+  EXPECT_NE(problemsOf(fewBlocks).find("blocks given but the forest has " +
+                                       std::to_string(forest.blocks().size()) + " blocks"),
+            std::string::npos);
+
+  ForestDescription tooDeep = forest.description();
+  tooDeep.maxLevels = 3; // the trees' own 3 levels, but not their blocks' 2 more
+  EXPECT_NE(problemsOf(tooDeep).find("levels of cells inside its blocks"), std::string::npos)
+      << problemsOf(tooDeep);
+
+  ForestDescription withSlots = forest.description();
+  std::vector<std::vector<std::int64_t>> slots;
+  std::int64_t nextSlot = 0;
+  for (TreeDescription& tree : withSlots.trees)
+  {
+    slots.emplace_back(tree.numberOfNodes);
+    for (auto& slot : slots.back())
+    {
+      slot = nextSlot++;
+    }
+    tree.storageSlots = slots.back().data();
+  }
+  EXPECT_NE(problemsOf(withSlots).find("storageSlots have no use in a block forest"),
+            std::string::npos)
+      << problemsOf(withSlots);
+
+  ForestDescription badStride = forest.description();
+  badStride.fields[0].blockStrides.cellBytes[1] = 3;
+  EXPECT_NE(problemsOf(badStride).find("blockStrides.cellBytes[1] = 3 must be a nonzero multiple"),
+            std::string::npos);
+}
+
+TEST(BlockForestValidation, BlockIndexMustNumberEveryBlockOnce)
+{
+  BlockCase shuffled = blockCases[2];
+  BlockForest forest(optionsOf(shuffled, 0));
+  ForestDescription d = forest.description();
+  std::vector<std::vector<std::int64_t>> indices;
+  for (const TreeDescription& tree : d.trees)
+  {
+    indices.emplace_back(tree.blockIndex, tree.blockIndex + tree.numberOfNodes);
+  }
+  // Two leaves given the same block.
+  std::int64_t* first = nullptr;
+  for (std::size_t t = 0; t < d.trees.size(); ++t)
+  {
+    for (std::size_t n = 0; n < indices[t].size(); ++n)
+    {
+      if (!d.trees[t].refinement[n])
+      {
+        if (first)
+        {
+          indices[t][n] = *first;
+          t = d.trees.size() - 1;
+          break;
+        }
+        first = &indices[t][n];
+      }
+    }
+  }
+  for (std::size_t t = 0; t < d.trees.size(); ++t)
+  {
+    d.trees[t].blockIndex = indices[t].data();
+  }
+  EXPECT_NE(problemsOf(d).find("reuses blockIndex"), std::string::npos) << problemsOf(d);
+  d.trees[0].blockIndex = nullptr;
+  EXPECT_NE(problemsOf(d).find("either every tree has one or none does"), std::string::npos);
+}
+
+TEST(BlockForestSteps, ValuesReadInPlaceAndCoarseMeansFollowEachBuild)
+{
+  BlockForest forest(optionsOf(blockCases[0], 0));
+  GridBuilder builder;
+  vtkSmartPointer<vtkHyperTreeGrid> htg = builder.build(forest.description());
+  EXPECT_EQ(checkEveryCell(htg, forest), unmaskedBlockCells(forest));
+  // The simulation advances in place: the grid reads its memory, not a copy.
+  const std::array<int, 3> cell{{1, 2, 3}};
+  const double before = forest.stored(0, cell, 1);
+  double* value = static_cast<double*>(forest.address(0, cell, 1));
+  *value = before + 1000.5;
+  htg = builder.build(forest.description());
+  EXPECT_EQ(builder.lastBuild().treesRebuilt, 0u) << "same trees, nothing rebuilt";
+  EXPECT_EQ(checkEveryCell(htg, forest), unmaskedBlockCells(forest));
+  // Another forest of blocks (regridded): rebuilt and read right.
+  BlockCase other = blockCases[0];
+  BlockForestOptions options = optionsOf(other, 0);
+  options.shape.seed = 21;
+  BlockForest regridded(options);
+  htg = builder.build(regridded.description());
+  EXPECT_EQ(checkEveryCell(htg, regridded), unmaskedBlockCells(regridded));
+}
+
 } // namespace
 } // namespace canopy::testing
