@@ -271,6 +271,28 @@ T BlockField<T>::at(std::uint64_t cell, int component) const
 }
 
 template <typename T>
+void BlockField<T>::tuple(std::uint64_t cell, T* values) const
+{
+  const BlockCells::Location where = this->Cells->locate(cell);
+  const auto block = static_cast<std::size_t>(where.block);
+  for (int c = 0; c < this->Components; ++c)
+  {
+    if (where.subLevel == 0)
+    {
+      values[c] = static_cast<T>(this->nodeValue(static_cast<std::size_t>(where.node), c));
+    }
+    else if (where.subLevel == this->Cells->blockLevels())
+    {
+      values[c] = this->leaf(block, where.position, c);
+    }
+    else
+    {
+      values[c] = static_cast<T>(this->coarseInBlock(block, where.subLevel, where.position, c));
+    }
+  }
+}
+
+template <typename T>
 bool BlockField<T>::leafRanges(double* ranges, bool finiteOnly) const
 {
   const std::size_t blocks = this->Cells->numberOfBlocks();

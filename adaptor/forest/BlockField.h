@@ -37,6 +37,8 @@ public:
 
   /// Component `c` of a cell of the grid.
   T at(std::uint64_t cell, int component) const;
+  /// Every component of a cell (one search for the cell, not one per component).
+  void tuple(std::uint64_t cell, T* values) const;
   /// Component `c` of interior cell `position` of a block (the simulation's value).
   T leaf(std::size_t block, const std::array<std::uint32_t, 3>& position, int component) const;
 

@@ -126,6 +126,14 @@ public:
 
   void GetTypedTuple(vtkIdType tupleIdx, ValueType* tuple) const
   {
+    if constexpr (std::is_floating_point_v<T>)
+    {
+      if (this->Blocks)
+      {
+        this->Blocks->tuple(static_cast<std::uint64_t>(tupleIdx), tuple);
+        return;
+      }
+    }
     for (int c = 0; c < this->NumberOfComponents; ++c)
     {
       tuple[c] = this->GetTypedComponent(tupleIdx, c);
@@ -265,10 +273,7 @@ public:
     {
       for (vtkIdType i = 0; i < count; ++i)
       {
-        for (int c = 0; c < nc; ++c)
-        {
-          to[i * nc + c] = this->GetTypedComponent(ids[i], c);
-        }
+        this->GetTypedTuple(ids[i], to + i * nc);
       }
     }
     else
