@@ -2,10 +2,12 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace miniamr
 {
@@ -106,6 +108,7 @@ const std::map<std::string, int MiniAppOptions::*> integerOptions = {
     {"--dimension", &MiniAppOptions::dimension},
     {"--branch-factor", &MiniAppOptions::branchFactor},
     {"--max-level", &MiniAppOptions::maxLevel},
+    {"--blocks", &MiniAppOptions::blocks},
     {"--regrid-every", &MiniAppOptions::regridEvery},
     {"--image-every", &MiniAppOptions::imageEvery},
     {"--selection-every", &MiniAppOptions::selectionEvery},
@@ -243,15 +246,30 @@ MiniAppOptions parseOptions(int argc, char** argv)
         << " GiB";
     throw std::invalid_argument(why.str());
   }
+  if (o.blocks != 0)
+  {
+    // A block's cells become uniform levels of the grid below its leaf: one cell
+    // splits into branchFactor per axis at each, so n must be a power of it.
+    int n = 1;
+    while (n < o.blocks && n <= 1024)
+      n *= o.branchFactor;
+    if (o.blocks < 0 || n != o.blocks || o.blocks == 1 || o.blocks > 64)
+      throw std::invalid_argument("--blocks: 0 (off) or a power of the branch factor " +
+                                  std::to_string(o.branchFactor) + " from " +
+                                  std::to_string(o.branchFactor) + " to 64 (" +
+                                  (o.branchFactor == 2 ? "2, 4, 8, 16, 32, 64" : "3, 9, 27") +
+                                  "), not " + std::to_string(o.blocks));
+  }
   // Every rank holds the whole forest's topology: keep the finest level's cells
-  // per axis at most 2^20 (a fully refined forest would not fit anyway).
-  double finest = 1;
+  // per axis at most 2^20 (a fully refined forest would not fit anyway); blocks
+  // divide the finest leaves further.
+  double finest = std::max(1, o.blocks);
   for (int l = 0; l < o.maxLevel && finest <= 1e12; ++l)
     finest *= o.branchFactor;
   for (int a = 0; a < o.dimension; ++a)
     if (finest * o.roots[a] > 1048576.0)
       throw std::invalid_argument("--max-level: at most 2^20 finest cells per axis "
-                                  "(roots x branch factor^max level)");
+                                  "(roots x branch factor^max level, x --blocks)");
   if (!(o.cfl > 0 && o.cfl <= 1))
     throw std::invalid_argument("--cfl must be in (0, 1]");
   if (!(o.diffusion >= 0))
@@ -304,6 +322,9 @@ std::string usage()
 Mesh:     --dimension 2|3 (2)  --branch-factor 2|3 (2)  --roots N|NX,NY[,NZ] (16)
           --max-level L (6)    --regrid-every K (1)
           --refine-gradient G (0.05)  --coarsen-gradient G (0.01)
+          --blocks N (0): show every leaf to Canopy as a block of N^d cells (a block
+          forest; N a power of the branch factor, e.g. 8): the leaf's fields at the
+          cells' centres (scalar: with limited slopes); 0: one cell per leaf
 Objects:  --object sphere:cx,cy[,cz],r,vx,vy[,vz]   --object plane:nx,ny[,nz],offset,speed
           (repeatable; default: a sphere and a plane crossing the domain; velocities
           in domain lengths per 100 steps; spheres bounce off the walls)

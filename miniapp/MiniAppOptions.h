@@ -42,6 +42,10 @@ struct MiniAppOptions
   int regridEvery = 1;
   double repartitionImbalance = 1.1; ///< repartition when max/mean leaves exceeds this
   std::vector<MovingObject> objects;
+  /// > 0: a block forest for Canopy. Every leaf is shown as a block of blocks^d cells
+  /// (a power of the branch factor) holding the leaf's fields at the cells' centres
+  /// (Simulation::sampleBlocks); 0: one cell per leaf.
+  int blocks = 0;
   /// "gaussian": a Gaussian translated by a uniform velocity on a fixed uniform mesh
   /// at maxLevel, with its errors against the exact solution; empty: the usual run.
   std::string exactSolution;

@@ -408,6 +408,137 @@ double Simulation::totalMass() const
   return total;
 }
 
+std::array<double, 3> Simulation::limitedSlopes(const Tree::Node& node, double u) const
+{
+  std::array<double, 3> slopes{{0, 0, 0}};
+  std::vector<AmrForest::FaceNeighbour> across;
+  double low = u, high = u; // the range of the leaf's and its face neighbours' values
+  for (int axis = 0; axis < Options.dimension; ++axis)
+  {
+    const double size = Forest.cellSize(axis, node.key.level);
+    double sided[2] = {0, 0}; // towards -axis, then +axis
+    for (int side = -1; side <= 1; side += 2)
+    {
+      // The leaves across the face, as one: area-weighted means of their values
+      // and of their centres' distances along the axis.
+      Forest.faceNeighbours(node.key, axis, side, across);
+      double area = 0, value = 0, distance = 0;
+      for (const auto& neighbour : across)
+      {
+        const double v = valueAcross(neighbour);
+        low = std::min(low, v);
+        high = std::max(high, v);
+        area += neighbour.area;
+        value += neighbour.area * v;
+        distance +=
+            neighbour.area * 0.5 * (size + Forest.cellSize(axis, neighbour.node->key.level));
+      }
+      sided[side > 0] = side * (value / area - u) / (distance / area);
+    }
+    // minmod: the smaller one-sided slope, none at an extremum.
+    if (sided[0] * sided[1] > 0)
+      slopes[static_cast<std::size_t>(axis)] =
+          std::abs(sided[0]) < std::abs(sided[1]) ? sided[0] : sided[1];
+  }
+  // The axes' slopes add up towards a block's corners: scale them down where the
+  // corner cells would leave [low, high] (no new extremum, no negative value).
+  const int n = std::max(1, Options.blocks);
+  double reach = 0; // the largest change from u in any cell of the block
+  for (int axis = 0; axis < Options.dimension; ++axis)
+    reach += std::abs(slopes[static_cast<std::size_t>(axis)]) * (n - 1) / (2.0 * n) *
+             Forest.cellSize(axis, node.key.level);
+  const double room = std::min(high - u, u - low);
+  if (reach > room)
+  {
+    const double scale = room / reach;
+    for (auto& slope : slopes)
+      slope *= scale;
+  }
+  return slopes;
+}
+
+std::size_t Simulation::blockOffset(int i, int j, int k) const
+{
+  const auto extent = static_cast<std::size_t>(Options.blocks + 2 * BlockGhosts);
+  const auto g = static_cast<std::size_t>(BlockGhosts);
+  const std::size_t jj = Options.dimension >= 2 ? static_cast<std::size_t>(j) + g : 0;
+  const std::size_t kk = Options.dimension >= 3 ? static_cast<std::size_t>(k) + g : 0;
+  return static_cast<std::size_t>(i) + g + extent * (jj + extent * kk);
+}
+
+double Simulation::blockValue(std::size_t index, int variable, int i, int j, int k) const
+{
+  return Blocks[index]
+               [static_cast<std::size_t>(variable) * BlockExtentValues + blockOffset(i, j, k)];
+}
+
+void Simulation::sampleBlocks()
+{
+  if (Options.blocks <= 0)
+    return;
+  // Neighbours' current values (the halo holds the last exchange's otherwise).
+  Halo.exchange(Communicator, Scalar);
+  const int n = Options.blocks;
+  const int d = Options.dimension;
+  std::size_t extentValues = 1;
+  for (int a = 0; a < d; ++a)
+    extentValues *= static_cast<std::size_t>(n + 2 * BlockGhosts);
+  if (extentValues != BlockExtentValues)
+    Blocks.clear();
+  BlockExtentValues = extentValues;
+  const std::size_t blockSize = BlockVariables * BlockExtentValues;
+  // One allocation per leaf, kept while the leaf count allows; new ones start all
+  // NaN, and only the interiors are written: the ghost cells stay NaN.
+  const std::size_t leaves = Scalar.size();
+  Blocks.resize(leaves);
+  for (auto& block : Blocks)
+    if (!block)
+    {
+      block.reset(new double[blockSize]);
+      std::fill(block.get(), block.get() + blockSize, std::numeric_limits<double>::quiet_NaN());
+    }
+  BlockTables.assign(4, std::vector<const double*>(leaves));
+  const int nj = d >= 2 ? n : 1;
+  const int nk = d >= 3 ? n : 1;
+  forEachOwnLeaf(
+      [&](const Tree::Node& node, std::size_t index)
+      {
+        double* block = Blocks[index].get();
+        const int variables[4] = {BlockScalar, BlockVelocity, BlockLevel, BlockRank};
+        for (std::size_t f = 0; f < 4; ++f)
+          BlockTables[f][index] =
+              block + static_cast<std::size_t>(variables[f]) * BlockExtentValues;
+        const double u = Scalar[index];
+        const auto slope = limitedSlopes(node, u);
+        const auto low = Forest.cellLow(node.key);
+        const auto size = cellSizes(node.key.level);
+        for (int k = 0; k < nk; ++k)
+          for (int j = 0; j < nj; ++j)
+            for (int i = 0; i < n; ++i)
+            {
+              const int cell[3] = {i, j, k};
+              std::array<double, 3> x{{0, 0, 0}};
+              double value = u;
+              for (int a = 0; a < d; ++a)
+              {
+                // Centre offsets from the leaf's centre as (2 i + 1 - n) / 2n: exactly
+                // opposite for mirrored cells, so the block's mean is u.
+                const double offset = (2.0 * cell[a] + 1 - n) / (2.0 * n) * size[a];
+                value += slope[static_cast<std::size_t>(a)] * offset;
+                x[a] = low[a] + (cell[a] + 0.5) * (size[a] / n);
+              }
+              const auto v = velocityAt(x);
+              const std::size_t at = blockOffset(i, j, k);
+              block[BlockScalar * BlockExtentValues + at] = value;
+              for (std::size_t c = 0; c < 3; ++c)
+                block[(BlockVelocity + c) * BlockExtentValues + at] = v[c];
+              block[BlockLevel * BlockExtentValues + at] = node.key.level;
+              block[BlockRank * BlockExtentValues + at] = Rank;
+            }
+      });
+  BlocksSampledAt = Step;
+}
+
 canopy::ForestDescription Simulation::describeForCanopy() const
 {
   canopy::ForestDescription forest;
@@ -427,6 +558,26 @@ canopy::ForestDescription Simulation::describeForCanopy() const
   using canopy::Centering;
   using canopy::FieldDescription;
   const std::size_t leaves = Scalar.size();
+  if (Options.blocks > 0)
+  {
+    if (BlocksSampledAt != Step)
+      throw std::logic_error("describeForCanopy with --blocks: sampleBlocks() first, every step");
+    // Each leaf a block of n^d cells, blocks in leaf order (the default block order:
+    // present leaves breadth-first, tree by tree), so no blockIndex map. The cells
+    // become log_bf(n) levels below the leaves.
+    forest.blockCellsPerSide = Options.blocks;
+    for (int n = 1; n < Options.blocks; n *= Options.branchFactor)
+      forest.maxLevels += 1;
+    const auto strides = canopy::BlockStrides::variableOutermost<double>(
+        Options.dimension, Options.blocks, BlockGhosts);
+    const std::size_t blocks = ownBlocks();
+    forest.fields = {
+        FieldDescription::blocks("scalar", BlockTables[0].data(), blocks, strides),
+        FieldDescription::blocks("velocity", BlockTables[1].data(), blocks, strides, 3),
+        FieldDescription::blocks("level", BlockTables[2].data(), blocks, strides),
+        FieldDescription::blocks("rank", BlockTables[3].data(), blocks, strides)};
+    return forest;
+  }
   forest.fields = {
       FieldDescription::aos("scalar", Scalar.data(), leaves, 1, Centering::LeavesOnly),
       FieldDescription::aos("velocity", Velocity.data(), leaves, 3, Centering::LeavesOnly),
@@ -451,6 +602,10 @@ std::uint64_t Simulation::borrowedArraysChecksum() const
   add(RootX.data(), RootX.size() * sizeof(double));
   add(RootY.data(), RootY.size() * sizeof(double));
   add(RootZ.data(), RootZ.size() * sizeof(double));
+  for (const auto& block : Blocks)
+    add(block.get(), BlockVariables * BlockExtentValues * sizeof(double));
+  for (const auto& table : BlockTables)
+    add(table.data(), table.size() * sizeof(const double*));
   for (auto tree : OwnTrees)
   {
     const auto& refinement = Forest.trees()[static_cast<std::size_t>(tree)].refinement;

@@ -6,6 +6,11 @@
 // order and breadth-first within a tree: `scalar` (double), `velocity` (3
 // doubles per leaf, interleaved), `level` and `rank` (doubles). Canopy reads
 // these arrays in place every step (see describeForCanopy).
+//
+// With --blocks N the simulation also keeps, per own leaf, a block of N^d cells
+// as a block-structured code would (allocated one by one, 2 ghost cells per side
+// left NaN, variables [var][k][j][i]): the leaf's fields sampled at the cells'
+// centres (sampleBlocks). Canopy then sees a block forest and reads the blocks.
 #pragma once
 
 #include "AmrForest.h"
@@ -19,6 +24,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,7 +56,38 @@ public:
   int repartitions() const { return Repartitions; }
 
   /// This rank's trees and leaves-only fields, borrowed: valid until advance().
+  /// With --blocks, a block forest over the blocks sampleBlocks last filled.
   canopy::ForestDescription describeForCanopy() const;
+
+  /// --blocks N, collective (one halo exchange): fills every own leaf's block from
+  /// the current state, cell (i, j, k) at centre x:
+  ///  - scalar: the leaf's value u plus limited slopes, u + sum_a s_a (x_a - c_a),
+  ///    c the leaf's centre: s_a the minmod of the one-sided differences to the
+  ///    face neighbours along axis a (the leaves across a face as one: area-weighted
+  ///    means of their values and centre distances), all scaled down together where
+  ///    the block's corner cells would leave the range of u and its face neighbours'
+  ///    values. The block's mean is u (conservative); no new extremum;
+  ///  - velocity: the prescribed velocity at x (exact);
+  ///  - level, rank: the leaf's level and owner.
+  /// Call it before describeForCanopy on steps where Canopy runs.
+  void sampleBlocks();
+  /// The variables of a block, outermost: [var][k][j][i].
+  enum BlockVariable
+  {
+    BlockScalar = 0,
+    BlockVelocity = 1, ///< 3 variables: vx, vy, vz
+    BlockLevel = 4,
+    BlockRank = 5,
+    BlockVariables = 6
+  };
+  static constexpr int BlockGhosts = 2;
+  /// --blocks N: value of `variable` in interior cell (i, j, k) of own leaf `index`'s
+  /// block (index in storage order, as dump and forEachOwnLeaf), and the block's
+  /// whole array ((N + 4)^d values per variable: 2 ghosts per side, included).
+  double blockValue(std::size_t index, int variable, int i, int j, int k) const;
+  const double* blockArray(std::size_t index) const { return Blocks[index].get(); }
+  std::size_t blockValuesPerVariable() const { return BlockExtentValues; }
+  std::size_t ownBlocks() const { return BlockTables.empty() ? 0 : BlockTables[0].size(); }
 
   /// A hash of every array Canopy borrows (to prove Canopy never writes them).
   std::uint64_t borrowedArraysChecksum() const;
@@ -99,6 +136,10 @@ private:
   double initialCellValue(const NodeKey& key) const;
   std::array<double, 3> cellSizes(int level) const;
   std::vector<std::int8_t> ownWishes(bool objectsOnly) const;
+  /// The limited slope of the scalar along each axis in a leaf (sampleBlocks).
+  std::array<double, 3> limitedSlopes(const Tree::Node& node, double u) const;
+  /// Where interior cell (i, j, k) is in one variable's array of a block, in values.
+  std::size_t blockOffset(int i, int j, int k) const;
   /// One regrid pass; objectsOnly: refine only where objects' surfaces are, and
   /// return false (nothing done) when no leaf there is below the finest level.
   bool regrid(bool initial, bool objectsOnly);
@@ -123,6 +164,12 @@ private:
   std::vector<double> RankField;        ///< own leaves
   HaloExchange Halo;
   std::vector<double> RootX, RootY, RootZ;
+  /// --blocks: one allocation per own leaf (storage order), reused across steps.
+  std::vector<std::unique_ptr<double[]>> Blocks;
+  std::size_t BlockExtentValues = 0; ///< (N + 4)^d: one variable of one block
+  /// Per field (scalar, velocity, level, rank): where its variable starts in each block.
+  std::vector<std::vector<const double*>> BlockTables;
+  int BlocksSampledAt = -1; ///< the step sampleBlocks last ran at
   int Step = 0;
   double Time = 0.0;
   double Dt = 0.0;

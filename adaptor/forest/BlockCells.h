@@ -12,7 +12,7 @@
 // The runs, found by one depth-first walk of the description (which visits each
 // level in path order), are what this index keeps: O(blocks x block levels)
 // entries, searched by cell. Checked cell by cell against the block arrays by
-// tests/unit/forest/BlockForestTest.cxx.
+// tests/unit/BlockForestTest.cxx (and BlockForestFiltersTest.cxx).
 #pragma once
 
 #include "ForestLayout.h"

@@ -1,15 +1,19 @@
 // The mini-app's numerics and mesh, on one MPI rank: conservation, faces seen
 // the same from both sides (neighbours across levels and trees), refinement
 // following the objects and coarsening behind them, the exact solution of the
-// accuracy mode (its order of convergence: miniapp.exact_solution_order_np*).
+// accuracy mode (its order of convergence: miniapp.exact_solution_order_np*), the
+// blocks of --blocks (in situ: miniapp.blocks_*).
 #include "AmrForest.h"
 #include "ExactSolution.h"
 #include "MiniAppOptions.h"
 #include "Simulation.h"
 
+#include <canopy/ForestValidation.h>
+
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -335,6 +339,129 @@ TEST(MiniAppExactSolution, ContradictoryOptionsAreRefused)
   const auto given = parse({"--exact-solution", "gaussian", "--velocity", "uniform:-1,0.5"});
   EXPECT_EQ(given.uniformVelocity[0], -1.0);
   EXPECT_EQ(given.uniformVelocity[1], 0.5);
+}
+
+/// --blocks N: 0 (off) or a power of the branch factor from the branch factor to 64;
+/// the blocks' cells count towards the finest cells per axis.
+TEST(MiniAppBlocks, OnlyPowersOfTheBranchFactorAreAccepted)
+{
+  EXPECT_EQ(parse({}).blocks, 0);
+  for (const std::string n : {"0", "2", "4", "8", "16", "64"})
+    EXPECT_EQ(parse({"--blocks", n}).blocks, std::stoi(n));
+  for (const std::string n : {"1", "3", "6", "12", "128", "-8", "8.5"})
+    EXPECT_THROW(parse({"--blocks", n}), std::invalid_argument) << n;
+  EXPECT_EQ(parse({"--branch-factor", "3", "--blocks", "9"}).blocks, 9);
+  EXPECT_THROW(parse({"--branch-factor", "3", "--blocks", "8"}), std::invalid_argument);
+  // 64 roots x 2^10 x 32 = 2^21 finest cells per axis: too many with the blocks' cells.
+  EXPECT_NO_THROW(parse({"--roots", "64", "--max-level", "10"}));
+  EXPECT_THROW(parse({"--roots", "64", "--max-level", "10", "--blocks", "32"}),
+               std::invalid_argument);
+}
+
+/// With --blocks the simulation keeps a block per leaf, as a block-structured code
+/// does: the description Canopy gets is a valid block forest of the expected size,
+/// every block's scalar averages to its leaf's value and stays within the range of
+/// the leaf's and its face neighbours' values, the velocity is the swirl at each
+/// cell's centre, level and rank the leaf's, and the ghost cells are NaN.
+TEST(MiniAppBlocks, BlocksHoldTheLeavesFieldsAtTheirCellCentres)
+{
+  constexpr double pi = 3.14159265358979323846;
+  for (auto [dimension, branchFactor, n] :
+       {std::tuple{2, 2, 8}, std::tuple{3, 2, 4}, std::tuple{2, 3, 9}})
+  {
+    SCOPED_TRACE(std::to_string(dimension) + "D, branch factor " + std::to_string(branchFactor) +
+                 ", blocks of " + std::to_string(n));
+    auto options = optionsFor(dimension, branchFactor, 4, branchFactor == 2 ? 3 : 2);
+    options.blocks = n;
+    miniamr::Simulation simulation(options, MPI_COMM_WORLD);
+    simulation.sampleBlocks();
+    simulation.advance();
+    // The blocks are sampled for one step: described before they are sampled again,
+    // they would be stale.
+    EXPECT_THROW(simulation.describeForCanopy(), std::logic_error);
+    simulation.sampleBlocks();
+    const auto description = simulation.describeForCanopy();
+    EXPECT_EQ(description.blockCellsPerSide, n);
+    const auto counts = canopy::validateForest(description);
+    const auto leaves = static_cast<std::size_t>(simulation.globalLeaves());
+    std::size_t children = 1, cells = 1;
+    for (int a = 0; a < dimension; ++a)
+    {
+      children *= static_cast<std::size_t>(branchFactor);
+      cells *= static_cast<std::size_t>(n);
+    }
+    std::size_t inside = 0; // cells of one block at all its levels below the leaf
+    for (std::size_t level = children; level <= cells; level *= children)
+      inside += level;
+    EXPECT_EQ(counts.numberOfBlocks, leaves);
+    EXPECT_EQ(counts.totalCells,
+              static_cast<std::size_t>(simulation.globalNodes()) + leaves * inside);
+    ASSERT_EQ(simulation.ownBlocks(), leaves);
+
+    const std::size_t withGhosts = simulation.blockValuesPerVariable();
+    ASSERT_EQ(withGhosts, static_cast<std::size_t>(std::pow(n + 4, dimension)));
+    const auto& forest = simulation.forest();
+    std::size_t index = 0;
+    std::vector<miniamr::AmrForest::FaceNeighbour> across;
+    for (std::size_t t = 0; t < forest.trees().size(); ++t)
+      for (const auto& node : forest.trees()[t].nodes)
+      {
+        if (node.firstChild >= 0)
+          continue;
+        const double u = simulation.valueOf(static_cast<std::int32_t>(t), node.leaf);
+        double low = u, high = u;
+        for (int axis = 0; axis < dimension; ++axis)
+          for (int side = -1; side <= 1; side += 2)
+          {
+            forest.faceNeighbours(node.key, axis, side, across);
+            for (const auto& neighbour : across)
+            {
+              const double v = simulation.valueOf(neighbour.leaf.tree, neighbour.node->leaf);
+              low = std::min(low, v);
+              high = std::max(high, v);
+            }
+          }
+        const auto lowCorner = forest.cellLow(node.key);
+        double sum = 0;
+        int outside = 0;
+        double velocityError = 0;
+        bool levelAndRank = true;
+        for (int k = 0; k < (dimension == 3 ? n : 1); ++k)
+          for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i)
+            {
+              const double scalar = simulation.blockValue(index, 0, i, j, k);
+              sum += scalar;
+              outside += scalar < low - 1e-15 || scalar > high + 1e-15;
+              const int cell[3] = {i, j, k};
+              double x[3] = {0, 0, 0};
+              for (int a = 0; a < dimension; ++a)
+                x[a] = lowCorner[a] + (cell[a] + 0.5) * (forest.cellSize(a, node.key.level) / n);
+              const double sx = std::sin(pi * x[0]), sy = std::sin(pi * x[1]);
+              const double swirl[3] = {sx * sx * std::sin(2 * pi * x[1]),
+                                       -sy * sy * std::sin(2 * pi * x[0]),
+                                       dimension == 3 ? 0.5 : 0.0};
+              for (int c = 0; c < 3; ++c)
+                velocityError =
+                    std::max(velocityError,
+                             std::abs(simulation.blockValue(index, 1 + c, i, j, k) - swirl[c]));
+              levelAndRank = levelAndRank &&
+                             simulation.blockValue(index, 4, i, j, k) == node.key.level &&
+                             simulation.blockValue(index, 5, i, j, k) == 0.0;
+            }
+        ASSERT_NEAR(sum / static_cast<double>(cells), u, 1e-14) << "leaf " << index;
+        ASSERT_EQ(outside, 0) << "leaf " << index;
+        ASSERT_LT(velocityError, 1e-15) << "leaf " << index;
+        ASSERT_TRUE(levelAndRank) << "leaf " << index;
+        const double* block = simulation.blockArray(index);
+        std::size_t nan = 0;
+        for (std::size_t v = 0; v < 6 * withGhosts; ++v)
+          nan += std::isnan(block[v]);
+        ASSERT_EQ(nan, 6 * (withGhosts - cells)) << "leaf " << index << ": ghosts only";
+        ++index;
+      }
+    EXPECT_EQ(index, leaves);
+  }
 }
 
 } // namespace

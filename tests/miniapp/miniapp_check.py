@@ -2,10 +2,11 @@
 
 usage: python3 miniapp_check.py CHECK OUTPUT_DIR -- COMMAND...
 CHECK: insitu (images, selection, HTG and surface extracts against the
-simulation's own final state, arrays untouched), same_answer (COMMAND is run
-at 1, 2 and 4 ranks; final states must agree) or exact_solution_order (COMMAND
-in --exact-solution mode at several levels: errors against the exact solution
-shrink at the expected order).
+simulation's own final state, arrays untouched), insitu_blocks (the same with
+--blocks N: every block cell of the extracts against values recomputed from the
+dump), same_answer (COMMAND is run at 1, 2 and 4 ranks; final states must agree)
+or exact_solution_order (COMMAND in --exact-solution mode at several levels:
+errors against the exact solution shrink at the expected order).
 """
 import glob
 import json
@@ -258,6 +259,308 @@ def check_same_answer(output, command, require_repartition=False):
         worst = max(abs(dumps[ranks][k] - dumps[1][k]) for k in dumps[1])
         expect(worst <= 1e-12, "np %d: values within 1e-12 of np 1 (largest difference %.1e)"
                % (ranks, worst))
+
+
+def option(command, name, default):
+    """The value after `name` in COMMAND, or the default."""
+    return command[command.index(name) + 1] if name in command else default
+
+
+class Forest:
+    """The mini-app's leaves from its dump (level, i, j, k -> value) on `roots`^d root
+    cells of a binary periodic forest: face neighbours and the scalar's limited slopes
+    as docs/miniapp.md states them (Simulation::sampleBlocks), rewritten here."""
+
+    def __init__(self, leaves, roots, dimension):
+        self.leaves, self.roots, self.dimension = leaves, roots, dimension
+
+    def size(self, level):
+        return 1.0 / (self.roots * 2 ** level)
+
+    def _leaves_touching(self, key, axis, side):
+        """Leaves of the subtree at `key` touching its face on the side facing `side`."""
+        if key in self.leaves:
+            return [key]
+        level, position = key[0], key[1:]
+        found = []
+        for child in range(2 ** self.dimension):
+            digits = [(child >> a) & 1 if a < self.dimension else 0 for a in range(3)]
+            if digits[axis] != (0 if side > 0 else 1):
+                continue
+            found += self._leaves_touching(
+                (level + 1,) + tuple(position[a] * (2 if a < self.dimension else 1) + digits[a]
+                                     for a in range(3)), axis, side)
+        return found
+
+    def parent(self, key):
+        return (key[0] - 1,) + tuple(p // 2 if a < self.dimension else p
+                                     for a, p in enumerate(key[1:]))
+
+    def across(self, key, axis, side):
+        """The leaves across a face: one same-level or coarser leaf, or the finer ones."""
+        level, position = key[0], list(key[1:])
+        position[axis] = (position[axis] + side) % (self.roots * 2 ** level)
+        probe = (level,) + tuple(position)
+        ancestor = probe
+        while ancestor not in self.leaves and ancestor[0] > 0:
+            ancestor = self.parent(ancestor)
+        if ancestor in self.leaves:
+            return [ancestor]
+        return self._leaves_touching(probe, axis, side)
+
+    def slopes(self, key, n):
+        """The scalar's slopes in a leaf shown as an n^d block."""
+        u, h = self.leaves[key], self.size(key[0])
+        slopes = [0.0, 0.0, 0.0]
+        low = high = u
+        for axis in range(self.dimension):
+            sided = []
+            for side in (-1, 1):
+                area = value = distance = 0.0
+                for other in self.across(key, axis, side):
+                    face = self.size(max(key[0], other[0])) ** (self.dimension - 1)
+                    low, high = min(low, self.leaves[other]), max(high, self.leaves[other])
+                    area += face
+                    value += face * self.leaves[other]
+                    distance += face * 0.5 * (h + self.size(other[0]))
+                sided.append(side * (value / area - u) / (distance / area))
+            if sided[0] * sided[1] > 0:
+                slopes[axis] = sided[0] if abs(sided[0]) < abs(sided[1]) else sided[1]
+        reach = sum(abs(s) for s in slopes) * (n - 1) / (2.0 * n) * h
+        room = min(high - u, u - low)
+        if reach > room:
+            slopes = [s * room / reach for s in slopes]
+        return slopes, (low, high)
+
+
+def largest(worst, differences):
+    """The larger of worst and the largest |difference|; infinite if one is NaN."""
+    differences = numpy.abs(numpy.asarray(differences, dtype=float))
+    return max(worst, float(differences.max()) if numpy.isfinite(differences).all() else math.inf)
+
+
+def read_vtkhdf_cells(path):
+    """Every cell of the last step of a VTKHDF hypertree grid (h5py, its descriptors
+    decoded here, level by level): numpy arrays of each cell's depth, integer position
+    at that depth (cells x 3), whether it is refined, and {array: values}, rows in the
+    file's order."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        root = f["VTKHDF"]
+        steps = root["Steps"]
+        k = int(steps.attrs["NSteps"]) - 1
+        dims = [int(n) for n in root.attrs["Dimensions"]]
+        roots = [max(1, n - 1) for n in dims]
+        bf = int(root.attrs["BranchFactor"])
+        dimension = sum(n > 1 for n in dims)
+        children = bf ** dimension
+        digits = numpy.array([[(c // bf ** a) % bf if a < dimension else 0 for a in range(3)]
+                              for c in range(children)], dtype=numpy.int64)
+        scale = numpy.array([bf if a < dimension else 1 for a in range(3)], dtype=numpy.int64)
+        part = int(steps["PartOffsets"][k])
+        tree_at = int(steps["TreeIdsOffsets"][k])
+        descriptor_at = int(steps["DescriptorsOffsets"][k])
+        depth, position, refined = [], [], []
+        for piece in range(int(steps["NumberOfParts"][k])):
+            n_trees = int(root["NumberOfTrees"][part + piece])
+            n_bits = int(root["DescriptorsSize"][part + piece])
+            bits = numpy.unpackbits(
+                root["Descriptors"][descriptor_at:descriptor_at + (n_bits + 7) // 8],
+                bitorder="big")[:n_bits].astype(bool)
+            descriptor_at += (n_bits + 7) // 8
+            bit = 0
+            for tree_id, depths in zip(root["TreeIds"][tree_at:tree_at + n_trees].tolist(),
+                                       root["DepthPerTree"][tree_at:tree_at + n_trees].tolist()):
+                level = numpy.array([[tree_id % roots[0], (tree_id // roots[0]) % roots[1],
+                                      tree_id // (roots[0] * roots[1])]], dtype=numpy.int64)
+                for d in range(depths):
+                    count = len(level)
+                    split = (bits[bit:bit + count] if d < depths - 1
+                             else numpy.zeros(count, dtype=bool))
+                    bit += count if d < depths - 1 else 0
+                    depth.append(numpy.full(count, d))
+                    position.append(level)
+                    refined.append(split)
+                    # Children of the refined cells, in order, each in child order.
+                    level = (level[split][:, None, :] * scale + digits[None, :, :]).reshape(-1, 3)
+            tree_at += n_trees
+        rows = sum(len(d) for d in depth)
+        values = {name: root["CellData"][name][int(steps["CellDataOffsets"][name][k]):][:rows]
+                  for name in root["CellData"]}
+        return (numpy.concatenate(depth), numpy.concatenate(position),
+                numpy.concatenate(refined), values)
+
+
+def check_insitu_blocks(output, command):
+    """The mini-app with --blocks N (a block forest) and its default pipelines, at the
+    last step (an image, selection and extract step), against its own dump: the grid
+    extracts hold every leaf as N^d cells below it (VTKHDF cell count from the dump:
+    nodes + leaves x (c + c^2 + ... + c^levels), c = 2^d), each cell's velocity the
+    swirl at its centre, level and rank the leaf's, scalar the leaf's value with the
+    documented limited slopes (recomputed here), the block's coarse cell the leaf's
+    value; the selection and the surface from those cells; images in colour, and with
+    REFERENCE=<dir> equal to that run's (1 rank)."""
+    shutil.rmtree(output, ignore_errors=True)
+    code, log = run(command + ["--dump", os.path.join(output, "final.txt")])
+    expect(code == 0, "the mini-app exits normally")
+    expect("simulation arrays untouched by Canopy: yes" in log,
+           "Canopy left the arrays (blocks and their address tables) untouched")
+    expect(re.search(r"0 pipeline failure\(s\)", log) is not None, "no pipeline failed")
+    noisy = [line for line in log.splitlines() if re.search(r"WARN|Warning|ERROR|rror", line)]
+    expect(not noisy, "no warning or error in the output (%d line(s)%s)"
+           % (len(noisy), (": " + noisy[0].strip()) if noisy else ""))
+    if code != 0:
+        return
+    n = int(option(command, "--blocks", 0))
+    dimension = int(option(command, "--dimension", 2))
+    roots = int(option(command, "--roots", 16))
+    ranks = int(option(command, "-np", 1))
+    sub = int(round(math.log2(n)))
+    children = 2 ** dimension
+    last = [int(s) for s in re.findall(r"^step\s+(\d+)", log, re.M)][-1]
+    final = read_dump(os.path.join(output, "final.txt"))
+    forest = Forest(final, roots, dimension)
+    leaves = len(final)
+    nodes = leaves + (leaves - roots ** dimension) // (children - 1)
+    want_cells = nodes + leaves * sum(children ** s for s in range(1, sub + 1))
+    expect(("blocks of %d^%d cells" % (n, dimension)) in log, "the run says its blocks")
+
+    # The grid as written (VTKHDF, decoded here), and the .htg pieces (ParaView 5.11).
+    hdf_cells = vtkhdf_cells_per_step(os.path.join(output, "grid.vtkhdf"))
+    expect(hdf_cells and hdf_cells[-1] == want_cells,
+           "grid.vtkhdf: the last step has %d cells; the dump's %d leaves give %d nodes + "
+           "%d leaves x %d cells at %d levels inside each block = %d"
+           % (hdf_cells[-1] if hdf_cells else -1, leaves, nodes, leaves,
+              sum(children ** s for s in range(1, sub + 1)), sub, want_cells))
+    pieces = read_htg_pieces(output, "grid", last)
+    expect(len(pieces) == ranks and sum(g.GetNumberOfCells() for g in pieces) == want_cells,
+           "grid_%06d/*.htg: %d pieces, %d cells" % (last, len(pieces),
+                                                    sum(g.GetNumberOfCells() for g in pieces)))
+    multiblock = read_multiblock(os.path.join(output, "grid_%06d.vtm" % last))
+    htg_leaves = sum(multiblock.GetBlock(b).GetNumberOfLeaves()
+                     for b in range(multiblock.GetNumberOfBlocks()))
+    expect(htg_leaves == leaves * n ** dimension, "grid_%06d.vtm: %d leaves = %d blocks x %d^%d"
+           % (last, htg_leaves, leaves, n, dimension))
+
+    depth, position, refined, values = read_vtkhdf_cells(os.path.join(output, "grid.vtkhdf"))
+    row_of = {key: row for row, key in enumerate(
+        zip(depth.tolist(), *(position[:, a].tolist() for a in range(3))))}
+    expect(len(row_of) == len(depth) == want_cells, "every cell of the grid is a distinct box")
+    expect(all(numpy.isfinite(values[name]).all() for name in values),
+           "no NaN anywhere in the grid: ghost cells (NaN in the blocks) are never read")
+    per = n ** dimension
+    # A block's cells, in the order [k][j][i] (i fastest), as offsets at its finest depth.
+    offsets = numpy.array([[(c // n ** a) % n if a < dimension else 0 for a in range(3)]
+                           for c in range(per)], dtype=numpy.int64)
+    factor = numpy.array([n if a < dimension else 1 for a in range(3)], dtype=numpy.int64)
+    expected_rows = []
+    wrong = {"block root": [], "missing": 0, "level": [], "rank": [], "bounds": 0}
+    worst = {"scalar": 0.0, "velocity": 0.0, "root": 0.0}
+    for (level, i, j, k), u in sorted(final.items()):
+        root_row = row_of.get((level, i, j, k))
+        if root_row is None or not refined[root_row]:
+            wrong["block root"].append((level, i, j, k))
+            continue
+        # Canopy's coarse value of the block's own cell: the mean of its cells, u.
+        worst["root"] = largest(worst["root"], values["scalar"][root_row] - u)
+        cells = numpy.array((i, j, k), dtype=numpy.int64) * factor + offsets
+        rows = [row_of.get((level + sub, a, b, c)) for a, b, c in cells.tolist()]
+        if None in rows or refined[rows].any():
+            wrong["missing"] += 1
+            continue
+        expected_rows += rows
+        slopes, (low, high) = forest.slopes((level, i, j, k), n)
+        h = forest.size(level)
+        want = u + sum(slopes[a] * (2 * offsets[:, a] + 1 - n) / (2.0 * n) * h
+                       for a in range(dimension))
+        scalar = values["scalar"][rows]
+        worst["scalar"] = largest(worst["scalar"], scalar - want)
+        wrong["bounds"] += int(((scalar < low - 1e-14) | (scalar > high + 1e-14)).sum())
+        centre = [(cells[:, a] + 0.5) * forest.size(level + sub) if a < dimension
+                  else numpy.zeros(per) for a in range(3)]
+        sx, sy = numpy.sin(numpy.pi * centre[0]), numpy.sin(numpy.pi * centre[1])
+        # The swirl (the default velocity; 3D: w = 0.5) at the cells' centres.
+        swirl = numpy.stack([sx * sx * numpy.sin(2 * numpy.pi * centre[1]),
+                             -sy * sy * numpy.sin(2 * numpy.pi * centre[0]),
+                             numpy.full(per, 0.5 if dimension == 3 else 0.0)], axis=1)
+        worst["velocity"] = largest(worst["velocity"], values["velocity"][rows] - swirl)
+        if (values["level"][rows] != level).any():
+            wrong["level"].append((level, i, j, k))
+        owners = numpy.unique(values["rank"][rows])
+        if len(owners) != 1 or not 0 <= owners[0] < ranks:
+            wrong["rank"].append((level, i, j, k))
+    grid_leaves = numpy.flatnonzero(~refined)
+    expect(not wrong["block root"] and not wrong["missing"] and
+           sorted(expected_rows) == grid_leaves.tolist(),
+           "the grid's %d leaves are the dump's %d leaves, each a refined cell split into "
+           "%d^%d cells (%d leaves not refined, %d blocks incomplete)"
+           % (len(grid_leaves), leaves, n, dimension, len(wrong["block root"]), wrong["missing"]))
+    expect(worst["velocity"] <= 1e-12, "velocity at each of the %d block cells is the swirl at "
+           "its centre (largest difference %.1e)" % (leaves * per, worst["velocity"]))
+    expect(worst["scalar"] <= 1e-12, "scalar at each block cell is the leaf's value with its "
+           "limited slopes, recomputed from the dump (largest difference %.1e)" % worst["scalar"])
+    expect(not wrong["bounds"], "no block cell outside the range of its leaf's and the face "
+           "neighbours' values (%d outside)" % wrong["bounds"])
+    expect(worst["root"] <= 1e-12, "each block's own (coarse) cell holds the leaf's value: the "
+           "mean of its cells (largest difference %.1e)" % worst["root"])
+    expect(not wrong["level"] and not wrong["rank"], "level the leaf's and rank one owner per "
+           "block (%d, %d blocks wrong)" % (len(wrong["level"]), len(wrong["rank"])))
+    selected = sorted(float(v) for v in values["scalar"][grid_leaves] if v >= 0.5)
+
+    # The selection (scalar >= 0.5) at the last step: the block cells that have it.
+    selection = read_unstructured(os.path.join(output, "selection_%06d.pvtu" % last))
+    got = (sorted(cell_array(selection, "scalar").tolist())
+           if selection.GetNumberOfCells() > 0 else [])
+    expect(len(got) == len(selected) and len(got) > 0 and got == selected,
+           "selection at step %d: %d cells, %d block cells have scalar >= 0.5, same values"
+           % (last, len(got), len(selected)))
+
+    surface = read_polydata(os.path.join(output, "grid_surface_%06d.pvtp" % last))
+    if dimension == 2:
+        want_quads, where = leaves * per, "one quad per block cell"
+    else:
+        # The domain's boundary: each leaf's face on it in n^2 quads.
+        want_quads, where = 0, "the domain's boundary, n^2 quads per leaf face on it"
+        for (level, i, j, k) in final:
+            last_index = roots * 2 ** level - 1
+            want_quads += per // n * sum((p == 0) + (p == last_index) for p in (i, j, k))
+    expect(surface.GetNumberOfCells() == want_quads, "grid_surface_%06d.pvtp: %d quads, %s: %d"
+           % (last, surface.GetNumberOfCells(), where, want_quads))
+
+    reference = os.environ.get("REFERENCE")
+    prefixes = ("surface", "zoom") if dimension == 2 else ("slices", "region")
+    images = sorted(glob.glob(os.path.join(output, "*.png")))
+    for prefix in prefixes:
+        count = len([name for name in images if os.path.basename(name).startswith(prefix + "_")])
+        expect(count >= 2, "%d %s images" % (count, prefix))
+    for name in images:
+        pixels = read_png(name)
+        expect(len(numpy.unique(pixels.reshape(-1, 3), axis=0)) > 50,
+               "%s shows the colour map" % os.path.basename(name))
+        if not reference:
+            continue
+        base = os.path.basename(name)
+        theirs = os.path.join(reference, base)
+        expect(os.path.exists(theirs), "%s in the reference run too" % base)
+        if not os.path.exists(theirs):
+            continue
+        if base.startswith("region"):
+            # A 3D surface with its cells' edges: where an anti-aliased mesh line meets
+            # the faces, compositing several ranks' images rounds a few line pixels
+            # differently (by 1, rarely a few levels; the default 3D run without
+            # --blocks does the same). Everything else must be equal.
+            other = read_png(theirs)
+            change = numpy.abs(pixels.astype(int) - other.astype(int)).max(axis=2)
+            differing = int((change > 0).sum())
+            expect(change.max() <= 8 and differing <= 0.002 * change.size,
+                   "%s equal to the reference run's but for compositing rounding on mesh "
+                   "lines: %d pixels (at most 0.2%%) differ, by at most %d (at most 8)"
+                   % (base, differing, change.max()))
+            continue
+        ties = 8 if base.startswith("slices") else 0
+        differing, unexplained = compare_images(pixels, read_png(theirs), ties)
+        expect(unexplained == 0, "%s identical to the reference run's (%d pixels differ, %d "
+               "of them not a depth tie where planes meet)" % (base, differing, unexplained))
 
 
 EXACT_LINE = re.compile(r"^exact: (\S+) level (\d+) cells (\d+) h (\S+) time (\S+) "

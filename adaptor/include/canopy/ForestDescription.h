@@ -335,8 +335,8 @@ struct ForestDescription
   bool missingTreesAreElsewhere = false;
   /// Octrees of blocks (Athena++/Parthenon MeshBlocks, FLASH/PARAMESH, ForestClaw
   /// patches): 0 for an ordinary forest. n > 0: every present leaf of every tree's
-  /// description is a block of n^d cells, n a power of branchFactor (8, 16, 32, 64
-  /// with branchFactor 2), whose cells become log_branchFactor(n) uniform levels
+  /// description is a block of n^d cells, n a power of branchFactor (2, 4, 8, ...;
+  /// 8 to 64 are usual), whose cells become log_branchFactor(n) uniform levels
   /// of the grid below the leaf. Fields are then block fields (Layout::Blocks),
   /// read where the blocks are (no per-cell table); storageSlots are not used
   /// (blockIndex orders blocks). See docs/blocks.md.
