@@ -522,6 +522,14 @@ ForestLayout layoutForest(const ForestDescription& forest, const ValidatedTrees*
   }
   else if (problems.empty())
   {
+    for (std::size_t t = 0; t < forest.trees.size(); ++t)
+    {
+      if (forest.trees[t].blockIndex != nullptr)
+      {
+        problems.add(treeName(t, forest.trees[t]),
+                     ": a blockIndex needs a block forest (blockCellsPerSide > 0)");
+      }
+    }
     validateFields(forest, layout, problems);
   }
   if (!problems.empty())

@@ -15,6 +15,7 @@
 #include <memory>
 #include <string>
 #include <tuple>
+#include <vector>
 
 struct canopy_options
 {
@@ -24,6 +25,10 @@ struct canopy_options
 struct canopy_forest
 {
   canopy::ForestDescription description;
+  /// Block forests: the copied address tables of the block fields, one per field of
+  /// `description` (empty for canopy_forest_add_block_field_array), which point into
+  /// them. Moving a vector keeps its buffer, so they stay where the fields point.
+  std::vector<std::vector<const void*>> blockTables;
 };
 
 struct canopy_insitu
@@ -88,6 +93,14 @@ int addField(const char* function, canopy_forest* forest, const char* name, int 
                     {
                       return status;
                     }
+                    if (handle.description.blockCellsPerSide != 0)
+                    {
+                      return fail(CANOPY_INVALID_ARGUMENT,
+                                  "%s: field '%s': the forest has blocks "
+                                  "(canopy_forest_set_blocks): its fields are block fields "
+                                  "(canopy_forest_add_block_field*)",
+                                  function, name);
+                    }
                     if (const int status = place(field))
                     {
                       return status;
@@ -97,10 +110,12 @@ int addField(const char* function, canopy_forest* forest, const char* name, int 
                   });
 }
 
-/// Both tree calls (`absent` NULL: a whole tree).
+/// Every tree call (`absent` NULL: a whole tree; `blockTree`: the block forests'
+/// own call, which refuses an ordinary forest).
 int addTree(const char* function, canopy_forest* forest, int64_t rootIndex,
             const uint8_t* refinement, size_t numberOfNodes, const uint8_t* masked,
-            const int64_t* storageSlots, const uint8_t* absent) noexcept
+            const int64_t* storageSlots, const uint8_t* absent, const int64_t* blockIndex,
+            bool blockTree) noexcept
 {
   return onHandle(
       function, CANOPY_INVALID_ARGUMENT, forest, "forest",
@@ -128,6 +143,21 @@ int addTree(const char* function, canopy_forest* forest, int64_t rootIndex,
           return fail(CANOPY_INVALID_ARGUMENT, "%s: root %lld: refinement is NULL", function,
                       static_cast<long long>(rootIndex));
         }
+        const bool blocks = handle.description.blockCellsPerSide != 0;
+        if (blockTree && !blocks)
+        {
+          return fail(CANOPY_INVALID_ARGUMENT,
+                      "%s: root %lld: the forest has no blocks (call canopy_forest_set_blocks "
+                      "first)",
+                      function, static_cast<long long>(rootIndex));
+        }
+        if (blocks && storageSlots != nullptr)
+        {
+          return fail(CANOPY_INVALID_ARGUMENT,
+                      "%s: root %lld: storage_slots must be NULL in a block forest (its fields "
+                      "are per block; canopy_forest_add_block_tree's block_index orders them)",
+                      function, static_cast<long long>(rootIndex));
+        }
         canopy::TreeDescription tree;
         tree.rootIndex = rootIndex;
         tree.refinement = refinement;
@@ -135,7 +165,55 @@ int addTree(const char* function, canopy_forest* forest, int64_t rootIndex,
         tree.masked = masked;
         tree.storageSlots = storageSlots;
         tree.absent = absent;
+        tree.blockIndex = blockIndex;
         handle.description.trees.push_back(tree); // strong guarantee: unchanged if it throws
+        return succeed();
+      });
+}
+
+/// The block field calls: the shared checks (separateComponents: the third call's
+/// per-component tables), then `place`'s (where the blocks are: CANOPY_OK or the
+/// refusal; it fills the field and the address table to copy), then the field is
+/// added with its table.
+template <typename Place>
+int addBlockField(const char* function, canopy_forest* forest, const char* name, int valueType,
+                  int components, std::size_t numberOfBlocks, const canopy_block_strides* strides,
+                  bool separateComponents, Place&& place) noexcept
+{
+  return onHandle(
+      function, CANOPY_INVALID_ARGUMENT, forest, "forest",
+      [&](canopy_forest& handle)
+      {
+        canopy::ForestDescription& description = handle.description;
+        canopy::FieldDescription field;
+        if (const int status =
+                checkBlockField(function, name, valueType, components, numberOfBlocks, strides,
+                                description.dimension, separateComponents, field))
+        {
+          return status;
+        }
+        if (description.blockCellsPerSide == 0)
+        {
+          return fail(CANOPY_INVALID_ARGUMENT,
+                      "%s: field '%s': the forest has no blocks (call canopy_forest_set_blocks "
+                      "first)",
+                      function, name);
+        }
+        std::vector<const void*> table;
+        if (const int status = place(field, table))
+        {
+          return status;
+        }
+        // Both or neither: room for the table first (a failure changes nothing), then
+        // the field (likewise), then the table, which cannot fail: moving a vector is
+        // noexcept and keeps the buffer the field points into.
+        std::vector<std::vector<const void*>>& tables = handle.blockTables;
+        if (tables.size() == tables.capacity())
+        {
+          tables.reserve(2 * tables.size() + 1);
+        }
+        description.fields.push_back(std::move(field));
+        tables.push_back(std::move(table));
         return succeed();
       });
 }
@@ -291,6 +369,7 @@ extern "C"
                     {
                       handle.description.trees.clear();
                       handle.description.fields.clear();
+                      handle.blockTables.clear();
                       return succeed();
                     });
   }
@@ -300,7 +379,7 @@ extern "C"
                              const int64_t* storage_slots)
   {
     return addTree("canopy_forest_add_tree", forest, root_index, refinement, number_of_nodes,
-                   masked, storage_slots, nullptr);
+                   masked, storage_slots, nullptr, nullptr, false);
   }
 
   int canopy_forest_add_partial_tree(canopy_forest* forest, int64_t root_index,
@@ -309,7 +388,7 @@ extern "C"
                                      const uint8_t* absent)
   {
     return addTree("canopy_forest_add_partial_tree", forest, root_index, refinement,
-                   number_of_nodes, masked, storage_slots, absent);
+                   number_of_nodes, masked, storage_slots, absent, nullptr, false);
   }
 
   int canopy_forest_add_field(canopy_forest* forest, const char* name, int value_type,
@@ -385,6 +464,229 @@ extern "C"
                       field.componentData.assign(component_data, component_data + components);
                       return CANOPY_OK;
                     });
+  }
+
+  int canopy_forest_set_blocks(canopy_forest* forest, int cells_per_side)
+  {
+    static const char* const function = "canopy_forest_set_blocks";
+    return onHandle(function, CANOPY_INVALID_ARGUMENT, forest, "forest",
+                    [&](canopy_forest& handle)
+                    {
+                      canopy::ForestDescription& description = handle.description;
+                      if (const int status =
+                              checkBlockSize(function, cells_per_side, description.branchFactor,
+                                             description.maxLevels))
+                      {
+                        return status;
+                      }
+                      if (!description.trees.empty() || !description.fields.empty())
+                      {
+                        return fail(CANOPY_INVALID_ARGUMENT,
+                                    "%s: the forest already has %zu trees and %zu fields: set "
+                                    "the block size right after canopy_forest_create or "
+                                    "canopy_forest_clear",
+                                    function, description.trees.size(), description.fields.size());
+                      }
+                      description.blockCellsPerSide = cells_per_side;
+                      return succeed();
+                    });
+  }
+
+  int canopy_forest_add_block_tree(canopy_forest* forest, int64_t root_index,
+                                   const uint8_t* refinement, size_t number_of_nodes,
+                                   const uint8_t* masked, const uint8_t* absent,
+                                   const int64_t* block_index)
+  {
+    return addTree("canopy_forest_add_block_tree", forest, root_index, refinement, number_of_nodes,
+                   masked, nullptr, absent, block_index, true);
+  }
+
+  int canopy_block_strides_packed(int dimension, int cells_per_side, int ghost_cells,
+                                  int components, int value_type, int order,
+                                  canopy_block_strides* strides, size_t* block_bytes)
+  {
+    static const char* const function = "canopy_block_strides_packed";
+    return guarded(
+        function, CANOPY_INVALID_ARGUMENT,
+        [&]
+        {
+          canopy::ValueType type = canopy::ValueType::Float64;
+          if (dimension < 1 || dimension > 3)
+          {
+            return fail(CANOPY_INVALID_ARGUMENT, "%s: dimension must be 1, 2 or 3, got %d",
+                        function, dimension);
+          }
+          if (cells_per_side < 1)
+          {
+            return fail(CANOPY_INVALID_ARGUMENT, "%s: cells_per_side must be at least 1, got %d",
+                        function, cells_per_side);
+          }
+          if (ghost_cells < 0)
+          {
+            return fail(CANOPY_INVALID_ARGUMENT, "%s: ghost_cells %d is negative", function,
+                        ghost_cells);
+          }
+          if (components < 1)
+          {
+            return fail(CANOPY_INVALID_ARGUMENT, "%s: components must be at least 1, got %d",
+                        function, components);
+          }
+          if (!valueTypeFromC(value_type, type))
+          {
+            return fail(CANOPY_INVALID_ARGUMENT,
+                        "%s: unknown value type %d (use CANOPY_FLOAT32/FLOAT64/INT32/INT64)",
+                        function, value_type);
+          }
+          if (order != CANOPY_VARIABLE_OUTERMOST && order != CANOPY_VARIABLE_INNERMOST)
+          {
+            return fail(CANOPY_INVALID_ARGUMENT,
+                        "%s: unknown order %d (use CANOPY_VARIABLE_OUTERMOST or "
+                        "CANOPY_VARIABLE_INNERMOST)",
+                        function, order);
+          }
+          if (strides == nullptr)
+          {
+            return fail(CANOPY_INVALID_ARGUMENT, "%s: strides is NULL", function);
+          }
+          // The whole block's bytes, refused when beyond what can be addressed.
+          const auto extent =
+              static_cast<std::size_t>(cells_per_side) + 2 * static_cast<std::size_t>(ghost_cells);
+          std::size_t bytes = canopy::sizeOf(type) * static_cast<std::size_t>(components);
+          for (int a = 0; a < dimension; ++a)
+          {
+            if (bytes > static_cast<std::size_t>(PTRDIFF_MAX) / extent)
+            {
+              return fail(CANOPY_INVALID_ARGUMENT,
+                          "%s: a block of (%d + 2 x %d)^%d cells of %d components is too large "
+                          "to address",
+                          function, cells_per_side, ghost_cells, dimension, components);
+            }
+            bytes *= extent;
+          }
+          // The core's own two orders (one value size per type: the layout is all bytes).
+          const bool outermost = order == CANOPY_VARIABLE_OUTERMOST;
+          const bool wide = canopy::sizeOf(type) == 8;
+          const canopy::BlockStrides packed =
+              outermost ? (wide ? canopy::BlockStrides::variableOutermost<double>(
+                                      dimension, cells_per_side, ghost_cells)
+                                : canopy::BlockStrides::variableOutermost<float>(
+                                      dimension, cells_per_side, ghost_cells))
+                        : (wide ? canopy::BlockStrides::variableInnermost<double>(
+                                      dimension, cells_per_side, ghost_cells, components)
+                                : canopy::BlockStrides::variableInnermost<float>(
+                                      dimension, cells_per_side, ghost_cells, components));
+          for (std::size_t a = 0; a < 3; ++a)
+          {
+            strides->cell_bytes[a] = packed.cellBytes[a];
+            strides->ghost_cells[a] = packed.ghostCells[a];
+          }
+          strides->component_bytes = packed.componentBytes;
+          if (block_bytes != nullptr)
+          {
+            *block_bytes = bytes;
+          }
+          return succeed();
+        });
+  }
+
+  int canopy_forest_add_block_field(canopy_forest* forest, const char* name, int value_type,
+                                    int components, const void* const* block_addresses,
+                                    size_t number_of_blocks, const canopy_block_strides* strides)
+  {
+    static const char* const function = "canopy_forest_add_block_field";
+    return addBlockField(
+        function, forest, name, value_type, components, number_of_blocks, strides, false,
+        [&](canopy::FieldDescription& field, std::vector<const void*>& table) -> int
+        {
+          if (const int status = checkBlockAddresses(function, name, "block_addresses",
+                                                     block_addresses, number_of_blocks,
+                                                     number_of_blocks, canopy::sizeOf(field.type)))
+          {
+            return status;
+          }
+          if (number_of_blocks > 0)
+          {
+            table.assign(block_addresses, block_addresses + number_of_blocks);
+            field.blockAddresses = table.data();
+          }
+          return CANOPY_OK;
+        });
+  }
+
+  int canopy_forest_add_block_field_array(canopy_forest* forest, const char* name, int value_type,
+                                          int components, const void* first_block,
+                                          size_t block_stride_bytes, size_t number_of_blocks,
+                                          const canopy_block_strides* strides)
+  {
+    static const char* const function = "canopy_forest_add_block_field_array";
+    return addBlockField(
+        function, forest, name, value_type, components, number_of_blocks, strides, false,
+        [&](canopy::FieldDescription& field, std::vector<const void*>&) -> int
+        {
+          const std::size_t valueSize = canopy::sizeOf(field.type);
+          if (first_block == nullptr && number_of_blocks > 0)
+          {
+            return fail(CANOPY_INVALID_ARGUMENT,
+                        "%s: field '%s': first_block is NULL but number_of_blocks is %zu", function,
+                        name, number_of_blocks);
+          }
+          if (misaligned(first_block, valueSize))
+          {
+            return fail(CANOPY_INVALID_ARGUMENT,
+                        "%s: field '%s': first_block is not aligned to the value size %zu",
+                        function, name, valueSize);
+          }
+          if (number_of_blocks > 1 &&
+              (negativeCount(block_stride_bytes) || block_stride_bytes == 0 ||
+               block_stride_bytes % valueSize != 0))
+          {
+            return fail(CANOPY_INVALID_ARGUMENT,
+                        "%s: field '%s': block_stride_bytes %zu is not a nonzero multiple of "
+                        "the value size %zu (or is negative), with %zu blocks",
+                        function, name, block_stride_bytes, valueSize, number_of_blocks);
+          }
+          field.data = first_block;
+          field.blockStrideBytes = number_of_blocks > 1 ? block_stride_bytes : 0;
+          return CANOPY_OK;
+        });
+  }
+
+  int canopy_forest_add_block_field_components(canopy_forest* forest, const char* name,
+                                               int value_type, int components,
+                                               const void* const* block_addresses,
+                                               size_t number_of_blocks,
+                                               const canopy_block_strides* strides)
+  {
+    static const char* const function = "canopy_forest_add_block_field_components";
+    return addBlockField(
+        function, forest, name, value_type, components, number_of_blocks, strides, true,
+        [&](canopy::FieldDescription& field, std::vector<const void*>& table) -> int
+        {
+          const auto count = static_cast<std::size_t>(components);
+          if (number_of_blocks > static_cast<std::size_t>(PTRDIFF_MAX) / count)
+          {
+            return fail(CANOPY_INVALID_ARGUMENT,
+                        "%s: field '%s': %d components x %zu blocks are too many addresses",
+                        function, name, components, number_of_blocks);
+          }
+          if (const int status = checkBlockAddresses(function, name, "block_addresses",
+                                                     block_addresses, count * number_of_blocks,
+                                                     number_of_blocks, canopy::sizeOf(field.type)))
+          {
+            return status;
+          }
+          if (number_of_blocks > 0)
+          {
+            table.assign(block_addresses, block_addresses + count * number_of_blocks);
+          }
+          // One table per component (null without blocks: nothing to read).
+          for (std::size_t c = 0; c < count; ++c)
+          {
+            field.componentBlockAddresses.push_back(
+                number_of_blocks > 0 ? table.data() + c * number_of_blocks : nullptr);
+          }
+          return CANOPY_OK;
+        });
   }
 
   int canopy_open(MPI_Comm communicator, const canopy_options* options, canopy_insitu** insitu)

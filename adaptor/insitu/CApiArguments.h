@@ -4,6 +4,7 @@
 #pragma once
 
 #include "canopy/ForestDescription.h"
+#include "canopy/canopy.h"
 
 #include <cstddef>
 
@@ -24,5 +25,31 @@ int checkField(const char* function, const char* name, int valueType, int compon
 
 /// One axis of the root grid: `points` coordinates at `coordinates`.
 int checkAxis(const char* function, char axis, const double* coordinates, std::size_t points);
+
+/// A valueType code turned into `type` (false: unknown code).
+bool valueTypeFromC(int code, ValueType& type);
+
+/// The block size of canopy_forest_set_blocks for a forest of `branchFactor` and
+/// `maxLevels`: 0, or a power of the branch factor whose levels fit.
+int checkBlockSize(const char* function, int cellsPerSide, int branchFactor, int maxLevels);
+
+/// What the block field calls share, filled into `field` (name, type, components,
+/// Layout::Blocks, number of blocks, strides): a floating-point type, strides that
+/// step over whole values along the forest's `dimension` axes, and (unless the
+/// components are separate arrays) over whole values from component to component.
+/// `name` is copied. May throw bad_alloc.
+int checkBlockField(const char* function, const char* name, int valueType, int components,
+                    std::size_t numberOfBlocks, const canopy_block_strides* strides, int dimension,
+                    bool separateComponents, FieldDescription& field);
+
+/// A table of `count` block addresses (`what`: how a message names it), NULL only
+/// when `count` is 0: each entry present and aligned to `valueSize`. Entries past
+/// `blocksPerComponent` are named by component and block.
+int checkBlockAddresses(const char* function, const char* name, const char* what,
+                        const void* const* table, std::size_t count, std::size_t blocksPerComponent,
+                        std::size_t valueSize);
+
+/// Whether `pointer` is not a multiple of `valueSize`.
+bool misaligned(const void* pointer, std::size_t valueSize);
 
 } // namespace canopy::capi

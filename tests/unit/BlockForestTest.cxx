@@ -447,6 +447,13 @@ TEST(BlockForestValidation, EachMistakeNamedPrecisely)
   ordinary.blockCellsPerSide = 0;
   EXPECT_NE(problemsOf(ordinary).find("needs a block forest"), std::string::npos);
 
+  ForestDescription ordinaryWithOrder = forest.description();
+  ordinaryWithOrder.blockCellsPerSide = 0;
+  std::vector<std::int64_t> order(ordinaryWithOrder.trees[0].numberOfNodes, 0);
+  ordinaryWithOrder.trees[0].blockIndex = order.data();
+  EXPECT_NE(problemsOf(ordinaryWithOrder).find("a blockIndex needs a block forest"),
+            std::string::npos);
+
   ForestDescription nodeField = forest.description();
   const std::vector<double> values(1000, 0.0);
   nodeField.fields.push_back(FieldDescription::aos("g", values.data(), values.size()));

@@ -16,6 +16,10 @@
 ! Such an array is borrowed until canopy_forest_clear (root grid coordinates:
 ! canopy_forest_destroy): keep it allocated and in place (no reallocation) until
 ! then; its values may change between steps, each canopy_execute reads them.
+! Lists of addresses (canopy_forest_add_field_soa's component_data, the block
+! fields' block_addresses) are copied during the call: an array of type(c_ptr).
+! Block forests (canopy_forest_set_blocks): see the canopy_block_strides type below
+! and docs/api.md.
 ! See docs/insitu.md.
 module canopy
   use iso_c_binding
@@ -27,6 +31,30 @@ module canopy
   integer(c_int), parameter :: CANOPY_FLOAT32 = 0, CANOPY_FLOAT64 = 1, &
                                CANOPY_INT32 = 2, CANOPY_INT64 = 3
   integer(c_int), parameter :: CANOPY_EVERY_NODE = 0, CANOPY_LEAVES_ONLY = 1
+  integer(c_int), parameter :: CANOPY_VARIABLE_OUTERMOST = 0, CANOPY_VARIABLE_INNERMOST = 1
+
+  ! canopy.h's canopy_block_strides: where the cells of one block lie in its array.
+  ! Interior cell (i, j, k), counted from 0 along the forest's axes that are not flat,
+  ! component c (from 0), is at the block's first byte (its first ghost cell) plus
+  !   c * component_bytes + (i + ghost_cells(1)) * cell_bytes(1)
+  !     + (j + ghost_cells(2)) * cell_bytes(2) + (k + ghost_cells(3)) * cell_bytes(3)
+  ! Fill one with canopy_block_strides_packed for the two usual orders; in Fortran's
+  ! column-major terms:
+  !   CANOPY_VARIABLE_INNERMOST  unk(var, i, j, k[, block]): the components of a cell
+  !                              together (FLASH/PARAMESH's unk);
+  !   CANOPY_VARIABLE_OUTERMOST  u(i, j, k, var[, block]): each variable a whole block
+  !                              array (and u(i, j, k) of one variable, for
+  !                              canopy_forest_add_block_field_components).
+  ! A 2D code's k extent (1) and a 1D code's j and k extents do not matter. Arrays
+  ! declared larger than cells + 2 ghosts per side (room for the largest block) need
+  ! their strides set by hand: cell_bytes(1) = the bytes of what varies fastest
+  ! before i (components and all), cell_bytes(2) = cell_bytes(1) * the declared i
+  ! extent, and so on.
+  type, bind(c) :: canopy_block_strides
+    integer(c_size_t) :: cell_bytes(3) = 0
+    integer(c_size_t) :: component_bytes = 0
+    integer(c_int) :: ghost_cells(3) = 0
+  end type
 
   interface
     type(c_ptr) function canopy_last_error() bind(c)
@@ -148,6 +176,93 @@ module canopy
       integer(c_int), value :: value_type, components, centering
       type(c_ptr), dimension(*), intent(in) :: component_data
       integer(c_size_t), value :: number_of_tuples
+    end function
+
+    ! ---- block forests (canopy.h: canopy_forest_set_blocks and after) ----
+    ! cells_per_side: 0 (no blocks) or a power of the branch factor; call it on a forest
+    ! without trees or fields. canopy_forest_create's max_levels counts the levels
+    ! inside the blocks.
+    integer(c_int) function canopy_forest_set_blocks(forest, cells_per_side) bind(c)
+      import :: c_int, c_ptr
+      type(c_ptr), value :: forest
+      integer(c_int), value :: cells_per_side
+    end function
+    ! refinement, masked, absent: c_loc of integer(c_int8_t) target arrays; block_index: of
+    ! an integer(c_int64_t) target array, per node, the 0-based index of the leaf's block in
+    ! the fields' block tables (block b is Fortran's block b + 1). masked, absent and
+    ! block_index may be c_null_ptr. All borrowed until canopy_forest_clear.
+    integer(c_int) function canopy_forest_add_block_tree(forest, root_index, refinement, &
+                                                         number_of_nodes, masked, absent, &
+                                                         block_index) bind(c)
+      import :: c_int, c_ptr, c_int64_t, c_size_t
+      type(c_ptr), value :: forest
+      integer(c_int64_t), value :: root_index
+      type(c_ptr), value :: refinement
+      integer(c_size_t), value :: number_of_nodes
+      type(c_ptr), value :: masked, absent, block_index
+    end function
+    ! strides: filled for blocks of (cells_per_side + 2 * ghost_cells)^dimension cells,
+    ! in the given order (unchanged when the call fails: intent(inout), as intent(out)
+    ! would reset it to the type's defaults); block_bytes: the bytes of one block
+    ! (block_stride_bytes of canopy_forest_add_block_field_array for unk(:, :, :, :, block)).
+    integer(c_int) function canopy_block_strides_packed(dimension, cells_per_side, ghost_cells, &
+                                                        components, value_type, order, strides, &
+                                                        block_bytes) bind(c)
+      import :: c_int, c_size_t, canopy_block_strides
+      integer(c_int), value :: dimension, cells_per_side, ghost_cells, components, value_type, &
+                               order
+      type(canopy_block_strides), intent(inout) :: strides
+      integer(c_size_t), intent(out) :: block_bytes
+    end function
+    ! Blocks allocated one by one: block_addresses(b) = c_loc of block b's array (a
+    ! contiguous target: a whole array, e.g. an allocatable component blocks(b)%u of a
+    ! target array of derived type, from its first ghost cell). The list of addresses is
+    ! copied during the call (canopy_forest_clear and add the field again when blocks
+    ! move); the arrays are borrowed until canopy_forest_clear. strides is copied.
+    integer(c_int) function canopy_forest_add_block_field(forest, name, value_type, components, &
+                                                          block_addresses, number_of_blocks, &
+                                                          strides) bind(c)
+      import :: c_int, c_ptr, c_char, c_size_t, canopy_block_strides
+      type(c_ptr), value :: forest
+      character(kind=c_char), dimension(*), intent(in) :: name
+      integer(c_int), value :: value_type, components
+      type(c_ptr), dimension(*), intent(in) :: block_addresses
+      integer(c_size_t), value :: number_of_blocks
+      type(canopy_block_strides), intent(in) :: strides
+    end function
+    ! Every block in one array: first_block = c_loc(unk(1, lo, lo, lo, 1)) (c_loc(unk) of
+    ! the whole target array), block_stride_bytes the bytes from unk(:, :, :, :, b) to
+    ! unk(:, :, :, :, b + 1); number_of_blocks may be the array's size (MAXBLOCKS): at
+    ! least the blocks this rank has. The array is borrowed until canopy_forest_clear.
+    integer(c_int) function canopy_forest_add_block_field_array(forest, name, value_type, &
+                                                                components, first_block, &
+                                                                block_stride_bytes, &
+                                                                number_of_blocks, strides) &
+                                                                bind(c)
+      import :: c_int, c_ptr, c_char, c_size_t, canopy_block_strides
+      type(c_ptr), value :: forest
+      character(kind=c_char), dimension(*), intent(in) :: name
+      integer(c_int), value :: value_type, components
+      type(c_ptr), value :: first_block
+      integer(c_size_t), value :: block_stride_bytes, number_of_blocks
+      type(canopy_block_strides), intent(in) :: strides
+    end function
+    ! Each component in per-block arrays of its own: block_addresses is a
+    ! type(c_ptr) :: addresses(number_of_blocks, components) array (addresses(b, c) =
+    ! c_loc of component c's array of block b), copied during the call; the arrays are
+    ! borrowed until canopy_forest_clear. strides: those of one component's array.
+    integer(c_int) function canopy_forest_add_block_field_components(forest, name, value_type, &
+                                                                     components, &
+                                                                     block_addresses, &
+                                                                     number_of_blocks, &
+                                                                     strides) bind(c)
+      import :: c_int, c_ptr, c_char, c_size_t, canopy_block_strides
+      type(c_ptr), value :: forest
+      character(kind=c_char), dimension(*), intent(in) :: name
+      integer(c_int), value :: value_type, components
+      type(c_ptr), dimension(*), intent(in) :: block_addresses
+      integer(c_size_t), value :: number_of_blocks
+      type(canopy_block_strides), intent(in) :: strides
     end function
 
     ! ---- in situ (collective) ----

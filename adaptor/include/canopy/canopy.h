@@ -58,6 +58,32 @@ extern "C"
     CANOPY_LEAVES_ONLY = 1 /* one tuple per leaf, leaves in storage order */
   };
 
+  /* Block forests: how a block's array orders its cells and components, for
+   * canopy_block_strides_packed (C order, i along the first axis that is not flat). */
+  enum canopy_block_order
+  {
+    CANOPY_VARIABLE_OUTERMOST = 0, /* [var][k][j][i]: each component a whole block array
+                                      (Athena++, Parthenon; Fortran u(i, j, k, var)) */
+    CANOPY_VARIABLE_INNERMOST = 1  /* [k][j][i][var]: a cell's components together
+                                      (Fortran unk(var, i, j, k, block): FLASH) */
+  };
+
+  /* Where the cells of one block lie in its array (a block field). Interior cell
+   * (i, j, k), 0 <= i, j, k < cells_per_side, component c is at the address
+   *   block start + c * component_bytes + (i + ghost_cells[0]) * cell_bytes[0]
+   *     + (j + ghost_cells[1]) * cell_bytes[1] + (k + ghost_cells[2]) * cell_bytes[2]
+   * where the block starts at its first ghost cell. i, j, k run along the forest's
+   * axes that are not flat, in x, y, z order (a 2D forest in the xz-plane: i along x,
+   * j along z); the entries of missing axes are ignored. Ghost cells are never read.
+   * canopy_block_strides_packed fills one for the two usual orders. */
+  typedef struct canopy_block_strides
+  {
+    size_t cell_bytes[3];   /* from cell i to i+1, j to j+1, k to k+1 */
+    size_t component_bytes; /* from component c to c+1 (unused by
+                               canopy_forest_add_block_field_components) */
+    int ghost_cells[3];     /* ghost cells before the interior, per axis */
+  } canopy_block_strides;
+
   typedef struct canopy_options canopy_options;
   typedef struct canopy_forest canopy_forest;
   typedef struct canopy_insitu canopy_insitu;
@@ -100,7 +126,8 @@ extern "C"
    * [in] dimension      1, 2 or 3.
    * [in] branch_factor  2 or 3.
    * [in] max_levels     levels any tree may have, the root's included: 1 to 62
-   *                     for branch factor 2, 1 to 39 for branch factor 3.
+   *                     for branch factor 2, 1 to 39 for branch factor 3 (in a
+   *                     block forest, the levels inside its blocks included).
    * [in] x, y, z        borrowed until canopy_forest_destroy (clear keeps the root
    *                     grid): points_x (points_y, points_z) increasing doubles.
    * [in] points_x, points_y, points_z  at least 1 each.
@@ -113,8 +140,9 @@ extern "C"
   /* [in] forest  owned handle, or NULL (nothing to do); the arrays it borrowed are
    *              the caller's again. */
   void canopy_forest_destroy(canopy_forest* forest);
-  /* Forget the trees and fields (e.g. after regridding); the root grid stays.
-   * Every array borrowed by canopy_forest_add_* is the caller's again. */
+  /* Forget the trees and fields (e.g. after regridding); the root grid and the
+   * block size (canopy_forest_set_blocks) stay. Every array borrowed by
+   * canopy_forest_add_* is the caller's again. */
   int canopy_forest_clear(canopy_forest* forest);
   /* One tree of this rank, described breadth-first (see docs/api.md).
    * [in] root_index       the root cell, i fastest, then j, then k; not negative.
@@ -125,7 +153,8 @@ extern "C"
    *                       nonzero = masked with its subtree; or NULL (none masked).
    * [in] storage_slots    borrowed until clear/destroy: number_of_nodes node ->
    *                       storage slot entries; or NULL (breadth-first, trees back
-   *                       to back). Either every tree has a map or none does. */
+   *                       to back). Either every tree has a map or none does. NULL in
+   *                       a block forest (canopy_forest_set_blocks). */
   int canopy_forest_add_tree(canopy_forest* forest, int64_t root_index, const uint8_t* refinement,
                              size_t number_of_nodes, const uint8_t* masked,
                              const int64_t* storage_slots);
@@ -141,6 +170,7 @@ extern "C"
                                      const uint8_t* masked, const int64_t* storage_slots,
                                      const uint8_t* absent);
   /* A field with tuples packed (tuple_stride_bytes = 0) or tuple_stride_bytes apart.
+   * Not in a block forest (canopy_forest_set_blocks): its fields are block fields.
    * [in] name        copied; not NULL, not empty.
    * [in] value_type  a canopy_value_type.
    * [in] components  at least 1.
@@ -159,6 +189,105 @@ extern "C"
   int canopy_forest_add_field_soa(canopy_forest* forest, const char* name, int value_type,
                                   int components, const void* const* component_data,
                                   size_t number_of_tuples, int centering);
+
+  /* ---- block forests (octrees of blocks: Athena++/Parthenon MeshBlocks, FLASH,
+   * ForestClaw patches) ---------------------------------------------------- */
+  /* Every present leaf of the trees is then a block of cells_per_side^d cells, kept
+   * in the simulation's own block arrays (ghost cells included); the cells become
+   * uniform levels of the grid below the leaf. The forest's fields are then block
+   * fields (canopy_forest_add_block_field*), its trees have no storage slots. Set
+   * it right after canopy_forest_create or canopy_forest_clear (the forest has no
+   * trees or fields yet); canopy_forest_clear keeps it.
+   * [in] cells_per_side  0: an ordinary forest (the default); else a power of the
+   *                      branch factor (2, 4, 8, 16, 32, ... with branch factor 2;
+   *                      3, 9, 27, ... with 3), whose levels inside a block, with
+   *                      the root's, fit in max_levels: max_levels counts them (a
+   *                      tree refined r times with blocks of 2^s cells across has
+   *                      r + 1 + s levels). */
+  int canopy_forest_set_blocks(canopy_forest* forest, int cells_per_side);
+  /* One tree of a block forest: canopy_forest_add_partial_tree's parameters without
+   * storage slots (canopy_forest_add_tree and canopy_forest_add_partial_tree take
+   * block forests' trees too, with storage_slots NULL), and:
+   * [in] block_index  borrowed until clear/destroy: number_of_nodes entries, per
+   *                   node breadth-first, the index (from 0) of the leaf's block in
+   *                   the fields' block tables; entries of refined and absent nodes
+   *                   are ignored. Or NULL: blocks are the present leaves
+   *                   breadth-first, tree by tree, in the order the trees were
+   *                   added. Either every tree has one or none does; the present
+   *                   leaves' entries are then exactly 0 .. blocks-1 (checked at
+   *                   canopy_execute).
+   * [in] absent       as canopy_forest_add_partial_tree (an absent leaf is no block);
+   *                   or NULL. */
+  int canopy_forest_add_block_tree(canopy_forest* forest, int64_t root_index,
+                                   const uint8_t* refinement, size_t number_of_nodes,
+                                   const uint8_t* masked, const uint8_t* absent,
+                                   const int64_t* block_index);
+  /* The strides of a block array of (cells_per_side + 2 ghost_cells)^dimension cells,
+   * nothing between cells, in either order, so that nothing needs computing in bytes.
+   * [in] dimension      the forest's: 1, 2 or 3 (the array's other axes have extent 1).
+   * [in] cells_per_side at least 1: the forest's (canopy_forest_set_blocks).
+   * [in] ghost_cells    at least 0, on each side of each axis that is not flat.
+   * [in] components     at least 1; 1 for one component's array of
+   *                     canopy_forest_add_block_field_components.
+   * [in] value_type     a canopy_value_type.
+   * [in] order          a canopy_block_order.
+   * [out] strides       not NULL; unchanged on failure.
+   * [out] block_bytes   the bytes of one whole block (the block_stride_bytes of
+   *                     canopy_forest_add_block_field_array when blocks follow each
+   *                     other), or NULL. */
+  int canopy_block_strides_packed(int dimension, int cells_per_side, int ghost_cells,
+                                  int components, int value_type, int order,
+                                  canopy_block_strides* strides, size_t* block_bytes);
+  /* A block field whose blocks are allocated one by one. Its coarse values (inside and
+   * above blocks) are volume averages of the blocks' cells.
+   * [in] name             copied; not NULL, not empty.
+   * [in] value_type       CANOPY_FLOAT32 or CANOPY_FLOAT64.
+   * [in] components       at least 1.
+   * [in] block_addresses  copied: number_of_blocks addresses, block b's array (its
+   *                       first ghost cell) at block_addresses[b], each borrowed until
+   *                       clear/destroy, none NULL, each aligned to the value size.
+   *                       NULL only with number_of_blocks = 0 (a rank without trees).
+   *                       Blocks that move (regridding) are given again: clear the
+   *                       forest and describe it anew.
+   * [in] number_of_blocks at least the forest's blocks on this rank (checked at
+   *                       canopy_execute).
+   * [in] strides          copied; not NULL: for each axis that is not flat,
+   *                       cell_bytes a nonzero multiple of the value size and
+   *                       ghost_cells not negative; with 2 or more components,
+   *                       component_bytes a nonzero multiple of the value size. */
+  int canopy_forest_add_block_field(canopy_forest* forest, const char* name, int value_type,
+                                    int components, const void* const* block_addresses,
+                                    size_t number_of_blocks, const canopy_block_strides* strides);
+  /* A block field whose blocks are all in one array (FLASH's unk): block b's array
+   * begins at first_block + b * block_stride_bytes.
+   * [in] first_block         borrowed until clear/destroy: where block 0's array
+   *                          begins, aligned to the value size; NULL only with
+   *                          number_of_blocks = 0.
+   * [in] block_stride_bytes  a nonzero multiple of the value size (any value with 1
+   *                          block or none).
+   * [in] number_of_blocks    the blocks the array holds: at least the forest's
+   *                          blocks on this rank (more is fine: a fixed-size array).
+   * The other parameters are those of canopy_forest_add_block_field. */
+  int canopy_forest_add_block_field_array(canopy_forest* forest, const char* name, int value_type,
+                                          int components, const void* first_block,
+                                          size_t block_stride_bytes, size_t number_of_blocks,
+                                          const canopy_block_strides* strides);
+  /* A block field whose components are each in per-block arrays of their own (a
+   * vector kept as scalar variables).
+   * [in] block_addresses  copied: components * number_of_blocks addresses, component c
+   *                       of block b at block_addresses[c * number_of_blocks + b] (a
+   *                       C array [components][number_of_blocks]; Fortran
+   *                       addresses(number_of_blocks, components)), each borrowed
+   *                       until clear/destroy, none NULL; NULL only with
+   *                       number_of_blocks = 0.
+   * [in] strides          as canopy_forest_add_block_field, component_bytes unused:
+   *                       those of one component's array.
+   * The other parameters are those of canopy_forest_add_block_field. */
+  int canopy_forest_add_block_field_components(canopy_forest* forest, const char* name,
+                                               int value_type, int components,
+                                               const void* const* block_addresses,
+                                               size_t number_of_blocks,
+                                               const canopy_block_strides* strides);
 
   /* ---- the in-situ calls (collective over the communicator) ------------- */
   /* They refuse a NULL handle, NULL options or MPI_COMM_NULL before anything

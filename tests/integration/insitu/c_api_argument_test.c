@@ -4,6 +4,8 @@
  * allocation failure (address space limited with setrlimit in a forked child, the
  * heap exhausted) comes back as CANOPY_OUT_OF_MEMORY instead of an exception
  * crossing into C (which would abort the child).
+ * The block forest calls (canopy_forest_set_blocks and after) likewise, and
+ * canopy_block_strides_packed's strides for both orders, byte for byte.
  * Usage: canopy_c_api_argument_test */
 #define _POSIX_C_SOURCE 200809L
 
@@ -260,6 +262,340 @@ static void arguments(void)
   canopy_options_destroy(NULL);
 }
 
+/* ---- block forests ---- */
+
+static const double z2[2] = {0.0, 1.0};
+static const int64_t block_order[5] = {-1, 3, 2, 1, 0};
+static double blocks_data[4][64];
+
+/* Whether `s` holds exactly these strides. */
+static int strides_are(const canopy_block_strides* s, size_t i, size_t j, size_t k,
+                       size_t component, int gi, int gj, int gk)
+{
+  return s->cell_bytes[0] == i && s->cell_bytes[1] == j && s->cell_bytes[2] == k &&
+         s->component_bytes == component && s->ghost_cells[0] == gi && s->ghost_cells[1] == gj &&
+         s->ghost_cells[2] == gk;
+}
+
+static void block_arguments(void)
+{
+  const size_t negative = (size_t)-1;
+  canopy_forest* forest = NULL;
+  canopy_forest* plain = NULL;
+  canopy_forest* ternary = NULL;
+  canopy_block_strides strides;
+  canopy_block_strides kept;
+  canopy_block_strides s2d; /* 2D, 4 cells across, no ghosts: [j][i] */
+  size_t bytes = 0;
+  const void* addresses[4] = {blocks_data[0], blocks_data[1], blocks_data[2], blocks_data[3]};
+  const void* holes[4] = {blocks_data[0], NULL, blocks_data[2], blocks_data[3]};
+  const void* misaligned[4] = {(const char*)blocks_data[0] + 4, blocks_data[1], blocks_data[2],
+                               blocks_data[3]};
+  /* components: [component][block], component 1 of block 0 missing */
+  const void* component_holes[4] = {blocks_data[0], blocks_data[1], NULL, blocks_data[3]};
+
+  /* ---- canopy_block_strides_packed: the two orders, exactly ---- */
+  check(canopy_block_strides_packed(3, 4, 2, 3, CANOPY_FLOAT64, CANOPY_VARIABLE_INNERMOST, &strides,
+                                    &bytes) == CANOPY_OK &&
+            strides_are(&strides, 24, 192, 1536, 8, 2, 2, 2) && bytes == 12288,
+        "strides_packed: [k][j][i][3] doubles, 4 + 2 x 2 per side");
+  check(canopy_block_strides_packed(3, 4, 2, 3, CANOPY_FLOAT64, CANOPY_VARIABLE_OUTERMOST, &strides,
+                                    &bytes) == CANOPY_OK &&
+            strides_are(&strides, 8, 64, 512, 4096, 2, 2, 2) && bytes == 12288,
+        "strides_packed: [3][k][j][i] doubles");
+  check(canopy_block_strides_packed(2, 8, 1, 2, CANOPY_FLOAT32, CANOPY_VARIABLE_OUTERMOST, &strides,
+                                    &bytes) == CANOPY_OK &&
+            strides_are(&strides, 4, 40, 0, 400, 1, 1, 0) && bytes == 800,
+        "strides_packed: 2D [2][j][i] floats, 8 + 2 x 1 per side");
+  check(canopy_block_strides_packed(1, 2, 0, 1, CANOPY_FLOAT64, CANOPY_VARIABLE_INNERMOST, &strides,
+                                    NULL) == CANOPY_OK &&
+            strides_are(&strides, 8, 0, 0, 8, 0, 0, 0),
+        "strides_packed: 1D, no ghosts, block_bytes NULL");
+  kept = strides;
+  refused(canopy_block_strides_packed(0, 4, 2, 1, CANOPY_FLOAT64, CANOPY_VARIABLE_OUTERMOST,
+                                      &strides, &bytes),
+          "canopy_block_strides_packed: dimension must be 1, 2 or 3, got 0",
+          "strides_packed(dimension 0)");
+  refused(canopy_block_strides_packed(3, 0, 2, 1, CANOPY_FLOAT64, CANOPY_VARIABLE_OUTERMOST,
+                                      &strides, &bytes),
+          "canopy_block_strides_packed: cells_per_side must be at least 1, got 0",
+          "strides_packed(0 cells)");
+  refused(canopy_block_strides_packed(3, 4, -1, 1, CANOPY_FLOAT64, CANOPY_VARIABLE_OUTERMOST,
+                                      &strides, &bytes),
+          "canopy_block_strides_packed: ghost_cells -1 is negative", "strides_packed(ghosts -1)");
+  refused(canopy_block_strides_packed(3, 4, 2, 0, CANOPY_FLOAT64, CANOPY_VARIABLE_OUTERMOST,
+                                      &strides, &bytes),
+          "canopy_block_strides_packed: components must be at least 1, got 0",
+          "strides_packed(0 components)");
+  refused(canopy_block_strides_packed(3, 4, 2, 1, 9, CANOPY_VARIABLE_OUTERMOST, &strides, &bytes),
+          "canopy_block_strides_packed: unknown value type 9", "strides_packed(value type 9)");
+  refused(canopy_block_strides_packed(3, 4, 2, 1, CANOPY_FLOAT64, 2, &strides, &bytes),
+          "canopy_block_strides_packed: unknown order 2", "strides_packed(order 2)");
+  refused(canopy_block_strides_packed(3, 4, 2, 1, CANOPY_FLOAT64, CANOPY_VARIABLE_OUTERMOST, NULL,
+                                      &bytes),
+          "canopy_block_strides_packed: strides is NULL", "strides_packed(NULL strides)");
+  refused(canopy_block_strides_packed(3, 2000000000, 2000000000, 1000, CANOPY_FLOAT64,
+                                      CANOPY_VARIABLE_INNERMOST, &strides, &bytes),
+          "is too large to address", "strides_packed(a block beyond the address space)");
+  check(memcmp(&strides, &kept, sizeof strides) == 0 && bytes == 800,
+        "refused strides_packed calls leave strides and block_bytes unchanged");
+  canopy_block_strides_packed(2, 4, 0, 1, CANOPY_FLOAT64, CANOPY_VARIABLE_OUTERMOST, &s2d, NULL);
+
+  /* ---- canopy_forest_set_blocks ---- */
+  canopy_forest_create(2, 2, 4, x, 3, y, 2, z, 1, &forest);
+  canopy_forest_create(2, 2, 4, x, 3, y, 2, z, 1, &plain);
+  canopy_forest_create(3, 3, 4, x, 3, y, 2, z2, 2, &ternary);
+  refused(canopy_forest_set_blocks(NULL, 4), "canopy_forest_set_blocks: the forest handle is NULL",
+          "set_blocks(NULL forest)");
+  refused(canopy_forest_set_blocks(forest, 12),
+          "canopy_forest_set_blocks: cells_per_side must be 0 (no blocks) or a power of the branch "
+          "factor 2 (2, 4, 8, 16, ...), got 12",
+          "set_blocks(12)");
+  refused(canopy_forest_set_blocks(forest, -4),
+          "a power of the branch factor 2 (2, 4, 8, 16, ...), "
+          "got -4",
+          "set_blocks(-4)");
+  refused(canopy_forest_set_blocks(forest, 1), "got 1", "set_blocks(1): no level inside a block");
+  refused(canopy_forest_set_blocks(ternary, 4),
+          "a power of the branch factor 3 (3, 9, 27, 81, ...), got 4", "set_blocks(ternary, 4)");
+  check(canopy_forest_set_blocks(ternary, 27) == CANOPY_OK, "set_blocks(ternary, 27)");
+  refused(canopy_forest_set_blocks(forest, 16),
+          "canopy_forest_set_blocks: blocks of 16 cells across add 4 levels below each block's "
+          "root, more than the max_levels 4 of canopy_forest_create allows",
+          "set_blocks(16) with max_levels 4");
+  check(canopy_forest_set_blocks(forest, 8) == CANOPY_OK, "set_blocks(8) with max_levels 4");
+  check(canopy_forest_set_blocks(forest, 0) == CANOPY_OK, "set_blocks(0): no blocks again");
+  check(canopy_forest_set_blocks(forest, 4) == CANOPY_OK, "set_blocks(4)");
+
+  /* ---- trees ---- */
+  refused(canopy_forest_add_block_tree(NULL, 0, refined, 5, NULL, NULL, block_order),
+          "canopy_forest_add_block_tree: the forest handle is NULL", "add_block_tree(NULL forest)");
+  refused(canopy_forest_add_block_tree(plain, 0, refined, 5, NULL, NULL, block_order),
+          "canopy_forest_add_block_tree: root 0: the forest has no blocks (call "
+          "canopy_forest_set_blocks first)",
+          "add_block_tree(a forest without blocks)");
+  refused(canopy_forest_add_block_tree(forest, -2, refined, 5, NULL, NULL, block_order),
+          "canopy_forest_add_block_tree: root_index -2 is negative", "add_block_tree(root -2)");
+  refused(canopy_forest_add_block_tree(forest, 0, NULL, 5, NULL, NULL, block_order),
+          "canopy_forest_add_block_tree: root 0: refinement is NULL",
+          "add_block_tree(NULL refinement)");
+  refused(canopy_forest_add_block_tree(forest, 0, refined, 0, NULL, NULL, block_order),
+          "canopy_forest_add_block_tree: root 0: number_of_nodes is 0", "add_block_tree(0 nodes)");
+  refused(canopy_forest_add_block_tree(forest, 0, refined, negative, NULL, NULL, block_order),
+          "canopy_forest_add_block_tree: root 0: number_of_nodes 18446744073709551615 is negative",
+          "add_block_tree(negative nodes)");
+  refused(canopy_forest_add_tree(forest, 0, refined, 5, NULL, block_order),
+          "canopy_forest_add_tree: root 0: storage_slots must be NULL in a block forest",
+          "add_tree(storage slots) in a block forest");
+  refused(canopy_forest_add_partial_tree(forest, 0, refined, 5, NULL, block_order, none_absent),
+          "canopy_forest_add_partial_tree: root 0: storage_slots must be NULL in a block forest",
+          "add_partial_tree(storage slots) in a block forest");
+  check(canopy_forest_add_block_tree(forest, 0, refined, 5, NULL, none_absent, block_order) ==
+            CANOPY_OK,
+        "add_block_tree");
+  check(canopy_forest_add_block_tree(forest, 1, refined, 5, NULL, NULL, NULL) == CANOPY_OK,
+        "add_block_tree without block_index");
+  check(canopy_forest_add_tree(forest, 2, refined, 5, NULL, NULL) == CANOPY_OK,
+        "add_tree in a block forest");
+  refused(canopy_forest_set_blocks(forest, 8),
+          "canopy_forest_set_blocks: the forest already has 3 trees and 0 fields",
+          "set_blocks on a forest with trees");
+
+  /* ---- fields ---- */
+  refused(
+      canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, density, 0, 5,
+                              CANOPY_LEAVES_ONLY),
+      "canopy_forest_add_field: field 'density': the forest has blocks (canopy_forest_set_blocks)",
+      "add_field in a block forest");
+  {
+    const void* components[1] = {density};
+    refused(canopy_forest_add_field_soa(forest, "density", CANOPY_FLOAT64, 1, components, 5,
+                                        CANOPY_LEAVES_ONLY),
+            "canopy_forest_add_field_soa: field 'density': the forest has blocks",
+            "add_field_soa in a block forest");
+  }
+  refused(canopy_forest_add_block_field(NULL, "rho", CANOPY_FLOAT64, 1, addresses, 4, &s2d),
+          "canopy_forest_add_block_field: the forest handle is NULL",
+          "add_block_field(NULL forest)");
+  refused(canopy_forest_add_block_field(forest, NULL, CANOPY_FLOAT64, 1, addresses, 4, &s2d),
+          "canopy_forest_add_block_field: the field name is NULL", "add_block_field(NULL name)");
+  refused(canopy_forest_add_block_field(forest, "", CANOPY_FLOAT64, 1, addresses, 4, &s2d),
+          "canopy_forest_add_block_field: the field name is empty", "add_block_field(\"\")");
+  refused(canopy_forest_add_block_field(forest, "rho", 42, 1, addresses, 4, &s2d),
+          "canopy_forest_add_block_field: field 'rho': unknown value type 42",
+          "add_block_field(value type 42)");
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_INT64, 1, addresses, 4, &s2d),
+          "canopy_forest_add_block_field: field 'rho': a block field is CANOPY_FLOAT32 or "
+          "CANOPY_FLOAT64 (its coarse cells are volume averages), got value type 3",
+          "add_block_field(int64)");
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 0, addresses, 4, &s2d),
+          "field 'rho': components must be at least 1, got 0", "add_block_field(0 components)");
+  refused(
+      canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, addresses, negative, &s2d),
+      "canopy_forest_add_block_field: field 'rho': number_of_blocks 18446744073709551615 is "
+      "negative or too large",
+      "add_block_field(negative blocks)");
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, addresses, 4, NULL),
+          "canopy_forest_add_block_field: field 'rho': strides is NULL",
+          "add_block_field(NULL strides)");
+  strides = s2d;
+  strides.cell_bytes[1] = 0;
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, addresses, 4, &strides),
+          "field 'rho': strides->cell_bytes[1] 0 is not a nonzero multiple of the value size 8",
+          "add_block_field(cell_bytes[1] 0)");
+  strides = s2d;
+  strides.cell_bytes[0] = 12;
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, addresses, 4, &strides),
+          "field 'rho': strides->cell_bytes[0] 12 is not a nonzero multiple of the value size 8",
+          "add_block_field(cell_bytes[0] 12)");
+  strides = s2d;
+  strides.cell_bytes[0] = (size_t)-8;
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, addresses, 4, &strides),
+          "strides->cell_bytes[0] 18446744073709551608 is not a nonzero multiple of the value "
+          "size 8 (or is negative)",
+          "add_block_field(negative cell_bytes[0])");
+  strides = s2d;
+  strides.ghost_cells[1] = -1;
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, addresses, 4, &strides),
+          "canopy_forest_add_block_field: field 'rho': strides->ghost_cells[1] -1 is negative",
+          "add_block_field(ghost_cells[1] -1)");
+  strides = s2d;
+  strides.component_bytes = 0;
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 2, addresses, 4, &strides),
+          "field 'rho': strides->component_bytes 0 is not a nonzero multiple of the value size 8 "
+          "(or is negative), with 2 components",
+          "add_block_field(2 components, component_bytes 0)");
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, NULL, 4, &s2d),
+          "canopy_forest_add_block_field: field 'rho': block_addresses is NULL but "
+          "number_of_blocks is 4",
+          "add_block_field(NULL block_addresses)");
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, holes, 4, &s2d),
+          "canopy_forest_add_block_field: field 'rho': block_addresses[1] (block 1) is NULL",
+          "add_block_field(block 1 NULL)");
+  refused(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, misaligned, 4, &s2d),
+          "field 'rho': block_addresses[0] (block 0) is not aligned to the value size",
+          "add_block_field(block 0 misaligned)");
+  refused(canopy_forest_add_block_field(plain, "rho", CANOPY_FLOAT64, 1, addresses, 4, &s2d),
+          "canopy_forest_add_block_field: field 'rho': the forest has no blocks (call "
+          "canopy_forest_set_blocks first)",
+          "add_block_field(a forest without blocks)");
+  strides = s2d;
+  strides.cell_bytes[2] = 3; /* a flat axis: ignored */
+  strides.ghost_cells[2] = -5;
+  strides.component_bytes = 0; /* one component: unused */
+  check(canopy_forest_add_block_field(forest, "rho", CANOPY_FLOAT64, 1, addresses, 4, &strides) ==
+            CANOPY_OK,
+        "add_block_field (the flat axis' strides ignored)");
+  check(canopy_forest_add_block_field(forest, "none", CANOPY_FLOAT32, 1, NULL, 0, &s2d) ==
+            CANOPY_OK,
+        "add_block_field: NULL block_addresses with 0 blocks (a rank without trees)");
+
+  refused(
+      canopy_forest_add_block_field_array(NULL, "u", CANOPY_FLOAT64, 1, blocks_data, 512, 4, &s2d),
+      "canopy_forest_add_block_field_array: the forest handle is NULL",
+      "add_block_field_array(NULL forest)");
+  refused(
+      canopy_forest_add_block_field_array(forest, "u", CANOPY_INT32, 1, blocks_data, 512, 4, &s2d),
+      "canopy_forest_add_block_field_array: field 'u': a block field is CANOPY_FLOAT32 or "
+      "CANOPY_FLOAT64",
+      "add_block_field_array(int32)");
+  refused(canopy_forest_add_block_field_array(forest, "u", CANOPY_FLOAT64, 1, NULL, 512, 4, &s2d),
+          "canopy_forest_add_block_field_array: field 'u': first_block is NULL but "
+          "number_of_blocks is 4",
+          "add_block_field_array(NULL first_block)");
+  refused(canopy_forest_add_block_field_array(forest, "u", CANOPY_FLOAT64, 1,
+                                              (const char*)blocks_data + 2, 512, 4, &s2d),
+          "canopy_forest_add_block_field_array: field 'u': first_block is not aligned to the "
+          "value size 8",
+          "add_block_field_array(misaligned first_block)");
+  refused(
+      canopy_forest_add_block_field_array(forest, "u", CANOPY_FLOAT64, 1, blocks_data, 0, 4, &s2d),
+      "canopy_forest_add_block_field_array: field 'u': block_stride_bytes 0 is not a nonzero "
+      "multiple of the value size 8 (or is negative), with 4 blocks",
+      "add_block_field_array(block stride 0)");
+  refused(canopy_forest_add_block_field_array(forest, "u", CANOPY_FLOAT64, 1, blocks_data, 516, 4,
+                                              &s2d),
+          "field 'u': block_stride_bytes 516 is not a nonzero multiple of the value size 8",
+          "add_block_field_array(block stride 516)");
+  refused(canopy_forest_add_block_field_array(forest, "u", CANOPY_FLOAT64, 1, blocks_data, negative,
+                                              4, &s2d),
+          "field 'u': block_stride_bytes 18446744073709551615 is not a nonzero multiple",
+          "add_block_field_array(negative block stride)");
+  refused(canopy_forest_add_block_field_array(forest, "u", CANOPY_FLOAT64, 1, blocks_data, 512,
+                                              negative, &s2d),
+          "canopy_forest_add_block_field_array: field 'u': number_of_blocks 18446744073709551615 "
+          "is negative",
+          "add_block_field_array(negative blocks)");
+  check(canopy_forest_add_block_field_array(forest, "u", CANOPY_FLOAT64, 1, blocks_data, 512, 4,
+                                            &s2d) == CANOPY_OK,
+        "add_block_field_array");
+  check(canopy_forest_add_block_field_array(forest, "u1", CANOPY_FLOAT64, 1, blocks_data, 0, 1,
+                                            &s2d) == CANOPY_OK,
+        "add_block_field_array: any block stride with 1 block");
+  check(canopy_forest_add_block_field_array(forest, "u0", CANOPY_FLOAT64, 1, NULL, 0, 0, &s2d) ==
+            CANOPY_OK,
+        "add_block_field_array: NULL first_block with 0 blocks");
+
+  refused(
+      canopy_forest_add_block_field_components(NULL, "b", CANOPY_FLOAT64, 2, addresses, 2, &s2d),
+      "canopy_forest_add_block_field_components: the forest handle is NULL",
+      "add_block_field_components(NULL forest)");
+  refused(
+      canopy_forest_add_block_field_components(forest, "b", CANOPY_FLOAT64, -1, addresses, 2, &s2d),
+      "canopy_forest_add_block_field_components: field 'b': components must be at least 1, "
+      "got -1",
+      "add_block_field_components(-1 components)");
+  refused(canopy_forest_add_block_field_components(forest, "b", CANOPY_FLOAT64, 2, NULL, 2, &s2d),
+          "canopy_forest_add_block_field_components: field 'b': block_addresses is NULL but "
+          "number_of_blocks is 2",
+          "add_block_field_components(NULL block_addresses)");
+  refused(canopy_forest_add_block_field_components(forest, "b", CANOPY_FLOAT64, 2, component_holes,
+                                                   2, &s2d),
+          "canopy_forest_add_block_field_components: field 'b': block_addresses[2] (component 1, "
+          "block 0) is NULL",
+          "add_block_field_components(component 1 of block 0 NULL)");
+  refused(canopy_forest_add_block_field_components(forest, "b", CANOPY_FLOAT64, 3, addresses,
+                                                   (size_t)(PTRDIFF_MAX / 2), &s2d),
+          "canopy_forest_add_block_field_components: field 'b': 3 components x "
+          "4611686018427387903 blocks are too many addresses",
+          "add_block_field_components(too many addresses)");
+  strides = s2d;
+  strides.ghost_cells[0] = -3;
+  refused(canopy_forest_add_block_field_components(forest, "b", CANOPY_FLOAT64, 2, addresses, 2,
+                                                   &strides),
+          "field 'b': strides->ghost_cells[0] -3 is negative",
+          "add_block_field_components(ghost_cells[0] -3)");
+  refused(
+      canopy_forest_add_block_field_components(plain, "b", CANOPY_FLOAT64, 2, addresses, 2, &s2d),
+      "canopy_forest_add_block_field_components: field 'b': the forest has no blocks",
+      "add_block_field_components(a forest without blocks)");
+  strides = s2d;
+  strides.component_bytes = 0; /* unused: the components are separate arrays */
+  check(canopy_forest_add_block_field_components(forest, "b", CANOPY_FLOAT64, 2, addresses, 2,
+                                                 &strides) == CANOPY_OK,
+        "add_block_field_components (component_bytes unused)");
+  check(canopy_forest_add_block_field_components(forest, "b0", CANOPY_FLOAT32, 3, NULL, 0, &s2d) ==
+            CANOPY_OK,
+        "add_block_field_components: NULL block_addresses with 0 blocks");
+
+  /* clear keeps the block size; set_blocks(0) makes an ordinary forest again. */
+  check(canopy_forest_clear(forest) == CANOPY_OK, "clear the block forest");
+  refused(canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, density, 0, 5,
+                                  CANOPY_EVERY_NODE),
+          "the forest has blocks", "clear keeps the blocks: add_field still refused");
+  check(canopy_forest_add_block_tree(forest, 0, refined, 5, NULL, NULL, NULL) == CANOPY_OK,
+        "and add_block_tree still taken");
+  check(canopy_forest_clear(forest) == CANOPY_OK &&
+            canopy_forest_set_blocks(forest, 0) == CANOPY_OK,
+        "set_blocks(0) after clear");
+  check(canopy_forest_add_field(forest, "density", CANOPY_FLOAT64, 1, density, 0, 5,
+                                CANOPY_EVERY_NODE) == CANOPY_OK,
+        "an ordinary forest again: add_field taken");
+  canopy_forest_destroy(forest);
+  canopy_forest_destroy(plain);
+  canopy_forest_destroy(ternary);
+}
+
 /* ---- out of memory ---- */
 
 enum oom_case
@@ -275,7 +611,12 @@ enum oom_case
   OOM_ADD_FIELD_LONG_NAME, /* string copy */
   OOM_ADD_FIELD,           /* vector growth: the forest holds 4 fields */
   OOM_ADD_FIELD_SOA,
-  OOM_LONG_MESSAGE, /* a refusal whose message cannot be stored whole: kept truncated */
+  OOM_LONG_MESSAGE,    /* a refusal whose message cannot be stored whole: kept truncated */
+  OOM_ADD_BLOCK_TREE,  /* vector growth: the block forest holds 4 trees */
+  OOM_ADD_BLOCK_FIELD, /* the copy of the address table */
+  OOM_ADD_BLOCK_FIELD_LONG_NAME,  /* string copy */
+  OOM_ADD_BLOCK_FIELD_ARRAY,      /* vector growth: the block forest holds 4 fields and tables */
+  OOM_ADD_BLOCK_FIELD_COMPONENTS, /* the copy of the address tables */
   OOM_CASES
 };
 
@@ -290,14 +631,24 @@ static const char* const oom_functions[OOM_CASES] = {"canopy_options_create",
                                                      "canopy_forest_add_field",
                                                      "canopy_forest_add_field",
                                                      "canopy_forest_add_field_soa",
-                                                     "canopy_forest_add_field"};
+                                                     "canopy_forest_add_field",
+                                                     "canopy_forest_add_block_tree",
+                                                     "canopy_forest_add_block_field",
+                                                     "canopy_forest_add_block_field",
+                                                     "canopy_forest_add_block_field_array",
+                                                     "canopy_forest_add_block_field_components"};
 
 static char long_text[4096];
 
 static int oom_call(int which, canopy_options* options, canopy_forest* forest,
-                    canopy_options** new_options, canopy_forest** new_forest)
+                    canopy_forest* block_forest, canopy_options** new_options,
+                    canopy_forest** new_forest)
 {
   const void* components[2] = {density, density};
+  const void* addresses[4] = {blocks_data[0], blocks_data[1], blocks_data[2], blocks_data[3]};
+  canopy_block_strides strides;
+  canopy_block_strides_packed(2, 4, 0, 2, CANOPY_FLOAT64, CANOPY_VARIABLE_OUTERMOST, &strides,
+                              NULL);
   switch (which)
   {
   case OOM_OPTIONS_CREATE:
@@ -325,6 +676,20 @@ static int oom_call(int which, canopy_options* options, canopy_forest* forest,
   case OOM_ADD_FIELD_SOA:
     return canopy_forest_add_field_soa(forest, "v", CANOPY_FLOAT64, 2, components, 5,
                                        CANOPY_EVERY_NODE);
+  case OOM_ADD_BLOCK_TREE:
+    return canopy_forest_add_block_tree(block_forest, 9, refined, 5, NULL, NULL, NULL);
+  case OOM_ADD_BLOCK_FIELD:
+    return canopy_forest_add_block_field(block_forest, "b", CANOPY_FLOAT64, 1, addresses, 4,
+                                         &strides);
+  case OOM_ADD_BLOCK_FIELD_LONG_NAME:
+    return canopy_forest_add_block_field(block_forest, long_text, CANOPY_FLOAT64, 1, addresses, 4,
+                                         &strides);
+  case OOM_ADD_BLOCK_FIELD_ARRAY:
+    return canopy_forest_add_block_field_array(block_forest, "a", CANOPY_FLOAT64, 2, blocks_data,
+                                               sizeof blocks_data[0], 4, &strides);
+  case OOM_ADD_BLOCK_FIELD_COMPONENTS:
+    return canopy_forest_add_block_field_components(block_forest, "c", CANOPY_FLOAT64, 2, addresses,
+                                                    2, &strides);
   default:
     return canopy_forest_add_field(forest, long_text, 42, 1, density, 0, 5, CANOPY_EVERY_NODE);
   }
@@ -395,6 +760,7 @@ static int oom_child(int which)
 {
   canopy_options* options = NULL;
   canopy_forest* forest = NULL;
+  canopy_forest* block_forest = NULL;
   canopy_options* new_options = (canopy_options*)&failures; /* must become NULL */
   canopy_forest* new_forest = (canopy_forest*)&failures;
   char message[512];
@@ -404,7 +770,9 @@ static int oom_child(int which)
   void* blocks;
   if (canopy_options_create(&options) != CANOPY_OK ||
       canopy_options_add_script(options, "a.py") != CANOPY_OK ||
-      canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1, &forest) != CANOPY_OK)
+      canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1, &forest) != CANOPY_OK ||
+      canopy_forest_create(2, 2, 8, x, 3, y, 2, z, 1, &block_forest) != CANOPY_OK ||
+      canopy_forest_set_blocks(block_forest, 4) != CANOPY_OK)
   {
     printf("FAILED: setup: %s\n", canopy_last_error());
     return 1;
@@ -412,9 +780,20 @@ static int oom_child(int which)
   for (i = 1; i <= 4; ++i) /* capacity 4, full: the next one must grow the vectors */
   {
     char name[16]; /* room for any int: gcc -O1 (the sanitizer build) warns otherwise */
+    const void* addresses[4] = {blocks_data[0], blocks_data[1], blocks_data[2], blocks_data[3]};
+    canopy_block_strides strides;
+    canopy_block_strides_packed(2, 4, 0, 1, CANOPY_FLOAT64, CANOPY_VARIABLE_OUTERMOST, &strides,
+                                NULL);
     snprintf(name, sizeof name, "f%d", i);
     canopy_forest_add_tree(forest, i, refined, 5, NULL, NULL);
     canopy_forest_add_field(forest, name, CANOPY_FLOAT64, 1, density, 0, 5, CANOPY_EVERY_NODE);
+    canopy_forest_add_block_tree(block_forest, i, refined, 5, NULL, NULL, NULL);
+    if (canopy_forest_add_block_field(block_forest, name, CANOPY_FLOAT64, 1, addresses, 4,
+                                      &strides) != CANOPY_OK)
+    {
+      printf("FAILED: setup: %s\n", canopy_last_error());
+      return 1;
+    }
   }
   fflush(stdout);
   blocks = exhaust_memory();
@@ -423,7 +802,7 @@ static int oom_child(int which)
     printf("FAILED: could not limit and exhaust the address space\n");
     return 1;
   }
-  status = oom_call(which, options, forest, &new_options, &new_forest);
+  status = oom_call(which, options, forest, block_forest, &new_options, &new_forest);
   strncpy(message, canopy_last_error(), sizeof message - 1); /* no allocation */
   message[sizeof message - 1] = '\0';
   release_memory(blocks);
@@ -452,7 +831,7 @@ static int oom_child(int which)
   /* With memory back, the same call works: the failed one left the objects usable. */
   new_options = NULL;
   new_forest = NULL;
-  status = oom_call(which, options, forest, &new_options, &new_forest);
+  status = oom_call(which, options, forest, block_forest, &new_options, &new_forest);
   if (which == OOM_LONG_MESSAGE)
   {
     /* Now the whole message fits. */
@@ -467,6 +846,7 @@ static int oom_child(int which)
   canopy_options_destroy(new_options);
   canopy_forest_destroy(new_forest);
   canopy_forest_destroy(forest);
+  canopy_forest_destroy(block_forest);
   canopy_options_destroy(options);
   return bad == 0 ? 0 : 1;
 }
@@ -511,6 +891,7 @@ static void out_of_memory(void)
 int main(void)
 {
   arguments();
+  block_arguments();
   out_of_memory();
   printf("%d failures\n", failures);
   return failures == 0 ? 0 : 1;
