@@ -167,7 +167,10 @@ vtkSmartPointer<vtkHyperTreeGrid> GridBuilder::build(const ForestDescription& fo
     for (std::size_t t = 0; t < keys.size(); ++t)
     {
       const TreeKey& before = s.trees[t];
-      rebuild[t] = !keys[t].sameTree(before);
+      // A block forest's tree also grows a block's cells under each present leaf:
+      // which leaves are absent shapes it too.
+      rebuild[t] =
+          forest.blockCellsPerSide != 0 ? !keys[t].sameShape(before) : !keys[t].sameTree(before);
       const bool shape = !keys[t].sameShape(before);
       tablesChanged = tablesChanged || shape || keys[t].slots != before.slots;
       arraysChanged = arraysChanged || shape || keys[t].mask != before.mask;

@@ -541,6 +541,39 @@ TEST(BlockForestValidation, BlockIndexMustNumberEveryBlockOnce)
   EXPECT_NE(problemsOf(d).find("either every tree has one or none does"), std::string::npos);
 }
 
+TEST(BlockForestSteps, ATreeWhoseBlocksMoveToAnotherRankIsRebuilt)
+{
+  // The same refinement bytes, one more leaf absent: the grid's tree loses a block.
+  const double x[3] = {0, 1, 2};
+  const double y[2] = {0, 1};
+  const double z[1] = {0};
+  const std::uint8_t refinement[5] = {1, 0, 0, 0, 0};
+  const std::uint8_t before[5] = {0, 0, 0, 1, 1};
+  const std::uint8_t after[5] = {0, 0, 1, 1, 1};
+  std::vector<double> block(6 * 6, 1.0);
+  const double* blocks[2] = {block.data(), block.data()};
+  ForestDescription forest;
+  forest.dimension = 2;
+  forest.maxLevels = 4;
+  forest.rootGrid = {x, y, z, 3, 2, 1};
+  forest.blockCellsPerSide = 2;
+  forest.missingTreesAreElsewhere = true;
+  TreeDescription tree;
+  tree.refinement = refinement;
+  tree.numberOfNodes = 5;
+  tree.absent = before;
+  forest.trees.push_back(tree);
+  forest.fields.push_back(FieldDescription::blocks<double>(
+      "f", blocks, 2, BlockStrides::variableOutermost<double>(2, 2, 2)));
+  GridBuilder builder;
+  EXPECT_EQ(builder.build(forest)->GetNumberOfCells(), 5 + 2 * 4);
+  forest.trees[0].absent = after;
+  forest.fields[0].numberOfBlocks = 1;
+  vtkSmartPointer<vtkHyperTreeGrid> htg = builder.build(forest);
+  EXPECT_EQ(htg->GetNumberOfCells(), buildHyperTreeGrid(forest)->GetNumberOfCells());
+  EXPECT_EQ(htg->GetNumberOfCells(), 5 + 1 * 4);
+}
+
 TEST(BlockForestSteps, ValuesReadInPlaceAndCoarseMeansFollowEachBuild)
 {
   BlockForest forest(optionsOf(blockCases[0], 0));
