@@ -10,6 +10,7 @@
 // Prints a Markdown table: ns per cell for both, their ratio, heap bytes each
 // build adds per cell while its grid is alive, and field bytes copied per cell;
 // then GridBuilder's step-to-step table.
+#include "CursorBaseline.h"
 #include "ForestSlice.h"
 #include "MiniAppForest.h"
 #include "SyntheticForest.h"
@@ -44,42 +45,16 @@ namespace
 {
 
 using Clock = std::chrono::steady_clock;
+using canopy::bench::emptyGridLike;
+using canopy::bench::heapInUse;
+using canopy::bench::sameContent;
 using canopy::tools::SyntheticForest;
-
-/// Heap bytes in use (small blocks + mmapped blocks).
-std::size_t heapInUse()
-{
-  const struct mallinfo2 info = mallinfo2();
-  return info.uordblks + info.hblkhd;
-}
 
 const std::vector<std::string> Fields{"density", "velocity", "refinementLevel"};
 /// The mini-app's fields of the same kinds (a scalar, a vector, the level).
 const std::vector<std::string> MiniAppFields{"scalar", "velocity", "level"};
 /// Mini-app forests measured by default: 2D and 3D, a late step.
 const std::vector<std::string> DefaultMiniAppForests{"2,32,9,20", "3,8,4,20"};
-
-/// An empty grid with the forest's root grid (coordinates copied).
-vtkSmartPointer<vtkHyperTreeGrid> emptyGridLike(const canopy::ForestDescription& d)
-{
-  auto htg = vtkSmartPointer<vtkHyperTreeGrid>::New();
-  const auto& g = d.rootGrid;
-  htg->SetDimensions(static_cast<unsigned>(g.pointsX), static_cast<unsigned>(g.pointsY),
-                     static_cast<unsigned>(g.pointsZ));
-  htg->SetBranchFactor(static_cast<unsigned>(d.branchFactor));
-  for (int a = 0; a < 3; ++a)
-  {
-    const double* c = a == 0 ? g.x : a == 1 ? g.y : g.z;
-    const std::size_t n = a == 0 ? g.pointsX : a == 1 ? g.pointsY : g.pointsZ;
-    vtkNew<vtkDoubleArray> coords;
-    coords->SetNumberOfTuples(static_cast<vtkIdType>(n));
-    std::copy(c, c + n, coords->GetPointer(0));
-    a == 0   ? htg->SetXCoordinates(coords)
-    : a == 1 ? htg->SetYCoordinates(coords)
-             : htg->SetZCoordinates(coords);
-  }
-  return htg;
-}
 
 /// The obvious adaptor: cursor build plus field copies. Values land at the
 /// global index VTK gives each node.
@@ -319,52 +294,6 @@ Measurement measure(std::size_t numberOfCells, std::pair<const char*, const char
   std::sort(times.begin(), times.end());
   m.nsPerCell = times[times.size() / 2];
   return m;
-}
-
-/// Both grids must hold the same values at the same nodes, or the timing means nothing.
-bool sameContent(vtkHyperTreeGrid* a, vtkHyperTreeGrid* b, const std::vector<std::string>& names)
-{
-  vtkHyperTreeGrid::vtkHyperTreeGridIterator trees;
-  a->InitializeTreeIterator(trees);
-  vtkIdType index = 0;
-  vtkNew<vtkHyperTreeGridNonOrientedCursor> ca;
-  vtkNew<vtkHyperTreeGridNonOrientedCursor> cb;
-  bool same = true;
-  int checked = 0;
-  while (trees.GetNextTree(index) && same)
-  {
-    a->InitializeNonOrientedCursor(ca, index);
-    b->InitializeNonOrientedCursor(cb, index);
-    auto walk = [&](auto& self) -> void
-    {
-      for (const auto& name : names)
-      {
-        vtkDataArray* fa = a->GetCellData()->GetArray(name.c_str());
-        vtkDataArray* fb = b->GetCellData()->GetArray(name.c_str());
-        for (int c = 0; c < fa->GetNumberOfComponents(); ++c)
-        {
-          same = same && fa->GetComponent(ca->GetGlobalNodeIndex(), c) ==
-                             fb->GetComponent(cb->GetGlobalNodeIndex(), c);
-        }
-      }
-      ++checked;
-      same = same && ca->IsLeaf() == cb->IsLeaf();
-      if (!same || ca->IsLeaf())
-      {
-        return;
-      }
-      for (unsigned char c = 0; c < ca->GetNumberOfChildren(); ++c)
-      {
-        ca->ToChild(c);
-        cb->ToChild(c);
-        self(self);
-        ca->ToParent();
-        cb->ToParent();
-      }
-    };
-    walk(walk);
-  }
-  return same && checked > 0;
 }
 
 /// What VTK's own primitives cost here, so the table can be read against a floor:
