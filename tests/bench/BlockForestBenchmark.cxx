@@ -11,21 +11,28 @@
 //        interior cells; or (n + 2g)^3 with a vtkGhostType array marking the ghost
 //        cells), gathered into a vtkMultiBlockDataSet; and, for context, the same
 //        with ghosts borrowed zero-copy (one ghost array shared by every block).
-//    Heap and resident memory each adds per cell, and the first full reads of
-//    Canopy's grid (coarse values are computed when first read).
+//    Heap and resident memory each adds per cell; the first full reads of
+//    Canopy's grid (coarse values are computed when first read); where Canopy's
+//    build goes (its internal steps, GridAssembly.h, timed one by one, and VTK's
+//    BuildFromBreadthFirstOrderDescriptor against InitializeForReader on the same
+//    bits).
 // 2. Images (--part image; renders, run under tests/support/with_xvfb.sh): the
-//    adaptive surface (whole domain; the octant towards the camera cut away by
-//    masking its blocks) and three adaptive slices at 1024x1024, in a perspective
-//    view of the whole domain, one 4 times as far (cells below a pixel) and one 16
-//    times as far (blocks about a pixel): a step
-//    (GridBuilder::build with the same trees, then the filter), a camera move (the filter alone),
-//    the render; quads drawn, blocks drawn (distinct blocks with a drawn cell, found through
-//    Canopy's BlockCells index), nodes visited (slices); against vtkHyperTreeGridGeometry
-//    (surfaces) and vtkHyperTreeGridAxisCut + Geometry (slices) on the same grid, in a child
-//    process (they may abort), once above 2e7 cells (--skip-upstream-large: not at all).
+//    adaptive surface (the whole domain; with the octant towards the camera cut
+//    away by masking its blocks) and three adaptive slices, 1024x1024, in a
+//    perspective view of the whole domain, one 4 times as far (cells below a
+//    pixel) and one 16 times as far (blocks about a pixel). For each: a step
+//    (GridBuilder::build with the same trees, then the filter) and the filters'
+//    per-topology pass in it (HyperTreeAccess), a camera move (the filter alone),
+//    the first camera move after a step, the render and read-back; quads drawn,
+//    blocks drawn (distinct blocks with a drawn cell, found through Canopy's
+//    BlockCells index), nodes visited (slices); against vtkHyperTreeGridGeometry
+//    (surfaces) and vtkHyperTreeGridAxisCut + Geometry (slices) on the same grid,
+//    in a child process (they may abort), once only above 2e7 cells
+//    (--skip-upstream-large: not at all there).
 //
-// Times are the best of --repetitions after a first execution (2 cores shared with
-// other jobs: the minimum is the least disturbed); medians are in the CSVs.
+// Times are the best of --repetitions (the filters' after a first execution): the
+// machine's 2 cores are shared with other jobs, the minimum is the least disturbed;
+// medians are in the CSVs (wrap.csv, image.csv, with a PNG per image row).
 //
 // Usage: canopy_bench_block_forest [--part wrap|image|all] [--repetitions N]
 //          [--forest N,BLOCKS,MAX_LEVEL]... [--output DIR] [--canopy-only]
@@ -33,20 +40,24 @@
 //   default forests 16,244,2 (1e6 cells) and 32,3052,3 (1e8); 4^3 roots over [0,1]^3,
 //   refined around a sphere of radius 0.1 at the centre; two variables (density,
 //   energy), both wrapped; --canopy-only skips the baselines (for profiling);
-//   --check-trees: trees whose content is checked cell by cell against the cursor
-//   baseline (default all up to 2e7 cells, 2 beyond).
+//   --check-trees T: the first T trees are checked cell by cell against the cursor
+//   baseline (default: every tree up to 2e7 cells; beyond, the first and the most
+//   refined).
 #include "BlockForest.h"
 #include "CursorBaseline.h"
 #include "OffscreenRenderer.h"
 
 #include "BlockCells.h"
 #include "ForestLayout.h"
+#include "GridAssembly.h"
+#include "HyperTreeAccess.h"
 
 #include "canopy/GridBuilder.h"
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSlice.h"
 #include "vtkCanopyAdaptiveSurface.h"
 
+#include <vtkBitArray.h>
 #include <vtkCamera.h>
 #include <vtkCellData.h>
 #include <vtkDataSetAttributes.h>
@@ -90,7 +101,7 @@ using Clock = std::chrono::steady_clock;
 int Repetitions = 3;
 bool CanopyOnly = false;
 bool UpstreamLarge = true; ///< --skip-upstream-large: not above UpstreamLimit
-long CheckTrees = -1;      ///< -1: all trees up to 2e7 cells, 2 beyond
+long CheckTrees = -1; ///< -1: every tree up to 2e7 cells; beyond, the first and the most refined
 /// Above this many cells the upstream image filters run once, not Repetitions times
 /// (and not at all with --skip-upstream-large).
 constexpr std::size_t UpstreamLimit = 20'000'000;
@@ -460,7 +471,113 @@ struct WrapRow
   Footprint afterReads; ///< Canopy's grid after the reads below, from before its build
   double rangeSeconds = 0, firstReadSeconds = 0, secondReadSeconds = 0, plainReadSeconds = 0;
   std::string checked;
+  /// buildHyperTreeGrid's steps (GridAssembly.h), seconds: layout (validation),
+  /// block index, trees, topology arrays, fields.
+  std::array<double, 5> phases{{0, 0, 0, 0, 0}};
+  std::size_t descriptorBits = 0;
+  double breadthFirstSeconds = 0; ///< VTK's BuildFromBreadthFirstOrderDescriptor, every tree
+  double readerSeconds = 0;       ///< VTK's InitializeForReader on the same bits
+  double breadthFirstHeap = 0;    ///< heap bytes per grid cell the trees hold, each way
+  double readerHeap = 0;
+  bool sameTrees = false;
 };
+
+/// Where Canopy's build goes: its steps timed one by one (best of Repetitions),
+/// then the trees alone, through VTK's BuildFromBreadthFirstOrderDescriptor (what
+/// Canopy calls) and through VTK's InitializeForReader from the same bits (one
+/// exact allocation per tree; checked to give the same trees).
+void wrapPhases(const canopy::ForestDescription& d, WrapRow& row)
+{
+  const double cells = static_cast<double>(row.cells);
+  row.phases.fill(1e30);
+  for (int r = 0; r < Repetitions; ++r)
+  {
+    auto t0 = Clock::now();
+    const canopy::ForestLayout layout = canopy::layoutForest(d);
+    auto t1 = Clock::now();
+    const auto fields = canopy::assembly::selectFields(d, canopy::FieldRequest::all());
+    vtkSmartPointer<vtkHyperTreeGrid> htg = canopy::assembly::newGrid(d);
+    canopy::assembly::FieldTables tables;
+    tables.blocks = canopy::assembly::indexBlocks(d, layout);
+    auto t2 = Clock::now();
+    canopy::assembly::buildTrees(htg, d, layout, std::vector<bool>(d.trees.size(), true),
+                                 tables.blocks.get());
+    auto t3 = Clock::now();
+    canopy::assembly::setTopologyArrays(htg, d, layout, tables.blocks.get());
+    auto t4 = Clock::now();
+    canopy::assembly::setFields(htg, d, layout, fields, tables);
+    auto t5 = Clock::now();
+    const Clock::time_point at[6] = {t0, t1, t2, t3, t4, t5};
+    for (std::size_t p = 0; p < 5; ++p)
+      row.phases[p] =
+          std::min(row.phases[p], std::chrono::duration<double>(at[p + 1] - at[p]).count());
+  }
+  // The trees alone, both ways, from the descriptor Canopy writes.
+  const canopy::ForestLayout layout = canopy::layoutForest(d);
+  const auto index = canopy::assembly::indexBlocks(d, layout);
+  row.descriptorBits = layout.totalDescriptorBits;
+  auto bits = vtkSmartPointer<vtkBitArray>::New();
+  bits->SetNumberOfValues(static_cast<vtkIdType>(layout.totalDescriptorBits));
+  std::fill_n(bits->GetPointer(0), (layout.totalDescriptorBits + 7) / 8, 0);
+  std::vector<vtkSmartPointer<vtkBitArray>> perTree;
+  for (std::size_t t = 0, at = 0; t < d.trees.size(); ++t)
+  {
+    const std::size_t count = layout.trees[t].descriptorBits;
+    index->writeDescriptor(layout.trees[t].firstCell, count, bits->GetPointer(0), at);
+    auto own = vtkSmartPointer<vtkBitArray>::New();
+    own->SetNumberOfValues(static_cast<vtkIdType>(count));
+    for (std::size_t i = 0; i < count; ++i)
+      own->SetValue(static_cast<vtkIdType>(i), bits->GetValue(static_cast<vtkIdType>(at + i)));
+    perTree.push_back(own);
+    at += count;
+  }
+  auto newTree = []
+  { return vtkSmartPointer<vtkHyperTree>::Take(vtkHyperTree::CreateInstance(2, 3)); };
+  std::vector<vtkSmartPointer<vtkHyperTree>> breadthFirst;
+  std::vector<vtkSmartPointer<vtkHyperTree>> reader;
+  row.breadthFirstSeconds = row.readerSeconds = 1e30;
+  for (int r = 0; r < Repetitions; ++r)
+  {
+    breadthFirst.clear();
+    reader.clear();
+    malloc_trim(0);
+    std::size_t heap = heapInUse();
+    auto start = Clock::now();
+    vtkIdType from = 0;
+    for (std::size_t t = 0; t < d.trees.size(); ++t)
+    {
+      breadthFirst.push_back(newTree());
+      const auto count = static_cast<vtkIdType>(layout.trees[t].descriptorBits);
+      breadthFirst.back()->BuildFromBreadthFirstOrderDescriptor(bits, count, from);
+      from += count;
+    }
+    row.breadthFirstSeconds = std::min(row.breadthFirstSeconds, secondsSince(start));
+    row.breadthFirstHeap = static_cast<double>(heapInUse() - heap) / cells;
+    heap = heapInUse();
+    start = Clock::now();
+    for (std::size_t t = 0; t < d.trees.size(); ++t)
+    {
+      const canopy::TreeLayout& shape = layout.trees[t];
+      reader.push_back(newTree());
+      reader.back()->InitializeForReader(shape.levels, static_cast<vtkIdType>(shape.cells),
+                                         static_cast<vtkIdType>(shape.cells - shape.descriptorBits),
+                                         perTree[t], nullptr, nullptr);
+    }
+    row.readerSeconds = std::min(row.readerSeconds, secondsSince(start));
+    row.readerHeap = static_cast<double>(heapInUse() - heap) / cells;
+  }
+  row.sameTrees = true;
+  for (std::size_t t = 0; t < d.trees.size(); ++t)
+  {
+    std::size_t na = 0;
+    std::size_t nb = 0;
+    const unsigned int* a = breadthFirst[t]->GetElderChildIndexArray(na);
+    const unsigned int* b = reader[t]->GetElderChildIndexArray(nb);
+    row.sameTrees = row.sameTrees && na == nb && std::equal(a, a + na, b) &&
+                    breadthFirst[t]->GetNumberOfVertices() == reader[t]->GetNumberOfVertices() &&
+                    breadthFirst[t]->GetNumberOfLevels() == reader[t]->GetNumberOfLevels();
+  }
+}
 
 WrapRow wrap(const BlockForest& forest)
 {
@@ -496,6 +613,8 @@ WrapRow wrap(const BlockForest& forest)
       std::exit(1);
     }
   }
+
+  wrapPhases(d, row);
 
   // First reads of a fresh grid: the range (leaves only), every cell once (coarse
   // values computed), every cell again.
@@ -543,20 +662,46 @@ WrapRow wrap(const BlockForest& forest)
     readEveryCell(cursorGrid);
     row.plainReadSeconds = secondsSince(start);
   }
-  // Both grids must be the same, cell by cell (trees in order; all of them up to
-  // 2e7 cells, the first two beyond: the cursor walk costs about 1 us a cell).
+  // Both grids must be the same, cell by cell: every tree up to 2e7 cells; beyond
+  // (the cursor walk costs about 1 us a cell), the first tree and the most refined
+  // one (--check-trees T: the first T trees instead).
   {
-    const long trees = CheckTrees >= 0 ? CheckTrees : (row.cells <= 20'000'000 ? -1 : 2);
-    if (!canopy::bench::sameContent(grid, cursorGrid, {"density", "energy"}, trees))
+    std::vector<vtkIdType> trees;
+    if (CheckTrees >= 0)
+    {
+      for (std::size_t t = 0; t < d.trees.size() && static_cast<long>(t) < CheckTrees; ++t)
+        trees.push_back(d.trees[t].rootIndex);
+    }
+    else if (row.cells > 20'000'000)
+    {
+      std::size_t most = 0;
+      for (std::size_t t = 1; t < d.trees.size(); ++t)
+        most = d.trees[t].numberOfNodes > d.trees[most].numberOfNodes ? t : most;
+      trees = {d.trees.front().rootIndex, d.trees[most].rootIndex};
+    }
+    if (!canopy::bench::sameContent(grid, cursorGrid, {"density", "energy"},
+                                    trees.empty() ? nullptr : &trees))
     {
       std::cerr << "bench: Canopy's grid and the cursor + copy grid differ; timings are "
                    "meaningless\n";
       std::exit(1);
     }
-    row.checked = trees < 0 || trees >= static_cast<long>(d.trees.size())
-                      ? std::string("every cell")
-                      : "every cell of " + std::to_string(trees) + " of " +
-                            std::to_string(d.trees.size()) + " trees";
+    if (trees.empty())
+    {
+      row.checked = "every cell";
+    }
+    else
+    {
+      std::size_t cells = 0;
+      vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
+      grid->InitializeTreeIterator(it);
+      vtkIdType index = 0;
+      while (vtkHyperTree* tree = it.GetNextTree(index))
+        if (std::find(trees.begin(), trees.end(), index) != trees.end())
+          cells += static_cast<std::size_t>(tree->GetNumberOfVertices());
+      row.checked = "every cell of " + std::to_string(trees.size()) + " of " +
+                    std::to_string(d.trees.size()) + " trees (" + std::to_string(cells) + " cells)";
+    }
   }
   cursorGrid = nullptr;
 
@@ -653,6 +798,25 @@ void printWrap(const std::vector<WrapRow>& rows, std::ofstream& csv)
     else
       std::cout << r.plainReadSeconds * 1e3 << " (" << r.plainReadSeconds * 1e9 / values << ") | "
                 << r.checked << " |\n";
+  }
+  std::cout << "\n## Where Canopy's build goes (ms, best of " << Repetitions
+            << "; internal steps, GridAssembly.h)\n\n"
+            << "| forest | validation + layout | block index | VTK trees (Canopy's "
+               "descriptor + BuildFromBreadthFirstOrderDescriptor) | mask | fields | VTK "
+               "descriptor bits per grid cell | BuildFromBreadthFirstOrderDescriptor alone: "
+               "ns/bit, heap B/cell | InitializeForReader, same bits: ns/bit, heap B/cell "
+               "(same trees) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const WrapRow& r : rows)
+  {
+    const double bits = static_cast<double>(r.descriptorBits);
+    std::cout << std::fixed << "| " << r.label << " | " << std::setprecision(3) << r.phases[0] * 1e3
+              << " | " << r.phases[1] * 1e3 << " | " << std::setprecision(1) << r.phases[2] * 1e3
+              << " | " << std::setprecision(3) << r.phases[3] * 1e3 << " | " << r.phases[4] * 1e3
+              << " | " << bits / static_cast<double>(r.cells) << " | " << std::setprecision(1)
+              << r.breadthFirstSeconds * 1e9 / bits << ", " << std::setprecision(2)
+              << r.breadthFirstHeap << " | " << std::setprecision(1) << r.readerSeconds * 1e9 / bits
+              << ", " << std::setprecision(2) << r.readerHeap << " ("
+              << (r.sameTrees ? "yes" : "NO") << ") |\n";
   }
   std::cout << std::flush;
   for (const WrapRow& r : rows)
@@ -757,8 +921,9 @@ struct ImageRow
   std::size_t cells = 0, blocks = 0;
   double first = 0;
   Timing build, filterInStep, cameraMove;
-  double firstMove = 0;         ///< the first camera move after a step
-  double firstMoveResident = 0; ///< resident bytes per grid cell it added
+  double firstMove = 0;     ///< the first camera move after a step
+  double firstMoveHeap = 0; ///< heap bytes per grid cell it left allocated
+  double topologyPass = 0;  ///< the filters' per-topology pass (HyperTreeAccess) alone
   double render = 0;
   Drawn what;
   vtkIdType visited = -1;
@@ -835,17 +1000,23 @@ void image(const BlockForest& forest, const Picture& picture, double distance,
   }
   // The first camera move after a step: the topology is kept from the step's
   // execution, and the 3D surface fills its per-node memos (on first use per
-  // topology) in this execution.
+  // topology) in this execution; what it leaves allocated is what they hold.
   {
-    const std::size_t resident = residentBytes();
+    const std::size_t heap = heapInUse();
     filter->Modified();
     start = Clock::now();
     filter->Update();
     row.firstMove = secondsSince(start);
-    const std::size_t after = residentBytes();
-    row.firstMoveResident = static_cast<double>(after > resident ? after - resident : 0) /
-                            static_cast<double>(row.cells);
+    const std::size_t after = heapInUse();
+    row.firstMoveHeap =
+        static_cast<double>(after > heap ? after - heap : 0) / static_cast<double>(row.cells);
   }
+  // What a step pays before walking: the filters' view of the grid's topology
+  // (HyperTreeAccess, kept while the grid is unmodified), built as the filter asks.
+  row.topologyPass =
+      timeRuns(Repetitions,
+               [&] { canopy::HyperTreeAccess access(grid, !picture.slices, !picture.slices); })
+          .best;
   std::sort(builds.begin(), builds.end());
   std::sort(filters.begin(), filters.end());
   row.build = {builds.front(), builds[builds.size() / 2]};
@@ -935,10 +1106,10 @@ void image(const BlockForest& forest, const Picture& picture, double distance,
 
   std::cout << std::fixed << "| " << row.label << " | " << row.view << " | " << row.picture << " | "
             << std::setprecision(1) << row.build.best * 1e3 << " + " << row.filterInStep.best * 1e3
-            << " | " << row.cameraMove.best * 1e3 << " | " << row.firstMove * 1e3 << " (+"
-            << std::setprecision(2) << row.firstMoveResident << " B/cell) | "
-            << std::setprecision(1) << row.first * 1e3 << " | " << row.render * 1e3 << " | "
-            << row.what.quads << " | " << row.what.blocks << " / " << row.blocks << " | "
+            << " | " << row.topologyPass * 1e3 << " | " << row.cameraMove.best * 1e3 << " | "
+            << row.firstMove * 1e3 << " (+" << std::setprecision(2) << row.firstMoveHeap
+            << " B/cell) | " << std::setprecision(1) << row.first * 1e3 << " | " << row.render * 1e3
+            << " | " << row.what.quads << " | " << row.what.blocks << " / " << row.blocks << " | "
             << row.what.aboveBlocks << " | ";
   for (std::size_t s = 0; s < row.what.bySubLevel.size(); ++s)
     std::cout << (s ? " / " : "") << row.what.bySubLevel[s];
@@ -1056,18 +1227,20 @@ int main(int argc, char** argv)
   {
     std::ofstream csv(out / "image.csv");
     csv << "forest,view,picture,grid_cells,blocks,first_s,step_build_s,step_filter_s,"
-           "step_filter_median_s,camera_move_s,camera_move_median_s,first_move_after_step_s,"
-           "first_move_resident_b_per_cell,render_s,quads,"
+           "step_filter_median_s,topology_pass_s,camera_move_s,camera_move_median_s,first_move_"
+           "after_step_s,"
+           "first_move_heap_b_per_cell,render_s,quads,"
            "blocks_drawn,above_blocks_drawn,nodes_visited,upstream_s,upstream_quads\n";
     canopy::testing::OffscreenRenderer renderer(1024, 1024);
     std::cout << "\n## Images at 1024x1024 (ms, best of " << Repetitions
               << "; step = GridBuilder::build with the same trees + the filter)\n\n"
-              << "| forest | view | picture | step: build + filter | filter, camera move | "
-                 "first camera move after a step (resident added) | first execution | render + "
+              << "| forest | view | picture | step: build + filter | of which the topology pass "
+                 "(HyperTreeAccess) | filter, camera move | "
+                 "first camera move after a step (heap it keeps) | first execution | render + "
                  "read-back | quads | blocks drawn | nodes above "
                  "blocks drawn | drawn cells per level in their block (root .. cells) | nodes "
                  "visited | upstream ms (ratio) | upstream quads |\n"
-              << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|"
+              << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|"
               << std::endl;
     std::vector<ImageRow> rows;
     for (const ForestSpec& spec : specs)
@@ -1085,10 +1258,10 @@ int main(int argc, char** argv)
     for (const ImageRow& r : rows)
       csv << '"' << r.label << "\"," << r.view << ",\"" << r.picture << "\"," << r.cells << ","
           << r.blocks << "," << r.first << "," << r.build.best << "," << r.filterInStep.best << ","
-          << r.filterInStep.median << "," << r.cameraMove.best << "," << r.cameraMove.median << ","
-          << r.firstMove << "," << r.firstMoveResident << "," << r.render << "," << r.what.quads
-          << "," << r.what.blocks << "," << r.what.aboveBlocks << "," << r.visited << ","
-          << r.upstream << "," << r.upstreamQuads << "\n";
+          << r.filterInStep.median << "," << r.topologyPass << "," << r.cameraMove.best << ","
+          << r.cameraMove.median << "," << r.firstMove << "," << r.firstMoveHeap << "," << r.render
+          << "," << r.what.quads << "," << r.what.blocks << "," << r.what.aboveBlocks << ","
+          << r.visited << "," << r.upstream << "," << r.upstreamQuads << "\n";
   }
   return 0;
 }

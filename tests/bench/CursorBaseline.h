@@ -57,9 +57,10 @@ inline vtkSmartPointer<vtkHyperTreeGrid> emptyGridLike(const canopy::ForestDescr
 
 /// Both grids must hold the same values at the same nodes, or the timing means
 /// nothing: walks both with cursors in step, comparing leaves and values, over
-/// the first `maxTrees` trees of `a` (all by default).
+/// every tree of `a`, or only the trees (root indices) in `only`.
 inline bool sameContent(vtkHyperTreeGrid* a, vtkHyperTreeGrid* b,
-                        const std::vector<std::string>& names, long maxTrees = -1)
+                        const std::vector<std::string>& names,
+                        const std::vector<vtkIdType>* only = nullptr)
 {
   vtkHyperTreeGrid::vtkHyperTreeGridIterator trees;
   a->InitializeTreeIterator(trees);
@@ -79,9 +80,12 @@ inline bool sameContent(vtkHyperTreeGrid* a, vtkHyperTreeGrid* b,
       return false;
     }
   }
-  long walked = 0;
-  while ((maxTrees < 0 || walked++ < maxTrees) && trees.GetNextTree(index) && same)
+  while (trees.GetNextTree(index) && same)
   {
+    if (only && std::find(only->begin(), only->end(), index) == only->end())
+    {
+      continue;
+    }
     a->InitializeNonOrientedCursor(ca, index);
     b->InitializeNonOrientedCursor(cb, index);
     auto walk = [&](auto& self) -> void
