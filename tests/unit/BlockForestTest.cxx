@@ -27,6 +27,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <ostream>
 #include <set>
 #include <string>
 #include <tuple>
@@ -49,6 +50,12 @@ struct BlockCase
   double maskProbability;
   int branchFactor = 2;
 };
+
+/// GoogleTest prints a parameter by name (a byte dump would read the padding).
+void PrintTo(const BlockCase& c, std::ostream* out)
+{
+  *out << c.name;
+}
 
 BlockForestOptions optionsOf(const BlockCase& c, int rank)
 {
