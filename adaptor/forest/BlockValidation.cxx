@@ -1,5 +1,6 @@
 #include "BlockValidation.h"
 
+#include "DescriptionChecks.h"
 #include "ProblemList.h"
 #include "StorageSlots.h"
 
@@ -12,16 +13,6 @@ namespace canopy
 {
 namespace
 {
-
-std::size_t countNonZero(const std::uint8_t* bytes, std::size_t n)
-{
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    count += bytes[i] != 0;
-  }
-  return count;
-}
 
 std::string powersOf(int branchFactor)
 {
@@ -69,7 +60,7 @@ bool layoutTreeWithBlocks(const ForestDescription& forest, std::size_t t, TreeLa
   }
   if (levels > forest.maxLevels)
   {
-    problems.add("tree ", t, " (root ", tree.rootIndex, "): with the ", blockLevels,
+    problems.add(treeName(t, tree), ": with the ", blockLevels,
                  " levels of cells inside its blocks it has ", levels,
                  " levels, more than maxLevels = ", forest.maxLevels);
     return false;
@@ -77,7 +68,7 @@ bool layoutTreeWithBlocks(const ForestDescription& forest, std::size_t t, TreeLa
   // vtkHyperTree stores child offsets as unsigned int.
   if (cells >= std::numeric_limits<unsigned int>::max())
   {
-    problems.add("tree ", t, " (root ", tree.rootIndex, "): ", cells,
+    problems.add(treeName(t, tree), ": ", cells,
                  " cells with its blocks' exceed what one vtkHyperTree can index");
     return false;
   }
@@ -119,25 +110,19 @@ void validateBlockOrder(const ForestDescription& forest, const ForestLayout& lay
       const std::int64_t block = tree.blockIndex[n];
       if (block < 0 || static_cast<std::size_t>(block) >= layout.totalBlocks)
       {
-        problems.add("tree ", t, " (root ", tree.rootIndex, "): leaf ", n, " has blockIndex ",
-                     block, " outside [0, ", layout.totalBlocks, ") (the forest has ",
-                     layout.totalBlocks, " blocks)");
+        problems.add(treeName(t, tree), ": leaf ", n, " has blockIndex ", block, " outside [0, ",
+                     layout.totalBlocks, ") (the forest has ", layout.totalBlocks, " blocks)");
         return;
       }
       if (used[static_cast<std::size_t>(block)])
       {
-        problems.add("tree ", t, " (root ", tree.rootIndex, "): leaf ", n, " reuses blockIndex ",
-                     block, " of another leaf");
+        problems.add(treeName(t, tree), ": leaf ", n, " reuses blockIndex ", block,
+                     " of another leaf");
         return;
       }
       used[static_cast<std::size_t>(block)] = true;
     }
   }
-}
-
-bool misaligned(const void* pointer, std::size_t valueSize)
-{
-  return pointer != nullptr && reinterpret_cast<std::uintptr_t>(pointer) % valueSize != 0;
 }
 
 /// A table of one address per block: every entry present and aligned.
@@ -196,8 +181,8 @@ void layoutBlocks(const ForestDescription& forest, ForestLayout& layout, Problem
   {
     if (forest.trees[t].storageSlots != nullptr)
     {
-      problems.add("tree ", t, " (root ", forest.trees[t].rootIndex,
-                   "): storageSlots have no use in a block forest (its fields are per block; "
+      problems.add(treeName(t, forest.trees[t]),
+                   ": storageSlots have no use in a block forest (its fields are per block; "
                    "blockIndex gives the blocks your order)");
       shapesValid = false;
     }

@@ -2,6 +2,7 @@
 #include "ForestLayout.h"
 
 #include "BlockValidation.h"
+#include "DescriptionChecks.h"
 #include "StorageSlots.h"
 #include "ValidatedTrees.h"
 
@@ -30,23 +31,6 @@ std::string joinLines(const std::vector<std::string>& lines)
     out << "\n  - " << line;
   }
   return out.str();
-}
-
-std::string treeName(std::size_t t, const TreeDescription& tree)
-{
-  std::ostringstream out;
-  out << "tree " << t << " (root " << tree.rootIndex << ")";
-  return out.str();
-}
-
-std::size_t countNonZero(const std::uint8_t* bytes, std::size_t n)
-{
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    count += bytes[i] != 0;
-  }
-  return count;
 }
 
 void validateAxis(const char* axis, const double* coords, std::size_t points, ProblemList& problems)
@@ -329,11 +313,6 @@ void validateTrees(const ForestDescription& forest, ForestLayout& layout, Proble
       slotUsed[static_cast<std::size_t>(slot)] = true;
     }
   }
-}
-
-bool misaligned(const void* pointer, std::size_t valueSize)
-{
-  return pointer != nullptr && reinterpret_cast<std::uintptr_t>(pointer) % valueSize != 0;
 }
 
 void validateFields(const ForestDescription& forest, const ForestLayout& layout,

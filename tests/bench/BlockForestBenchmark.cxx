@@ -44,6 +44,7 @@
 //   baseline (default: every tree up to 2e7 cells; beyond, the first and the most
 //   refined).
 #include "BlockForest.h"
+#include "ChildProcess.h"
 #include "CursorBaseline.h"
 #include "OffscreenRenderer.h"
 
@@ -75,7 +76,6 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <malloc.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -839,33 +839,6 @@ void printWrap(const std::vector<WrapRow>& rows, std::ofstream& csv)
 // ---------------------------------------------------------------------------
 // 2. Images
 
-/// Runs `run` in a child process (VTK 9.2's hypertree filters may abort on an
-/// assertion) and returns what it printed on its pipe, or "" when it died.
-std::string inChild(const std::function<std::string()>& run)
-{
-  int fds[2];
-  if (pipe(fds) != 0)
-    return "";
-  const pid_t child = fork();
-  if (child == 0)
-  {
-    close(fds[0]);
-    const std::string text = run();
-    const ssize_t written = write(fds[1], text.data(), text.size());
-    _exit(written == static_cast<ssize_t>(text.size()) ? 0 : 1);
-  }
-  close(fds[1]);
-  std::string text;
-  char buffer[256];
-  ssize_t n = 0;
-  while ((n = read(fds[0], buffer, sizeof buffer)) > 0)
-    text.append(buffer, static_cast<std::size_t>(n));
-  close(fds[0]);
-  int status = 0;
-  waitpid(child, &status, 0);
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? text : "";
-}
-
 constexpr double SliceOffset = 0.0065; ///< planes off the centre, off every cell face
 
 void setView(vtkCamera* camera, double distance)
@@ -1049,7 +1022,7 @@ void image(const BlockForest& forest, const Picture& picture, double distance,
   if (upstream)
   {
     const int reps = row.cells <= UpstreamLimit ? Repetitions : 1;
-    const std::string result = inChild(
+    const std::string result = canopy::bench::inChild(
         [&]
         {
           std::vector<vtkSmartPointer<vtkHyperTreeGridAxisCut>> cuts;

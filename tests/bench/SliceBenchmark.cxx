@@ -22,6 +22,7 @@
 // depth-first with a slot map, explicit indices; --far: the camera 4 times as far, the
 // cells 4 times smaller on screen; default forests 7,6 (about 1e6 leaves) and 9,7
 // (about 1e7); the region table runs on the first forest only)
+#include "ChildProcess.h"
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
 
@@ -53,8 +54,6 @@
 #include <string>
 #include <vector>
 
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace
 {
@@ -143,33 +142,6 @@ double area(vtkPolyData* surface)
     total += std::max({sides[0] * sides[1], sides[1] * sides[2], sides[0] * sides[2]});
   }
   return total;
-}
-
-/// Runs `run` in a child process (it may abort: VTK 9.2's assertions) and returns
-/// what it printed on its pipe, or "" when it died.
-std::string inChild(const std::function<std::string()>& run)
-{
-  int fds[2];
-  if (pipe(fds) != 0)
-    return "";
-  const pid_t child = fork();
-  if (child == 0)
-  {
-    close(fds[0]);
-    const std::string text = run();
-    const ssize_t written = write(fds[1], text.data(), text.size());
-    _exit(written == static_cast<ssize_t>(text.size()) ? 0 : 1);
-  }
-  close(fds[1]);
-  std::string text;
-  char buffer[256];
-  ssize_t n = 0;
-  while ((n = read(fds[0], buffer, sizeof buffer)) > 0)
-    text.append(buffer, static_cast<std::size_t>(n));
-  close(fds[0]);
-  int status = 0;
-  waitpid(child, &status, 0);
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? text : "";
 }
 
 constexpr double Offset = 0.013; ///< planes off the centre, off every face
@@ -336,7 +308,7 @@ void region(std::ofstream& csv, const Forest& f, canopy::testing::OffscreenRende
   if (!CanopyOnly)
   {
     // In a child: chained upstream HTG filters can abort on an assertion here.
-    vtkResult = inChild(
+    vtkResult = canopy::bench::inChild(
         [&]
         {
           vtkNew<vtkHyperTreeGridThreshold> threshold;
