@@ -69,7 +69,7 @@ _canopy_find_dependency(MPI COMPONENTS C CXX)
 # Ask for explicit components: a bare find_package(ParaView) requires Qt5.
 # Catalyst is what the in-situ driver links; the filters need only VTK.
 _canopy_find_dependency(ParaView 5.11
-  COMPONENTS Catalyst PythonCatalyst RemotingCore RemotingServerManager)
+  COMPONENTS Catalyst PythonCatalyst RemotingCore RemotingLive RemotingServerManager)
 # ParaView's Python wrapping libraries leave libpython to the executable; the
 # in-situ driver embeds Python, so Canopy links it itself.
 _canopy_find_dependency(Python3 3.11 EXACT COMPONENTS Development.Embed)

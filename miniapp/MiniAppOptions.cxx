@@ -118,7 +118,9 @@ const std::map<std::string, double MiniAppOptions::*> numberOptions = {
     {"--diffusion", &MiniAppOptions::diffusion},
     {"--refine-gradient", &MiniAppOptions::refineGradient},
     {"--coarsen-gradient", &MiniAppOptions::coarsenGradient},
-    {"--repartition-imbalance", &MiniAppOptions::repartitionImbalance}};
+    {"--repartition-imbalance", &MiniAppOptions::repartitionImbalance},
+    {"--live-pause-limit", &MiniAppOptions::livePauseLimit},
+    {"--live-stall-limit", &MiniAppOptions::liveStallLimit}};
 
 } // namespace
 
@@ -159,6 +161,8 @@ MiniAppOptions parseOptions(int argc, char** argv)
         o.roots = {{static_cast<int>(v[0]), static_cast<int>(v[1]),
                     static_cast<int>(v.size() == 3 ? v[2] : 1)}};
     }
+    else if (key == "--live")
+      o.live = value();
     else if (key == "--steps")
     {
       o.steps = integer(value(), key);
@@ -339,6 +343,10 @@ MPI:      --repartition-imbalance R (1.1): repartition when max/mean leaves per 
 In situ:  --output DIR (canopy-output)  --no-insitu
           --pipeline SCRIPT [--pipeline-arg ARG]...   (replaces the default pipelines)
           --image-every N (5)  --selection-every N (10)  --extract-every N (20)
+          --live HOST:PORT: offer every pipeline's sources to a Catalyst Live viewer
+          listening there (ParaView: Catalyst > Connect; docs/insitu.md)
+          --live-pause-limit S (300): a viewer's pause holds the run at most S seconds
+          --live-stall-limit S (20): a viewer silent that long is disconnected
 Output:   --quiet  --verify-untouched  --dump FILE
 )";
 }

@@ -55,6 +55,9 @@ struct MiniAppOptions
   bool noInSitu = false;
   std::string output = "canopy-output";
   int imageEvery = 5;
+  std::string live;              ///< Catalyst Live address (host:port); empty: no Live
+  double livePauseLimit = 300.0; ///< seconds a viewer's pause may hold the run (<= 0: none)
+  double liveStallLimit = 20.0;  ///< seconds of a silent viewer before it is dropped
   int selectionEvery = 10;
   int extractEvery = 20;
   // Reporting.

@@ -138,6 +138,9 @@ int main(int argc, char** argv)
       canopy::InSituOptions insituOptions;
       insituOptions.scripts = pipelineScripts(options);
       insituOptions.outputDirectory = options.output;
+      insituOptions.liveUrl = options.live;
+      insituOptions.livePauseLimitSeconds = options.livePauseLimit;
+      insituOptions.liveStallSeconds = options.liveStallLimit;
       insitu = std::make_unique<canopy::InSitu>(MPI_COMM_WORLD, insituOptions);
     }
     const double initialMass = simulation.totalMass();

@@ -25,9 +25,11 @@ COMMON_DEFAULTS = {
     "frequency": 1,
     "start": 0,
     "fields": "",
+    "live": "",
 }
 """Settings every script has: where its files go, the channel it reads, when it runs
-(steps start, start + frequency, ...) and the fields it asks for."""
+(steps start, start + frequency, ...), the fields it asks for, and live: 'host:port'
+where a Catalyst Live viewer listens ('' : no Live; docs/insitu.md)."""
 
 
 def _driver():
@@ -113,6 +115,10 @@ def catalyst_options(values, cinema=None):
     if int(values.start) > 0:
         options.GlobalTrigger.UseStartTimeStep = 1
         options.GlobalTrigger.StartTimeStep = int(values.start)
+    if values.get("live"):
+        # Canopy's driver takes Live over from ParaView (adaptor/insitu/LiveConnection.h).
+        options.EnableCatalystLive = 1
+        options.CatalystLiveURL = str(values.live)
     if cinema:
         # A Cinema database is a folder named *.cdb holding the images and data.csv.
         options.ExtractsOutputDirectory = os.path.join(values.output_directory, cinema)
@@ -137,8 +143,21 @@ def load_canopy_plugin(namespace=None):
 
 def simulation_grid(values):
     """The hypertree grid the simulation passes to Catalyst this step."""
-    from paraview.simple import TrivialProducer
-    return TrivialProducer(registrationName=values.channel)
+    from paraview.simple import FindSource, TrivialProducer
+    grid = TrivialProducer(registrationName=values.channel)
+    if values.get("live") and FindSource(packed_grid_name(values)) is None:
+        # VTK 9.2 cannot send a hypertree grid: Live viewers pull this instead
+        # and apply Canopy Unpack Grid (docs/insitu.md, "Catalyst Live").
+        from paraview import simple
+        if not hasattr(simple, "CanopyPackGrid"):
+            load_canopy_plugin()
+        simple.CanopyPackGrid(registrationName=packed_grid_name(values), Input=grid)
+    return grid
+
+
+def packed_grid_name(values):
+    """The source a Catalyst Live viewer pulls to get the grid itself."""
+    return "%s (packed)" % values.channel
 
 
 def request_fields(data_description, values, extra=(), every_field_when_empty=True):

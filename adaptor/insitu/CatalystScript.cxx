@@ -8,6 +8,8 @@
 #include <vtkCPInputDataDescription.h>
 #include <vtkCPPythonScriptV2Helper.h>
 #include <vtkDataObject.h>
+#include <vtkSMPropertyHelper.h>
+#include <vtkSMProxy.h>
 
 #include <algorithm>
 #include <cmath>
@@ -151,6 +153,7 @@ bool CatalystScript::import(vtkDataObject* grid, std::string& error)
   }
   this->Description->SetTimeData(time, step);
   input->SetGrid(nullptr);
+  this->takeOverLive();
   this->Imported = ok;
   this->FirstRun = ok;
   return ok;
@@ -185,6 +188,20 @@ bool CatalystScript::run(vtkDataObject* grid, std::string& error)
   // Do not keep the simulation's memory referenced from the description.
   input->SetGrid(nullptr);
   return ok;
+}
+
+void CatalystScript::takeOverLive()
+{
+  vtkSMProxy* options = this->Helper->GetOptions();
+  if (!options || !options->GetProperty("EnableCatalystLive") ||
+      vtkSMPropertyHelper(options, "EnableCatalystLive").GetAsInt() == 0)
+  {
+    return;
+  }
+  const char* url = vtkSMPropertyHelper(options, "CatalystLiveURL").GetAsString();
+  this->LiveUrl = url && *url ? url : "localhost:22222";
+  vtkSMPropertyHelper(options, "EnableCatalystLive").Set(0);
+  options->UpdateVTKObjects();
 }
 
 void CatalystScript::discardOutputs()

@@ -72,6 +72,11 @@ public:
   /// false, with `error` set, when it failed.
   bool finalize(std::string& error);
 
+  /// After import: the Catalyst Live address the script's options ask for
+  /// (options.EnableCatalystLive, CatalystLiveURL), "" for none. Canopy runs Live
+  /// itself (LiveConnection.h), so ParaView's own Live is turned off in the script.
+  const std::string& liveUrl() const { return LiveUrl; }
+
   /// The Python traceback of the last failure (empty if it left none).
   const std::string& lastTraceback() const { return LastTraceback; }
 
@@ -87,6 +92,8 @@ private:
   /// Why the call failed: the Python failure's summary (its traceback is kept),
   /// or that it ran past the time limit (also when it caught the interruption).
   std::string failure(bool exceeded);
+  /// Reads the script's Live settings into LiveUrl and turns ParaView's Live off.
+  void takeOverLive();
 
   std::string Path;
   std::string Channel;
@@ -94,6 +101,7 @@ private:
   std::string LastTraceback;
   vtkNew<vtkCPPythonScriptV2Helper> Helper;
   vtkNew<vtkCPDataDescription> Description;
+  std::string LiveUrl;
   bool Imported = false;
   bool FirstRun = false; ///< imported at this step, not run yet
   bool Disabled = false;

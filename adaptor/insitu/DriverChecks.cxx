@@ -1,6 +1,7 @@
 #include "DriverChecks.h"
 
 #include "CatalystSession.h"
+#include "LiveConnection.h"
 #include "ScriptInspection.h"
 #include "ScriptSearch.h"
 
@@ -52,6 +53,23 @@ std::vector<std::string> normalizeAndCheckOptions(InSituOptions& options)
   if (!std::isfinite(options.stepTimeLimitSeconds) || options.stepTimeLimitSeconds < 0.0)
   {
     problems.push_back("the step time limit must be a finite number of seconds >= 0 (0: none)");
+  }
+  if (!options.liveUrl.empty())
+  {
+    LiveConnection::Settings live;
+    std::string error;
+    if (!LiveConnection::parseUrl(options.liveUrl, live, error))
+    {
+      problems.push_back(error);
+    }
+  }
+  if (std::isnan(options.livePauseLimitSeconds))
+  {
+    problems.push_back("the Live pause limit must be a number of seconds (<= 0: none)");
+  }
+  if (!std::isfinite(options.liveStallSeconds) || options.liveStallSeconds <= 0.0)
+  {
+    problems.push_back("the Live stall limit must be a finite number of seconds > 0");
   }
   std::error_code ignored;
   options.outputDirectory = std::filesystem::absolute(options.outputDirectory, ignored).string();

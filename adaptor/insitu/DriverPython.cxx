@@ -91,8 +91,13 @@ std::string textOf(PyObject* object)
 
 } // namespace
 
-void exportScriptEnvironment(const std::string& outputDirectory, const std::string& channel)
+void exportScriptEnvironment(const std::string& outputDirectory, const std::string& channel,
+                             const std::string& liveUrl)
 {
+  if (!liveUrl.empty())
+  {
+    setenv("CANOPY_LIVE", liveUrl.c_str(), 1);
+  }
   setenv("CANOPY_OUTPUT_DIRECTORY", outputDirectory.c_str(), 1);
   setenv("CANOPY_CHANNEL", channel.c_str(), 1);
   setenv("CANOPY_PLUGIN", pluginPath().c_str(), 0);

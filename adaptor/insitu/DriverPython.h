@@ -14,8 +14,9 @@ namespace canopy
 
 /// What scripts read from the environment: CANOPY_OUTPUT_DIRECTORY and
 /// CANOPY_CHANNEL (their settings' defaults), CANOPY_PLUGIN (the plugin they
-/// load; an existing value wins).
-void exportScriptEnvironment(const std::string& outputDirectory, const std::string& channel);
+/// load; an existing value wins), CANOPY_LIVE (Catalyst Live's address, when set).
+void exportScriptEnvironment(const std::string& outputDirectory, const std::string& channel,
+                             const std::string& liveUrl);
 
 /// Puts `pipelinesDirectory` on Python's path, imports the helper modules,
 /// registers each script's arguments and guards ParaView's calls into scripts

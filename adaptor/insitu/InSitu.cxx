@@ -8,6 +8,7 @@
 #include "FailureLog.h"
 #include "FinalizeGuard.h"
 #include "JobOutput.h"
+#include "LiveConnection.h"
 #include "OwnCommunicator.h"
 #include "RenderDecision.h"
 #include "RuntimePaths.h"
@@ -71,6 +72,9 @@ private:
   void runScript(CatalystScript& script, vtkHyperTreeGrid* grid, std::int64_t step,
                  StepReport& report);
   void finalizeScripts();
+  /// The step's Catalyst Live exchange, when some script (or the options) asked
+  /// for Live and some script ran (the same on every rank).
+  void runLive(std::int64_t step, double time, StepReport& report);
   StepReport& finish(StepReport& report, std::int64_t step, double time,
                      std::chrono::steady_clock::time_point start) const;
 
@@ -87,6 +91,8 @@ private:
   std::unique_ptr<XDisplayConnection> Display;
   std::unique_ptr<CatalystSession> Session;
   ScriptList Scripts;
+  /// Before the scripts go: it refers to their proxies.
+  std::unique_ptr<LiveConnection> Live;
   /// Keeps the grid from step to step, rebuilding only what changed.
   GridBuilder Builder;
   std::optional<StepRequests> Requested;
@@ -124,7 +130,8 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   const RenderPlan plan = planRendering(comm, this->Options.scripts, *this->Display);
   this->CanRender = plan.canRender;
 
-  exportScriptEnvironment(this->Options.outputDirectory, this->Options.channel);
+  exportScriptEnvironment(this->Options.outputDirectory, this->Options.channel,
+                          this->Options.liveUrl);
   prepareOutputDirectory(this->Options.outputDirectory); // created now; reported at each step
   this->Session = std::make_unique<CatalystSession>(comm);
   if (!this->Agreement->allOf(this->Session->started()))
@@ -228,6 +235,10 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
     {
       this->runScript(*this->Scripts[i], grid, step, report);
     }
+  }
+  if (grid && !report.pipelinesRun.empty())
+  {
+    this->runLive(step, time, report);
   }
   return this->finish(report, step, time, start);
 }
@@ -344,6 +355,37 @@ void InSitu::Driver::runScript(CatalystScript& script, vtkHyperTreeGrid* grid, s
   }
 }
 
+void InSitu::Driver::runLive(std::int64_t step, double time, StepReport& report)
+{
+  if (!this->Live)
+  {
+    std::string url = this->Options.liveUrl;
+    for (const auto& script : this->Scripts)
+    {
+      url = url.empty() ? script->liveUrl() : url;
+    }
+    if (url.empty())
+    {
+      return;
+    }
+    LiveConnection::Settings settings;
+    settings.pauseLimitSeconds = this->Options.livePauseLimitSeconds;
+    settings.stallSeconds = this->Options.liveStallSeconds;
+    std::string error;
+    LiveConnection::parseUrl(url, settings, error); // checked with the options
+    this->Live = std::make_unique<LiveConnection>(settings);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  report.liveWarnings = this->Live->update(time, step);
+  report.liveSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const auto& warning : report.liveWarnings)
+  {
+    vtkLogF(WARNING, "canopy: rank %d, step %lld: Catalyst Live: %s", this->Rank,
+            static_cast<long long>(step), warning.c_str());
+  }
+}
+
 void InSitu::Driver::finalizeScripts()
 {
   // Every rank finalizes its scripts; failures are gathered and logged by rank 0.
@@ -378,6 +420,7 @@ void InSitu::Driver::close()
   this->Guard->disarm();
   this->finalizeScripts();
   connectAgreement(nullptr, nullptr);
+  this->Live.reset();
   this->Scripts.clear();
   this->Session.reset();
   this->Display.reset();

@@ -33,9 +33,15 @@ set(ENV{UBSAN_OPTIONS} "print_stacktrace=1:halt_on_error=1")
 # are mmap'd and not scanned): objects Python still references are not leaks,
 # and no suppression has to name libpython (lsan.supp).
 set(ENV{PYTHONMALLOC} "malloc")
+# The output is kept and only what matters printed: a failing test's own output
+# right after its name, not hidden among the passing ones (CI shows a window
+# of the log around the first failure).
 execute_process(
   COMMAND ${CTEST} --test-dir "${BUILD}" -L "^${LABEL}$" -j 2 --output-on-failure --no-tests=error
-  RESULT_VARIABLE _result)
+  RESULT_VARIABLE _result OUTPUT_VARIABLE _output ERROR_VARIABLE _output)
+string(REGEX REPLACE "\n *Start +[0-9]+: [^\n]*" "" _output "${_output}")
+string(REGEX REPLACE "\n *[0-9]+/[0-9]+ Test +#[0-9]+: [^\n]* Passed [^\n]*" "" _output "${_output}")
+message("${_output}")
 if(NOT _result EQUAL 0)
   # LeakSanitizer's own tracer (the thread that stops the others to scan their
   # memory) sometimes dies at exit on this platform ("Tracer caught signal 11",

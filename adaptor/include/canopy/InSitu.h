@@ -57,6 +57,17 @@ struct InSituOptions
   /// is named on stderr and the job is ended with MPI_Abort (exit code 124)
   /// rather than hanging. See docs/insitu.md.
   double stepTimeLimitSeconds = 0.0;
+  /// Catalyst Live (docs/insitu.md): "host:port" where a viewer (ParaView's
+  /// Catalyst > Connect, or pvpython's paraview.live) listens; every shipped
+  /// script then offers its sources to it (CANOPY_LIVE). Empty: only scripts
+  /// whose options enable Live (options.EnableCatalystLive) do.
+  std::string liveUrl;
+  /// The longest a viewer's pause holds the simulation, in seconds (<= 0: until
+  /// it resumes); then the simulation goes on and ignores that pause.
+  double livePauseLimitSeconds = 300.0;
+  /// A viewer that does not answer for this long during an exchange is
+  /// disconnected (it can connect again), in seconds.
+  double liveStallSeconds = 20.0;
 };
 
 /// Thrown by the InSitu constructor when the options are unusable (no script,
@@ -84,6 +95,11 @@ struct StepReport
   /// script), each summed over ranks, by name: e.g. surface_image.py's
   /// "surface quads", the quads its image drew. The same on every rank.
   std::map<std::string, double> measures;
+  /// What went wrong with a Catalyst Live viewer this step, on this rank (also
+  /// logged as warnings): a viewer never fails a step.
+  std::vector<std::string> liveWarnings;
+  /// Wall time of the step's Catalyst Live exchange on this rank (0 without Live).
+  double liveSeconds = 0.0;
 };
 
 class InSitu

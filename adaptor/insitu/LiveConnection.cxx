@@ -1,0 +1,362 @@
+#include "LiveConnection.h"
+
+#include "VtkMessageCapture.h"
+
+#include <vtkAlgorithm.h>
+#include <vtkAlgorithmOutput.h>
+#include <vtkClientSocket.h>
+#include <vtkCommunicator.h>
+#include <vtkExtractsDeliveryHelper.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkLiveInsituLink.h>
+#include <vtkMultiProcessController.h>
+#include <vtkSMProxyManager.h>
+#include <vtkSMSessionProxyManager.h>
+#include <vtkSocket.h>
+#include <vtkSocketCommunicator.h>
+#include <vtkSocketController.h>
+#include <vtk_loguru.h>
+
+#include <csignal>
+#include <ctime>
+#include <sys/socket.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdlib>
+#include <mutex>
+#include <thread>
+
+namespace canopy
+{
+namespace
+{
+
+// ParaView keeps the link's sockets and the extracts a viewer asked for in
+// protected members; a pointer to a member named through a derived class reads
+// them without changing ParaView.
+struct LinkAccess : vtkLiveInsituLink
+{
+  static vtkMultiProcessController* control(vtkLiveInsituLink* link)
+  {
+    return (link->*(&LinkAccess::Proc0NodesController)).GetPointer();
+  }
+  static vtkExtractsDeliveryHelper* delivery(vtkLiveInsituLink* link)
+  {
+    return (link->*(&LinkAccess::ExtractsDeliveryHelper)).GetPointer();
+  }
+};
+
+struct DeliveryAccess : vtkExtractsDeliveryHelper
+{
+  static auto& producers(vtkExtractsDeliveryHelper* helper)
+  {
+    return helper->*(&DeliveryAccess::ExtractProducers);
+  }
+  static vtkMultiProcessController* data(vtkExtractsDeliveryHelper* helper)
+  {
+    return (helper->*(&DeliveryAccess::Simulation2VisualizationController)).GetPointer();
+  }
+};
+
+int descriptorOf(vtkMultiProcessController* controller)
+{
+  auto* socket =
+      controller ? vtkSocketCommunicator::SafeDownCast(controller->GetCommunicator()) : nullptr;
+  return socket && socket->GetSocket() ? socket->GetSocket()->GetSocketDescriptor() : -1;
+}
+
+vtkMultiProcessController* ranks()
+{
+  return vtkMultiProcessController::GetGlobalController();
+}
+
+int rankOf(vtkMultiProcessController* controller)
+{
+  return controller ? controller->GetLocalProcessId() : 0;
+}
+
+/// SIGPIPE blocked while it lives: VTK 9.2's sockets send without
+/// MSG_NOSIGNAL, so a viewer that disconnects mid-transfer would otherwise
+/// terminate the simulation. A SIGPIPE raised meanwhile is consumed.
+class SigpipeBlocked
+{
+public:
+  SigpipeBlocked()
+  {
+    sigemptyset(&this->Pipe);
+    sigaddset(&this->Pipe, SIGPIPE);
+    sigset_t pending;
+    sigpending(&pending);
+    this->WasPending = sigismember(&pending, SIGPIPE) == 1;
+    pthread_sigmask(SIG_BLOCK, &this->Pipe, &this->Previous);
+  }
+  ~SigpipeBlocked()
+  {
+    sigset_t pending;
+    sigpending(&pending);
+    if (!this->WasPending && sigismember(&pending, SIGPIPE) == 1)
+    {
+      const timespec now{0, 0};
+      sigtimedwait(&this->Pipe, nullptr, &now);
+    }
+    pthread_sigmask(SIG_SETMASK, &this->Previous, nullptr);
+  }
+  SigpipeBlocked(const SigpipeBlocked&) = delete;
+  SigpipeBlocked& operator=(const SigpipeBlocked&) = delete;
+
+private:
+  sigset_t Pipe;
+  sigset_t Previous;
+  bool WasPending = false;
+};
+
+/// Nothing printed to stderr while it lives (VtkMessageCapture still collects):
+/// ParaView's link and VTK's sockets log a viewer's disconnection as errors, and
+/// a viewer must cost the simulation one warning at most, Canopy's own.
+class QuietStderr
+{
+public:
+  QuietStderr() : Saved(loguru::g_stderr_verbosity)
+  {
+    loguru::g_stderr_verbosity = loguru::Verbosity_OFF;
+  }
+  ~QuietStderr() { loguru::g_stderr_verbosity = this->Saved; }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+private:
+  loguru::Verbosity Saved;
+};
+
+/// Shuts the viewer's sockets down if an exchange lasts longer than `seconds`:
+/// the blocked receive then returns, ParaView's link sees the error and drops
+/// the viewer (a socket timeout would not do: VTK 9.2's vtkSocket::Receive
+/// adds recv's -1 to its count and tries again).
+class StallGuard
+{
+public:
+  StallGuard(double seconds, std::vector<int> descriptors)
+  {
+    if (seconds <= 0.0 || descriptors.empty())
+    {
+      return;
+    }
+    this->Thread = std::thread(
+        [this, seconds, descriptors]
+        {
+          std::unique_lock<std::mutex> lock(this->Mutex);
+          if (!this->Done.wait_for(lock, std::chrono::duration<double>(seconds),
+                                   [this] { return this->Disarmed; }))
+          {
+            this->Fired = true;
+            for (int descriptor : descriptors)
+            {
+              shutdown(descriptor, SHUT_RDWR);
+            }
+          }
+        });
+  }
+  ~StallGuard() { this->disarm(); }
+  StallGuard(const StallGuard&) = delete;
+  StallGuard& operator=(const StallGuard&) = delete;
+
+  /// Stops the guard; true if it had fired.
+  bool disarm()
+  {
+    {
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      this->Disarmed = true;
+    }
+    this->Done.notify_all();
+    if (this->Thread.joinable())
+    {
+      this->Thread.join();
+    }
+    return this->Fired;
+  }
+
+private:
+  std::mutex Mutex;
+  std::condition_variable Done;
+  bool Disarmed = false;
+  bool Fired = false;
+  std::thread Thread;
+};
+
+} // namespace
+
+bool LiveConnection::parseUrl(const std::string& url, Settings& settings, std::string& error)
+{
+  const auto colon = url.rfind(':');
+  settings.host = url.substr(0, colon);
+  if (settings.host.empty())
+  {
+    settings.host = "localhost";
+  }
+  if (colon == std::string::npos)
+  {
+    settings.port = 22222;
+    return true;
+  }
+  const std::string port = url.substr(colon + 1);
+  char* end = nullptr;
+  const long value = std::strtol(port.c_str(), &end, 10);
+  if (port.empty() || *end != '\0' || value < 1 || value > 65533)
+  {
+    error = "Catalyst Live address '" + url +
+            "': the port must be a number from 1 to 65533 (the viewer also listens on the "
+            "next ports, one per simulation rank it reads from)";
+    return false;
+  }
+  settings.port = static_cast<int>(value);
+  return true;
+}
+
+LiveConnection::LiveConnection(Settings settings) : Options(std::move(settings))
+{
+  this->Link = vtkSmartPointer<vtkLiveInsituLink>::New();
+  this->Link->SetHostname(this->Options.host.c_str());
+  this->Link->SetInsituPort(this->Options.port);
+}
+
+LiveConnection::~LiveConnection() = default;
+
+bool LiveConnection::connected() const
+{
+  return LinkAccess::delivery(this->Link) != nullptr;
+}
+
+std::vector<std::string> LiveConnection::update(double time, std::int64_t step)
+{
+  std::vector<std::string> warnings;
+  const SigpipeBlocked sigpipe;
+  VtkMessageCapture logged;
+  const QuietStderr quiet;
+  auto* pxm = vtkSMProxyManager::GetProxyManager()->GetActiveSessionProxyManager();
+  // Connects when a viewer listens (rank 0 tries without waiting); no viewer: done.
+  if (this->Link->Initialize(pxm))
+  {
+    const auto pauseStart = std::chrono::steady_clock::now();
+    bool again = true;
+    bool paused = false;
+    while (again)
+    {
+      std::vector<int> sockets;
+      for (auto* controller : {LinkAccess::control(this->Link),
+                               LinkAccess::delivery(this->Link)
+                                   ? DeliveryAccess::data(LinkAccess::delivery(this->Link))
+                                   : nullptr})
+      {
+        if (descriptorOf(controller) >= 0)
+        {
+          sockets.push_back(descriptorOf(controller));
+        }
+      }
+      StallGuard guard(this->Options.stallSeconds, sockets);
+      this->Link->InsituUpdate(time, static_cast<vtkIdType>(step));
+      this->prepareExtracts(warnings);
+      this->Link->InsituPostProcess(time, static_cast<vtkIdType>(step));
+      if (guard.disarm())
+      {
+        warnings.push_back("the viewer did not answer for " +
+                           std::to_string(this->Options.stallSeconds) +
+                           " s; it was disconnected (it can connect again)");
+      }
+      paused = this->Link->GetSimulationPaused() != 0;
+      const double pausedSeconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - pauseStart).count();
+      again = paused && this->waitWhilePaused(pausedSeconds, warnings);
+    }
+    if (!paused)
+    {
+      this->PauseExpired = false;
+    }
+  }
+  for (const auto& message : logged.messages())
+  {
+    warnings.push_back(message);
+  }
+  return warnings;
+}
+
+void LiveConnection::prepareExtracts(std::vector<std::string>& warnings)
+{
+  auto* helper = LinkAccess::delivery(this->Link);
+  if (!helper)
+  {
+    return;
+  }
+  auto* controller = ranks();
+  const int rank = rankOf(controller);
+  const int size = controller ? controller->GetNumberOfProcesses() : 1;
+  auto& producers = DeliveryAccess::producers(helper);
+  for (auto entry = producers.begin(); entry != producers.end();)
+  {
+    vtkAlgorithmOutput* port = entry->second;
+    vtkAlgorithm* algorithm = port ? port->GetProducer() : nullptr;
+    const int index = port ? port->GetIndex() : 0;
+    if (algorithm && vtkHyperTreeGrid::SafeDownCast(algorithm->GetOutputDataObject(index)))
+    {
+      // The same map on every rank (ParaView broadcasts the requests), so every
+      // rank withdraws the same extracts.
+      if (this->Refused.insert(entry->first).second)
+      {
+        warnings.push_back("the viewer asked for '" + entry->first +
+                           "', a hypertree grid, which VTK 9.2 cannot send; pull the source "
+                           "'<channel> (packed)' instead and apply Canopy Unpack Grid to it "
+                           "(docs/insitu.md, Catalyst Live)");
+      }
+      entry = producers.erase(entry);
+      continue;
+    }
+    if (algorithm)
+    {
+      // ParaView sends the output as it is; a filter no image needed this step
+      // would send last step's data, or none.
+      algorithm->UpdatePiece(rank, size, 0);
+    }
+    ++entry;
+  }
+}
+
+bool LiveConnection::waitWhilePaused(double pausedSeconds, std::vector<std::string>& warnings)
+{
+  auto* controller = ranks();
+  int decision = 0; // 1: the viewer sent something; 0: go on
+  if (rankOf(controller) == 0 && !this->PauseExpired)
+  {
+    const int socket = descriptorOf(LinkAccess::control(this->Link));
+    const double limit = this->Options.pauseLimitSeconds;
+    const auto start = std::chrono::steady_clock::now();
+    while (socket >= 0)
+    {
+      const double waited =
+          pausedSeconds +
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (limit > 0.0 && waited >= limit)
+      {
+        warnings.push_back("paused by the viewer for " + std::to_string(limit) +
+                           " s (the pause limit): the simulation goes on");
+        this->PauseExpired = true;
+        break;
+      }
+      const double slice = limit > 0.0 ? std::min(0.25, limit - waited) : 0.25;
+      int selected = -1;
+      const int ready = vtkSocket::SelectSockets(
+          &socket, 1, static_cast<unsigned long>(slice * 1000.0) + 1, &selected);
+      if (ready != 0)
+      {
+        decision = ready > 0 ? 1 : 0;
+        break;
+      }
+    }
+  }
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    controller->Broadcast(&decision, 1, 0);
+  }
+  return decision == 1 && this->Link->WaitForLiveChange() == 0;
+}
+
+} // namespace canopy
