@@ -372,7 +372,15 @@ void InSitu::Driver::runLive(std::int64_t step, double time, StepReport& report)
     settings.pauseLimitSeconds = this->Options.livePauseLimitSeconds;
     settings.stallSeconds = this->Options.liveStallSeconds;
     std::string error;
-    LiveConnection::parseUrl(url, settings, error); // checked with the options
+    if (!LiveConnection::parseUrl(url, settings, error))
+    {
+      // Only a script's own CatalystLiveURL gets here unchecked (the options' is
+      // checked at start): the same on every rank, so no rank starts Live.
+      report.liveWarnings.push_back(error + "; Catalyst Live is off");
+      vtkLogF(WARNING, "canopy: rank %d, step %lld: %s", this->Rank, static_cast<long long>(step),
+              report.liveWarnings.back().c_str());
+      return;
+    }
     this->Live = std::make_unique<LiveConnection>(settings);
   }
   const auto start = std::chrono::steady_clock::now();
