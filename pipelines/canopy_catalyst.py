@@ -143,21 +143,10 @@ def load_canopy_plugin(namespace=None):
 
 def simulation_grid(values):
     """The hypertree grid the simulation passes to Catalyst this step."""
-    from paraview.simple import FindSource, TrivialProducer
-    grid = TrivialProducer(registrationName=values.channel)
-    if values.get("live") and FindSource(packed_grid_name(values)) is None:
-        # VTK 9.2 cannot send a hypertree grid: Live viewers pull this instead
-        # and apply Canopy Unpack Grid (docs/insitu.md, "Catalyst Live").
-        from paraview import simple
-        if not hasattr(simple, "CanopyPackGrid"):
-            load_canopy_plugin()
-        simple.CanopyPackGrid(registrationName=packed_grid_name(values), Input=grid)
-    return grid
-
-
-def packed_grid_name(values):
-    """The source a Catalyst Live viewer pulls to get the grid itself."""
-    return "%s (packed)" % values.channel
+    from paraview.simple import TrivialProducer
+    # A Catalyst Live viewer that pulls it gets it packed (VTK 9.2 cannot send a
+    # hypertree grid; docs/insitu.md, "Catalyst Live").
+    return TrivialProducer(registrationName=values.channel)
 
 
 def request_fields(data_description, values, extra=(), every_field_when_empty=True):

@@ -2,6 +2,8 @@
 
 #include "VtkMessageCapture.h"
 
+#include <canopy/io/vtkCanopyHyperTreeGridPacker.h>
+
 #include <vtkAlgorithm.h>
 #include <vtkAlgorithmOutput.h>
 #include <vtkClientSocket.h>
@@ -10,14 +12,18 @@
 #include <vtkHyperTreeGrid.h>
 #include <vtkLiveInsituLink.h>
 #include <vtkMultiProcessController.h>
+#include <vtkPolyData.h>
 #include <vtkSMProxyManager.h>
 #include <vtkSMSessionProxyManager.h>
 #include <vtkSocket.h>
 #include <vtkSocketCommunicator.h>
 #include <vtkSocketController.h>
+#include <vtkTrivialProducer.h>
 #include <vtk_loguru.h>
 
+#include <cctype>
 #include <csignal>
+#include <cstdio>
 #include <ctime>
 #include <sys/socket.h>
 
@@ -184,6 +190,43 @@ private:
   std::thread Thread;
 };
 
+/// The key ParaView's link gives an extract ("group:name:port") of a source the
+/// viewer asked for and the simulation does not have, from the error the link
+/// logs for it ("No proxy: group, name"; it does not say the port, ParaView's
+/// viewers ask for port 0).
+bool missingSourceKey(const std::string& message, std::string& key)
+{
+  for (const char* marker : {"No proxy: ", "No vtkAlgorithm: "})
+  {
+    const auto at = message.find(marker);
+    if (at == std::string::npos)
+    {
+      continue;
+    }
+    const auto start = at + std::string(marker).size();
+    std::string groupAndName = message.substr(start, message.find('\n', start) - start);
+    while (!groupAndName.empty() && std::isspace(static_cast<unsigned char>(groupAndName.back())))
+    {
+      groupAndName.pop_back();
+    }
+    const auto comma = groupAndName.find(", ");
+    if (comma == std::string::npos)
+    {
+      return false;
+    }
+    key = groupAndName.substr(0, comma) + ":" + groupAndName.substr(comma + 2) + ":0";
+    return true;
+  }
+  return false;
+}
+
+std::string seconds(double value)
+{
+  char text[32];
+  std::snprintf(text, sizeof text, "%g s", value);
+  return text;
+}
+
 } // namespace
 
 bool LiveConnection::parseUrl(const std::string& url, Settings& settings, std::string& error)
@@ -254,14 +297,18 @@ std::vector<std::string> LiveConnection::update(double time, std::int64_t step)
         }
       }
       StallGuard guard(this->Options.stallSeconds, sockets);
-      this->Link->InsituUpdate(time, static_cast<vtkIdType>(step));
-      this->prepareExtracts(warnings);
+      std::vector<std::string> requestMessages;
+      {
+        const VtkMessageCapture requests;
+        this->Link->InsituUpdate(time, static_cast<vtkIdType>(step));
+        requestMessages = requests.messages();
+      }
+      this->prepareExtracts(requestMessages, warnings);
       this->Link->InsituPostProcess(time, static_cast<vtkIdType>(step));
       if (guard.disarm())
       {
-        warnings.push_back("the viewer did not answer for " +
-                           std::to_string(this->Options.stallSeconds) +
-                           " s; it was disconnected (it can connect again)");
+        warnings.push_back("the viewer did not answer for " + seconds(this->Options.stallSeconds) +
+                           "; it was disconnected (it can connect again)");
       }
       paused = this->Link->GetSimulationPaused() != 0;
       const double pausedSeconds =
@@ -275,48 +322,83 @@ std::vector<std::string> LiveConnection::update(double time, std::int64_t step)
   }
   for (const auto& message : logged.messages())
   {
-    warnings.push_back(message);
+    std::string key;
+    if (!missingSourceKey(message, key)) // said once by prepareExtracts
+    {
+      warnings.push_back(message);
+    }
   }
   return warnings;
 }
 
-void LiveConnection::prepareExtracts(std::vector<std::string>& warnings)
+void LiveConnection::prepareExtracts(const std::vector<std::string>& requestMessages,
+                                     std::vector<std::string>& warnings)
 {
   auto* helper = LinkAccess::delivery(this->Link);
   if (!helper)
   {
     return;
   }
+  auto warnOnce = [&](const std::string& key, const std::string& what)
+  {
+    if (this->Warned.insert(key).second)
+    {
+      warnings.push_back("the viewer asked for '" + key + "', " + what);
+    }
+  };
+  // Every rank reads the same requests (ParaView broadcasts them) and logs the
+  // same missing sources, so every rank substitutes the same extracts.
+  auto& producers = DeliveryAccess::producers(helper);
+  for (const auto& message : requestMessages)
+  {
+    std::string key;
+    if (missingSourceKey(message, key))
+    {
+      auto& substitute = this->Substitutes[key];
+      if (!substitute)
+      {
+        auto empty = vtkSmartPointer<vtkTrivialProducer>::New();
+        empty->SetOutput(vtkSmartPointer<vtkPolyData>::New());
+        substitute = empty;
+      }
+      producers[key] = substitute->GetOutputPort();
+      warnOnce(key, "which this simulation does not have: it gets an empty vtkPolyData (ParaView's "
+                    "viewer shows nothing new until every extract it asked for arrives)");
+    }
+  }
   auto* controller = ranks();
   const int rank = rankOf(controller);
   const int size = controller ? controller->GetNumberOfProcesses() : 1;
-  auto& producers = DeliveryAccess::producers(helper);
-  for (auto entry = producers.begin(); entry != producers.end();)
+  for (auto& entry : producers)
   {
-    vtkAlgorithmOutput* port = entry->second;
+    vtkAlgorithmOutput* port = entry.second;
     vtkAlgorithm* algorithm = port ? port->GetProducer() : nullptr;
-    const int index = port ? port->GetIndex() : 0;
-    if (algorithm && vtkHyperTreeGrid::SafeDownCast(algorithm->GetOutputDataObject(index)))
+    if (algorithm &&
+        vtkHyperTreeGrid::SafeDownCast(algorithm->GetOutputDataObject(port->GetIndex())))
     {
-      // The same map on every rank (ParaView broadcasts the requests), so every
-      // rank withdraws the same extracts.
-      if (this->Refused.insert(entry->first).second)
+      auto* packer = vtkCanopyHyperTreeGridPacker::SafeDownCast(this->Substitutes[entry.first]);
+      if (!packer)
       {
-        warnings.push_back("the viewer asked for '" + entry->first +
-                           "', a hypertree grid, which VTK 9.2 cannot send; pull the source "
-                           "'<channel> (packed)' instead and apply Canopy Unpack Grid to it "
-                           "(docs/insitu.md, Catalyst Live)");
+        auto created = vtkSmartPointer<vtkCanopyHyperTreeGridPacker>::New();
+        this->Substitutes[entry.first] = created;
+        packer = created;
       }
-      entry = producers.erase(entry);
-      continue;
+      packer->SetController(controller);
+      packer->SetInputConnection(port);
+      entry.second = packer->GetOutputPort();
+      algorithm = packer;
+      warnOnce(
+          entry.first,
+          "a hypertree grid, which VTK 9.2 cannot send: it is sent packed; apply Canopy Unpack "
+          "Grid to it in the viewer (docs/insitu.md, Catalyst Live)");
     }
     if (algorithm)
     {
       // ParaView sends the output as it is; a filter no image needed this step
-      // would send last step's data, or none.
+      // would send last step's data, or none. Collective for the packer: every
+      // rank walks the same requests in the same (key) order.
       algorithm->UpdatePiece(rank, size, 0);
     }
-    ++entry;
   }
 }
 
@@ -336,8 +418,8 @@ bool LiveConnection::waitWhilePaused(double pausedSeconds, std::vector<std::stri
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (limit > 0.0 && waited >= limit)
       {
-        warnings.push_back("paused by the viewer for " + std::to_string(limit) +
-                           " s (the pause limit): the simulation goes on");
+        warnings.push_back("paused by the viewer for " + seconds(limit) +
+                           " (the pause limit): the simulation goes on");
         this->PauseExpired = true;
         break;
       }

@@ -2,9 +2,13 @@
 // Canopy after the step's scripts instead of inside ParaView's V2 helper
 // (vtkCPPythonScriptV2Helper::DoLive), so that a viewer cannot hurt the
 // simulation:
-// - extracts of hypertree grids, which VTK 9.2 cannot send ("Cannot send
-//   vtkHyperTreeGrid", then every step failed), are withdrawn with a warning
-//   naming the packed source to pull instead (vtkCanopyHyperTreeGridPacker);
+// - an extract of a hypertree grid, which VTK 9.2 cannot send ("Cannot send
+//   vtkHyperTreeGrid", then every step failed), is sent packed
+//   (vtkCanopyHyperTreeGridPacker; the viewer applies Canopy Unpack Grid);
+// - an extract of a source the simulation does not have is sent as an empty
+//   vtkPolyData: ParaView's viewer refreshes nothing until every extract it
+//   asked for arrived (vtkExtractsDeliveryHelper::Update), so one missing name
+//   would otherwise stop every delivery;
 // - every extract a viewer pulls is brought up to date before it is sent
 //   (ParaView sends whatever was last computed, often nothing);
 // - a viewer that stops answering is dropped after `stallSeconds` (timeouts on
@@ -24,6 +28,7 @@
 #include <string>
 #include <vector>
 
+class vtkAlgorithm;
 class vtkLiveInsituLink;
 
 namespace canopy
@@ -58,14 +63,21 @@ public:
   bool connected() const;
 
 private:
-  void prepareExtracts(std::vector<std::string>& warnings);
+  /// Makes every extract the viewer asked for sendable and up to date.
+  /// `requestMessages`: what ParaView's link logged while reading the requests
+  /// (its "No proxy: group, name" errors name the missing sources).
+  void prepareExtracts(const std::vector<std::string>& requestMessages,
+                       std::vector<std::string>& warnings);
   /// While paused: true when the viewer sent something (then the exchange runs
   /// again), false when the pause is over, the viewer left or the limit passed.
   bool waitWhilePaused(double pausedSeconds, std::vector<std::string>& warnings);
 
   Settings Options;
   vtkSmartPointer<vtkLiveInsituLink> Link;
-  std::set<std::string> Refused; ///< extracts already warned about
+  /// What is sent instead of an unsendable or missing extract, by key
+  /// ("group:name:port"), kept while the viewer asks for it.
+  std::map<std::string, vtkSmartPointer<vtkAlgorithm>> Substitutes;
+  std::set<std::string> Warned; ///< extracts already warned about
   bool PauseExpired = false;
 };
 

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -170,10 +171,10 @@ std::vector<unsigned char> coordinates(vtkDataArray* array)
   return data;
 }
 
-} // namespace
-
-std::string writeHtgFile(vtkHyperTreeGrid* htg, const std::string& fileName,
-                         const std::vector<std::string>& arrays)
+/// The .htg of `htg`: its XML `header` (up to the appended data's start) and
+/// the appended `file` blocks. Empty on success, otherwise what is wrong.
+std::string assemble(vtkHyperTreeGrid* htg, const std::vector<std::string>& arrays,
+                     AppendedFile& file, std::string& header)
 {
   if (htg == nullptr)
   {
@@ -200,7 +201,6 @@ std::string writeHtgFile(vtkHyperTreeGrid* htg, const std::string& fileName,
   }
   const HyperTreeGridPiece piece = HyperTreeGridPiece::describe(htg);
 
-  AppendedFile file;
   std::ostringstream xml;
   const unsigned int* dimensions = htg->GetDimensions();
   xml << "<?xml version=\"1.0\"?>\n"
@@ -271,17 +271,38 @@ std::string writeHtgFile(vtkHyperTreeGrid* htg, const std::string& fileName,
   }
   xml << "    </Trees>\n  </HyperTreeGrid>\n  <AppendedData encoding=\"raw\">\n   _";
 
+  header = xml.str();
+  return {};
+}
+
+/// Writes an assembled .htg to `out`; false if a write failed (errno says why).
+bool writeAssembled(const std::string& header, const AppendedFile& file, std::FILE* out)
+{
+  const std::string trailer = "\n  </AppendedData>\n</VTKFile>\n";
+  return std::fwrite(header.data(), header.size(), 1, out) == 1 && file.writeBlocks(out) &&
+         std::fwrite(trailer.data(), trailer.size(), 1, out) == 1;
+}
+
+} // namespace
+
+std::string writeHtgFile(vtkHyperTreeGrid* htg, const std::string& fileName,
+                         const std::vector<std::string>& arrays)
+{
+  AppendedFile file;
+  std::string header;
+  const std::string problem = assemble(htg, arrays, file, header);
+  if (!problem.empty())
+  {
+    return problem;
+  }
   const std::string temporary = fileName + ".part";
   std::FILE* out = std::fopen(temporary.c_str(), "wb");
   if (out == nullptr)
   {
     return "cannot open " + temporary + " for writing: " + std::strerror(errno);
   }
-  const std::string header = xml.str();
-  const std::string trailer = "\n  </AppendedData>\n</VTKFile>\n";
   errno = 0;
-  bool ok = std::fwrite(header.data(), header.size(), 1, out) == 1 && file.writeBlocks(out) &&
-            std::fwrite(trailer.data(), trailer.size(), 1, out) == 1;
+  bool ok = writeAssembled(header, file, out);
   int error = errno;
   if (std::fclose(out) != 0 && ok)
   {
@@ -302,6 +323,37 @@ std::string writeHtgFile(vtkHyperTreeGrid* htg, const std::string& fileName,
     return "cannot rename " + temporary + " to " + fileName + ": " + renamed.message();
   }
   return {};
+}
+
+std::string writeHtgText(vtkHyperTreeGrid* htg, std::string& text,
+                         const std::vector<std::string>& arrays)
+{
+  text.clear();
+  AppendedFile file;
+  std::string header;
+  const std::string problem = assemble(htg, arrays, file, header);
+  if (!problem.empty())
+  {
+    return problem;
+  }
+  // A stream into memory, so that the file's own writing code writes it.
+  char* buffer = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&buffer, &size);
+  if (out == nullptr)
+  {
+    return std::string("cannot open a memory stream: ") + std::strerror(errno);
+  }
+  const bool written = writeAssembled(header, file, out);
+  const bool closed = std::fclose(out) == 0;
+  if (written && closed)
+  {
+    text.assign(buffer, size);
+  }
+  std::free(buffer);
+  return written && closed ? std::string()
+                           : std::string("cannot write the .htg text in memory: ") +
+                                 std::strerror(errno ? errno : ENOMEM);
 }
 
 } // namespace canopy::io

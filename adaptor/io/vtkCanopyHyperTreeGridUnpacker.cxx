@@ -30,6 +30,15 @@ int vtkCanopyHyperTreeGridUnpacker::RequestData(vtkInformation*, vtkInformationV
   auto* input = vtkDataObject::GetData(inputs[0], 0);
   auto* output = vtkMultiBlockDataSet::GetData(outputs, 0);
   this->NumberOfPieces = 0;
+  if (auto* grid = vtkHyperTreeGrid::SafeDownCast(input))
+  {
+    // A grid that was never packed (the same pipeline without Live): itself.
+    vtkNew<vtkHyperTreeGrid> same;
+    same->ShallowCopy(grid);
+    output->SetBlock(0, same);
+    this->NumberOfPieces = 1;
+    return 1;
+  }
   auto* bytes = vtkUnsignedCharArray::SafeDownCast(
       input->GetFieldData()->GetArray(vtkCanopyHyperTreeGridPacker::ArrayName()));
   if (!bytes && !input->GetFieldData()->GetNumberOfArrays() &&

@@ -1,14 +1,19 @@
 """A Catalyst Live viewer, as a ParaView 5.11 user scripts one with pvpython
-(paraview.live): listens on PORT, and once the simulation connects, pulls the
-first adaptive surface, the packed grid (unpacked with the Canopy plugin), the
-grid itself (a hypertree grid, which Canopy refuses to send) and a source that
-does not exist. Records what arrives until RECORDS deliveries of both the
-surface and the grid were seen, then exits (disconnecting).
+(paraview.live): listens on PORT and, once the simulation connects, pulls the
+first adaptive surface, the grid itself (a hypertree grid, which Canopy sends
+packed; unpacked here with the Canopy plugin, as docs/insitu.md says), the
+first selection, and a source the simulation does not have. Records what
+arrives until RECORDS deliveries were seen, then pauses the simulation as
+ParaView's "Pause Simulation" does, for PAUSE seconds (resumes after them, or
+stays paused if PAUSE is "hold", leaving it to the simulation's pause limit),
+and exits (disconnecting).
 
-  pvpython live_client.py PORT RESULT.json RECORDS SECONDS
+  pvpython live_client.py PORT RESULT.json RECORDS SECONDS PAUSE
 
-RESULT.json: {"sources": [...], "records": [{"surface": quads, "grid_cells": n,
-"grid_pieces": p}, ...]} (a record per delivery that changed something).
+RESULT.json: {"sources": [...], "records": [{"step": s, "surface": quads,
+"grid_cells": n, "grid_pieces": p, "selection_cells": c}, ...] (a record per
+delivery that changed something), "paused": [start, end] (wall-clock seconds,
+time.time()), "steps_while_paused": [...] (steps delivered meanwhile)}.
 Prints "listening" once the port is open."""
 import json
 import os
@@ -19,48 +24,86 @@ from paraview import live, simple
 
 port, result_path, wanted, seconds = (int(sys.argv[1]), sys.argv[2], int(sys.argv[3]),
                                       float(sys.argv[4]))
+hold = sys.argv[5] == "hold"
+pause_seconds = 0.0 if hold else float(sys.argv[5])
 simple.LoadPlugin(os.environ["CANOPY_PLUGIN"], remote=False)
 link = live.ConnectToCatalyst("localhost", port)
 print("listening", flush=True)
 
-result = {"sources": [], "records": []}
-surface = packed = unpacked = None
+result = {"sources": [], "records": [], "paused": None, "steps_while_paused": []}
+extracts = None
 deadline = time.time() + seconds
+
+
+def cells(proxy):
+    # An extract's proxy holds what the last delivery brought once it is
+    # updated (ParaView's GUI does this when it renders).
+    proxy.UpdatePipeline()
+    return proxy.GetDataInformation().GetNumberOfCells()
+
+
+def delivered_step():
+    return int(link.GetTimeStep())  # the step of the last delivery
+
+
+def poll(duration):
+    until = time.time() + duration
+    while time.time() < until:
+        live.ProcessServerNotifications()
+        time.sleep(0.02)
+
+
 last = None
 while time.time() < deadline and len(result["records"]) < wanted:
     live.ProcessServerNotifications()
     manager = link.GetInsituProxyManager()
     count = manager.GetNumberOfProxies("sources")
-    if surface is None and count:
+    if extracts is None and count:
         names = sorted({manager.GetProxyName("sources", i) for i in range(count)})
         surfaces = [name for name in names if name.startswith("CanopyAdaptiveSurface")]
-        if surfaces and "grid (packed)" in names:
+        selections = [name for name in names if name.startswith("CanopyExtractSelection")]
+        if surfaces and selections and "grid" in names:
             result["sources"] = names
-            surface = live.ExtractCatalystData(link, surfaces[0])
-            packed = live.ExtractCatalystData(link, "grid (packed)")
-            unpacked = simple.CanopyUnpackGrid(Input=packed)
-            live.ExtractCatalystData(link, "grid")  # refused: a hypertree grid
-    if surface is not None:
-        quads = surface.GetClientSideObject().GetOutputDataObject(0)
-        unpacked.UpdatePipeline()
-        grid = unpacked.GetClientSideObject().GetOutputDataObject(0)
-        quads = quads.GetNumberOfCells() if hasattr(quads, "GetNumberOfCells") else 0
-        pieces = grid.GetNumberOfBlocks()
-        cells = sum(grid.GetBlock(i).GetNumberOfCells() for i in range(pieces))
-        record = {"surface": quads, "grid_cells": cells, "grid_pieces": pieces}
-        if quads and cells and record != last:
+            grid = live.ExtractCatalystData(link, "grid")
+            extracts = {
+                "surface": live.ExtractCatalystData(link, surfaces[0]),
+                "unpacked": simple.CanopyUnpackGrid(Input=grid),
+                "selection": live.ExtractCatalystData(link, selections[0]),
+                # Not in the simulation: ParaView's viewer would wait for it
+                # and show nothing new; Canopy sends an empty dataset instead.
+                "missing": live.ExtractCatalystData(link, "no such source"),
+            }
+    if extracts is not None:
+        extracts["unpacked"].UpdatePipeline()
+        unpacked = extracts["unpacked"].GetClientSideObject().GetOutputDataObject(0)
+        pieces = unpacked.GetNumberOfBlocks()
+        record = {"surface": cells(extracts["surface"]),
+                  "grid_cells": sum(unpacked.GetBlock(i).GetNumberOfCells()
+                                    for i in range(pieces) if unpacked.GetBlock(i)),
+                  "grid_pieces": pieces,
+                  "selection_cells": cells(extracts["selection"])}
+        if record["surface"] and record["grid_cells"] and record != last:
+            last = dict(record)
+            record["step"] = delivered_step()
             result["records"].append(record)
-            last = record
-    time.sleep(0.05)
+            print("record", len(result["records"]), flush=True)
+    time.sleep(0.02)
 
-# Last, a source the simulation does not have (ParaView's viewer then stops
-# receiving anything; the simulation must not notice beyond a warning).
-if surface is not None:
-    live.ExtractCatalystData(link, "no such source")
-    until = time.time() + 3
-    while time.time() < until:
-        live.ProcessServerNotifications()
-        time.sleep(0.05)
+if extracts is not None and result["records"]:
+    start = time.time()
+    live.PauseCatalyst(link, True)
+    poll(1.0)
+    first = delivered_step()
+    poll(max(pause_seconds - 1.0, 0.0) if not hold else 0.0)
+    if hold:
+        # Stays paused until the simulation's pause limit lets it go on.
+        while time.time() < deadline and delivered_step() == first:
+            poll(0.2)
+    result["steps_while_paused"] = sorted({first, delivered_step()})
+    result["paused"] = [start, time.time()]
+    if not hold:
+        live.PauseCatalyst(link, False)
+        poll(1.0)
 
 with open(result_path, "w") as f:
     json.dump(result, f)

@@ -29,4 +29,11 @@ namespace canopy::io
 CANOPYIO_EXPORT std::string writeHtgFile(vtkHyperTreeGrid* htg, const std::string& fileName,
                                          const std::vector<std::string>& arrays = {});
 
+/// The same file's bytes in `text` (replaced; empty on failure), for grids
+/// that travel instead of being written (vtkCanopyHyperTreeGridPacker).
+/// vtkXMLHyperTreeGridReader reads them with ReadFromInputString. Returns an
+/// empty string on success, otherwise what went wrong.
+CANOPYIO_EXPORT std::string writeHtgText(vtkHyperTreeGrid* htg, std::string& text,
+                                         const std::vector<std::string>& arrays = {});
+
 } // namespace canopy::io

@@ -12,7 +12,10 @@
  * into hypertree grids.
  *
  * Each piece is framed as "CNPY" + its length (8 bytes, little endian) + the
- * .htg XML (inline binary data, zlib). Collective over Controller's ranks.
+ * bytes of the .htg file Canopy's writer would write for it (canopy::io::
+ * writeHtgText: VTK 9.2's own writer corrupts vector arrays). A piece that
+ * cannot be written is left out with an error. Collective over Controller's
+ * ranks.
  */
 #pragma once
 

@@ -5,8 +5,10 @@
  *
  * For the receiving side of Catalyst Live (docs/insitu.md, "Catalyst Live"):
  * in ParaView, load the Canopy plugin and apply "Canopy Unpack Grid" to the
- * extract of the simulation's "<channel> (packed)" source. Bytes that are not
- * a sequence of Canopy pieces are refused with an error saying where.
+ * extract of the simulation's grid (Canopy sends it packed) or of its
+ * "<channel> (packed)" source. Bytes that are not a sequence of Canopy pieces
+ * are refused with an error saying where; a hypertree grid input is passed on
+ * as the one block (the same pipeline then works without Live).
  */
 #pragma once
 
