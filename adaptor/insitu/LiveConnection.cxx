@@ -25,11 +25,13 @@
 #include <csignal>
 #include <cstdio>
 #include <ctime>
+#include <netinet/in.h>
 #include <sys/socket.h>
 
 #include <chrono>
 #include <condition_variable>
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
 #include <thread>
 
@@ -135,31 +137,65 @@ private:
   loguru::Verbosity Saved;
 };
 
-/// Shuts the viewer's sockets down if an exchange lasts longer than `seconds`:
-/// the blocked receive then returns, ParaView's link sees the error and drops
-/// the viewer (a socket timeout would not do: VTK 9.2's vtkSocket::Receive
-/// adds recv's -1 to its count and tries again).
+/// Shuts down this process's TCP sockets whose peer port is in [first, last]:
+/// the viewer's control port and its data ports (one per simulation rank).
+/// Found through /proc/self/fd, because ParaView's link opens them inside calls
+/// that can block (connecting, its handshake) before Canopy could know them.
+void shutDownSocketsTo(int first, int last)
+{
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd", error))
+  {
+    char* end = nullptr;
+    const long descriptor = std::strtol(entry.path().filename().c_str(), &end, 10);
+    if (*end != '\0')
+    {
+      continue;
+    }
+    sockaddr_storage peer{};
+    socklen_t length = sizeof peer;
+    if (getpeername(static_cast<int>(descriptor), reinterpret_cast<sockaddr*>(&peer), &length) != 0)
+    {
+      continue; // not a connected socket
+    }
+    int port = -1;
+    if (peer.ss_family == AF_INET)
+    {
+      port = ntohs(reinterpret_cast<const sockaddr_in*>(&peer)->sin_port);
+    }
+    else if (peer.ss_family == AF_INET6)
+    {
+      port = ntohs(reinterpret_cast<const sockaddr_in6*>(&peer)->sin6_port);
+    }
+    if (port >= first && port <= last)
+    {
+      shutdown(static_cast<int>(descriptor), SHUT_RDWR);
+    }
+  }
+}
+
+/// Shuts the viewer's sockets down if what it guards (connecting, an exchange)
+/// lasts longer than `seconds`: the blocked call then returns, and ParaView's
+/// link sees the error and drops the viewer (a socket timeout would not do:
+/// VTK 9.2's vtkSocket::Receive adds recv's -1 to its count and tries again).
 class StallGuard
 {
 public:
-  StallGuard(double seconds, std::vector<int> descriptors)
+  StallGuard(double seconds, int firstPort, int lastPort)
   {
-    if (seconds <= 0.0 || descriptors.empty())
+    if (seconds <= 0.0)
     {
       return;
     }
     this->Thread = std::thread(
-        [this, seconds, descriptors]
+        [this, seconds, firstPort, lastPort]
         {
           std::unique_lock<std::mutex> lock(this->Mutex);
           if (!this->Done.wait_for(lock, std::chrono::duration<double>(seconds),
                                    [this] { return this->Disarmed; }))
           {
             this->Fired = true;
-            for (int descriptor : descriptors)
-            {
-              shutdown(descriptor, SHUT_RDWR);
-            }
+            shutDownSocketsTo(firstPort, lastPort);
           }
         });
   }
@@ -276,27 +312,14 @@ std::vector<std::string> LiveConnection::update(double time, std::int64_t step)
   const SigpipeBlocked sigpipe;
   VtkMessageCapture logged;
   const QuietStderr quiet;
-  auto* pxm = vtkSMProxyManager::GetProxyManager()->GetActiveSessionProxyManager();
-  // Connects when a viewer listens (rank 0 tries without waiting); no viewer: done.
-  if (this->Link->Initialize(pxm))
+  if (this->connectIfListening(warnings))
   {
     const auto pauseStart = std::chrono::steady_clock::now();
     bool again = true;
     bool paused = false;
     while (again)
     {
-      std::vector<int> sockets;
-      for (auto* controller : {LinkAccess::control(this->Link),
-                               LinkAccess::delivery(this->Link)
-                                   ? DeliveryAccess::data(LinkAccess::delivery(this->Link))
-                                   : nullptr})
-      {
-        if (descriptorOf(controller) >= 0)
-        {
-          sockets.push_back(descriptorOf(controller));
-        }
-      }
-      StallGuard guard(this->Options.stallSeconds, sockets);
+      StallGuard guard(this->Options.stallSeconds, this->Options.port, this->lastDataPort());
       std::vector<std::string> requestMessages;
       {
         const VtkMessageCapture requests;
@@ -329,6 +352,49 @@ std::vector<std::string> LiveConnection::update(double time, std::int64_t step)
     }
   }
   return warnings;
+}
+
+int LiveConnection::lastDataPort() const
+{
+  auto* controller = ranks();
+  return this->Options.port + (controller ? controller->GetNumberOfProcesses() : 1);
+}
+
+bool LiveConnection::connectIfListening(std::vector<std::string>& warnings)
+{
+  if (this->connected())
+  {
+    return true;
+  }
+  // After a listener that accepted and then did not answer, the next attempts
+  // wait (rank 0 decides for all: connecting is collective).
+  auto* controller = ranks();
+  int attempt = std::chrono::steady_clock::now() >= this->NextAttempt ? 1 : 0;
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    controller->Broadcast(&attempt, 1, 0);
+  }
+  if (!attempt)
+  {
+    return false;
+  }
+  // Rank 0 connects when a viewer listens (refused at once when none does);
+  // the guard bounds a listener that accepts and never answers the handshake.
+  StallGuard guard(this->Options.stallSeconds, this->Options.port, this->lastDataPort());
+  auto* pxm = vtkSMProxyManager::GetProxyManager()->GetActiveSessionProxyManager();
+  const bool linked = this->Link->Initialize(pxm);
+  if (guard.disarm() && !linked)
+  {
+    this->NextAttempt = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(RetryAfterStallSeconds));
+    warnings.push_back("something at " + this->Options.host + ":" +
+                       std::to_string(this->Options.port) + " accepted the connection but did " +
+                       "not answer for " + seconds(this->Options.stallSeconds) +
+                       " (not a ParaView 5.11 viewer, or a stalled one); the next attempt is in " +
+                       seconds(RetryAfterStallSeconds));
+  }
+  return linked;
 }
 
 void LiveConnection::prepareExtracts(const std::vector<std::string>& requestMessages,

@@ -22,6 +22,7 @@
 
 #include <vtkSmartPointer.h>
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <set>
@@ -63,6 +64,13 @@ public:
   bool connected() const;
 
 private:
+  /// Connected, or connects if a viewer listens (collective). A listener that
+  /// accepts and does not answer within stallSeconds is left, with a warning,
+  /// and not tried again for RetryAfterStallSeconds.
+  bool connectIfListening(std::vector<std::string>& warnings);
+  /// The last port of the viewer's: its control port, then one data port per
+  /// simulation rank.
+  int lastDataPort() const;
   /// Makes every extract the viewer asked for sendable and up to date.
   /// `requestMessages`: what ParaView's link logged while reading the requests
   /// (its "No proxy: group, name" errors name the missing sources).
@@ -79,6 +87,8 @@ private:
   std::map<std::string, vtkSmartPointer<vtkAlgorithm>> Substitutes;
   std::set<std::string> Warned; ///< extracts already warned about
   bool PauseExpired = false;
+  static constexpr double RetryAfterStallSeconds = 60.0;
+  std::chrono::steady_clock::time_point NextAttempt{};
 };
 
 } // namespace canopy
