@@ -385,14 +385,22 @@ bool LiveConnection::connectIfListening(std::vector<std::string>& warnings)
   const bool linked = this->Link->Initialize(pxm);
   if (guard.disarm() && !linked)
   {
+    // The wait doubles while it keeps happening (a host that drops packets
+    // holds connect() for the kernel's own timeout, which the guard cannot cut).
+    const double wait = this->RetrySeconds;
+    this->RetrySeconds = std::min(2.0 * this->RetrySeconds, MaximumRetrySeconds);
     this->NextAttempt = std::chrono::steady_clock::now() +
                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                            std::chrono::duration<double>(RetryAfterStallSeconds));
+                            std::chrono::duration<double>(wait));
     warnings.push_back("something at " + this->Options.host + ":" +
                        std::to_string(this->Options.port) + " accepted the connection but did " +
                        "not answer for " + seconds(this->Options.stallSeconds) +
                        " (not a ParaView 5.11 viewer, or a stalled one); the next attempt is in " +
-                       seconds(RetryAfterStallSeconds));
+                       seconds(wait));
+  }
+  else if (linked)
+  {
+    this->RetrySeconds = FirstRetrySeconds;
   }
   return linked;
 }

@@ -66,7 +66,7 @@ public:
 private:
   /// Connected, or connects if a viewer listens (collective). A listener that
   /// accepts and does not answer within stallSeconds is left, with a warning,
-  /// and not tried again for RetryAfterStallSeconds.
+  /// and not tried again for a minute (doubling each time it happens again).
   bool connectIfListening(std::vector<std::string>& warnings);
   /// The last port of the viewer's: its control port, then one data port per
   /// simulation rank.
@@ -87,7 +87,9 @@ private:
   std::map<std::string, vtkSmartPointer<vtkAlgorithm>> Substitutes;
   std::set<std::string> Warned; ///< extracts already warned about
   bool PauseExpired = false;
-  static constexpr double RetryAfterStallSeconds = 60.0;
+  static constexpr double FirstRetrySeconds = 60.0;
+  static constexpr double MaximumRetrySeconds = 3600.0;
+  double RetrySeconds = FirstRetrySeconds;
   std::chrono::steady_clock::time_point NextAttempt{};
 };
 

@@ -11,6 +11,8 @@
 // Usage: mpirun -np N canopy_bench_insitu --script PATH [--script PATH]...
 //          [--frequency F] [--steps S] [--max-levels L] [--output DIR]
 //          [--time-limit SECONDS]   (InSituOptions::stepTimeLimitSeconds)
+//          [--live HOST:PORT]       (InSituOptions::liveUrl; with no viewer there,
+//                                    reports what Catalyst Live costs a step)
 #include "SyntheticForest.h"
 
 #include "canopy/HtgBuilder.h"
@@ -75,6 +77,7 @@ int main(int argc, char** argv)
   int maxLevels = 7;
   std::string output = "canopy-bench-insitu";
   double timeLimit = 0.0;
+  std::string live;
   for (int i = 1; i + 1 < argc; i += 2)
   {
     const std::string key = argv[i];
@@ -90,6 +93,8 @@ int main(int argc, char** argv)
       output = argv[i + 1];
     else if (key == "--time-limit")
       timeLimit = std::stod(argv[i + 1]);
+    else if (key == "--live")
+      live = argv[i + 1];
   }
   {
     // Each rank holds a slice of a 3D front-refined forest (whole trees).
@@ -143,18 +148,28 @@ int main(int argc, char** argv)
       options.scripts.push_back({path, {"--frequency=" + std::to_string(frequency)}});
     options.outputDirectory = output;
     options.stepTimeLimitSeconds = timeLimit;
+    options.liveUrl = live;
     canopy::InSitu insitu(MPI_COMM_WORLD, options);
     std::vector<double> idle;
     std::vector<double> busy;
+    std::vector<double> liveExchange; // StepReport::liveSeconds, slowest rank
+    std::size_t liveWarnings = 0;
     for (int step = 0; step < steps; ++step)
     {
       MPI_Barrier(MPI_COMM_WORLD);
       const auto start = Clock::now();
+      double liveLocal = -1;
       if (insitu.willExecute(step, 0.01 * step))
       {
-        insitu.execute(step, 0.01 * step, forest);
+        const auto report = insitu.execute(step, 0.01 * step, forest);
+        liveLocal = live.empty() ? -1 : report.liveSeconds;
+        liveWarnings += report.liveWarnings.size();
       }
       double local = seconds(start);
+      double liveSlowest = -1;
+      MPI_Allreduce(&liveLocal, &liveSlowest, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+      if (liveSlowest >= 0)
+        liveExchange.push_back(liveSlowest);
       double slowest = 0;
       MPI_Allreduce(&local, &slowest, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
       (step % frequency == 0 ? busy : idle).push_back(slowest);
@@ -178,6 +193,14 @@ int main(int argc, char** argv)
                   b.count, b.mean * 1e3, b.median * 1e3, b.maximum * 1e3);
       std::printf("| buildHyperTreeGrid alone, rank 0 | %zu | %.1f ms | %.1f ms | %.1f ms |\n",
                   g.count, g.mean * 1e3, g.median * 1e3, g.maximum * 1e3);
+      if (!live.empty())
+      {
+        const auto l = summarize(liveExchange);
+        std::printf("| Catalyst Live (%s), of the steps that run | %zu | %.1f us | %.1f us | "
+                    "%.1f us |\n",
+                    live.c_str(), l.count, l.mean * 1e6, l.median * 1e6, l.maximum * 1e6);
+        std::printf("Live warnings on rank 0: %zu\n", liveWarnings);
+      }
     }
   }
   MPI_Finalize();
