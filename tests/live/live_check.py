@@ -6,7 +6,8 @@ VIEWER_COMMAND runs live_client.py (under the project's Xvfb wrapper); this
 adds its arguments. The simulation runs with --live localhost:PORT, a pause
 limit of PAUSE_LIMIT s and a stall limit of STALL_LIMIT s. Three viewers, one
 after the other:
-1. pulls the surface, the grid (sent packed), a selection and a missing source,
+1. pulls the surface, the slices (3D), the grid (sent packed), a selection and
+   a missing source,
    records three deliveries, pauses the simulation for 3 s, resumes, leaves;
 2. connects again, does the same and then keeps the simulation paused (its
    pause limit lets it go on), leaves;
@@ -16,8 +17,9 @@ Checks:
 - the simulation exits with 0, reports no failed pipeline and writes an image
   for every step (a viewer never costs a step);
 - every delivery equals the simulation's own counts at the delivered step: the
-  surface's quads, the grid's cells, in one piece per rank (the grid crossed
-  the socket whole); the selection is not empty;
+  surface's (3D: the selected region's) and the slices' quads, the grid's cells,
+  in one piece per rank (the grid crossed the socket whole); the selection is
+  not empty (3D: a masked grid, sent packed, of the grid's cells);
 - viewers 1 and 2 received deliveries (disconnect, then reconnect), with the
   missing source asked for from the start (it does not stop deliveries);
 - the pause held the step it was taken on for the time it lasted, the held
@@ -104,11 +106,14 @@ expect(status == 0, "the simulation exits with 0 (got %d)" % status)
 expect(re.search(r" 0 pipeline failure\(s\)", log) is not None,
        "the simulation reports no failed pipeline")
 steps = {int(m.group(1)): m.group(0) for m in re.finditer(r"^step +(\d+) .*$", log, re.M)}
-images = glob.glob(os.path.join(output, "surface_*.png"))
-expect(len(steps) > 0 and len(images) == len(steps),
-       "an image for every step (%d images, %d steps)" % (len(images), len(steps)))
+for kind in ("surface",) if "quads: surface" in log else ("slices", "region"):
+    images = glob.glob(os.path.join(output, kind + "_*.png"))
+    expect(len(steps) > 0 and len(images) == len(steps),
+           "a %s image for every step (%d images, %d steps)" % (kind, len(images), len(steps)))
 ranks = re.search(r", (\d+) ranks,", log)
 ranks = int(ranks.group(1)) if ranks else 0
+dimension = re.search(r"canopy_miniamr: (\d)D,", log)
+dimension = int(dimension.group(1)) if dimension else 0
 
 
 def step_value(step, pattern):
@@ -121,16 +126,31 @@ for name in ("viewer1", "viewer2"):
     expect(len(records) >= 2, "%s received deliveries (%d)" % (name, len(records)))
     for record in records:
         step = record["step"]
-        expect(record["surface"] == step_value(step, r"quads: surface (\d+)"),
+        # 2D: the surface image's surface; 3D: the selected region's surface.
+        surface = step_value(step, r"quads: (?:surface|region) (\d+)")
+        expect(record["surface"] == surface,
                "%s, step %d: a surface of %d quads, as the simulation drew (%s)"
-               % (name, step, record["surface"], step_value(step, r"quads: surface (\d+)")))
+               % (name, step, record["surface"], surface))
+        if record["slices"] is not None:
+            slices = step_value(step, r"slices (\d+)")
+            expect(record["slices"] == slices, "%s, step %d: slices of %d quads, as the "
+                   "simulation drew (%s)" % (name, step, record["slices"], slices))
         expect(record["grid_cells"] == step_value(step, r" cells +(\d+)") and
                record["grid_pieces"] == ranks,
                "%s, step %d: an unpacked grid of %d cells in %d pieces; the simulation had %s "
                "cells on %d ranks" % (name, step, record["grid_cells"], record["grid_pieces"],
                                       step_value(step, r" cells +(\d+)"), ranks))
-        expect(0 < record["selection_cells"] < record["grid_cells"],
-               "%s, step %d: a selection of %d cells" % (name, step, record["selection_cells"]))
+        if record["selection_packed"]:
+            # A selection that keeps the topology: the grid with a mask.
+            expect(record["selection_cells"] == record["grid_cells"],
+                   "%s, step %d: a masked selection grid of %d cells (the grid's %d)"
+                   % (name, step, record["selection_cells"], record["grid_cells"]))
+        else:
+            expect(0 < record["selection_cells"] < record["grid_cells"],
+                   "%s, step %d: a selection of %d cells" % (name, step,
+                                                             record["selection_cells"]))
+    expect(any(r["slices"] for r in records) == (dimension == 3),
+           "%s: slices pulled exactly when the simulation is 3D" % name)
 
 # The pause: the step it was taken on lasted as long as the pause.
 paused = load("viewer1")
@@ -147,6 +167,8 @@ expect(stalled, "viewer3 received a delivery before it stalled")
 warnings = re.findall(r"WARN\|.*Catalyst Live: (.*?)(?:\x1b\[0m)?$", log, re.M)
 kinds = {"grid": r"'sources:grid:0', a hypertree grid, .* sent packed",
          "missing": r"'sources:no such source:0', which this simulation does not have",
+         "packed selection": r"'sources:CanopyExtractSelection\d+:0', a hypertree grid, .* sent "
+                             r"packed",
          "pause limit": r"paused by the viewer for %d" % PAUSE_LIMIT,
          "stall": r"did not answer for %d" % STALL_LIMIT,
          "socket": r"vtk\w*Socket\w* \(0x[0-9a-f]+\): |Could not receive|Broken pipe"}
@@ -154,6 +176,10 @@ counts = {kind: sum(1 for w in warnings if re.search(pattern, w))
           for kind, pattern in kinds.items()}
 for kind in ("grid", "missing", "pause limit", "stall"):
     expect(counts[kind] == 1, "one warning for the %s (%d)" % (kind, counts[kind]))
+packed_selections = 1 if any(r["selection_packed"] for r in load("viewer1")["records"]) else 0
+expect(counts["packed selection"] == packed_selections,
+       "%d warning(s) for the selection sent packed (%d)" % (packed_selections,
+                                                            counts["packed selection"]))
 others = [w for w in warnings if not any(re.search(p, w) for p in kinds.values())]
 expect(not others, "no other Live warning (%s)" % others[:3])
 expect(counts["socket"] <= 3, "at most one socket message per disconnection (%d)"
