@@ -131,6 +131,25 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
   // The children the plane cuts.
   auto cutChildren = [&](const WalkNode& parent, int child)
   { return Grid.childDigits(child)[axis] == digitAt(parent); };
+  // Whether a cell the plane cuts below `start` is masked.
+  auto cutCellMaskedBelow = [&](const WalkNode& start)
+  {
+    bool masked = false;
+    walkSubtree(
+        Grid, tree, start,
+        [&](WalkNode& m)
+        {
+          ++visited;
+          if (m.node != start.node && Grid.isMasked(tree.globalIndex(m.node)))
+          {
+            masked = true;
+            return WalkStep::Stop;
+          }
+          return WalkStep::Descend;
+        },
+        cutChildren);
+    return masked;
+  };
   Vec3 lo{{0, 0, 0}};
   Vec3 hi{{0, 0, 0}};
   const int b = (axis + 1) % 3;
@@ -168,9 +187,15 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
           }
         }
         bool stop = tree.isLeaf(n.node);
+        // A node with another rank's parts or masked cells on the plane below it
+        // is never drawn whole: either would draw what is not this rank's or not
+        // there. Masks are looked for only under a node level of detail would
+        // stop at, only among the cells the plane cuts (no pass over the grid).
         if (!stop && lod && !tree.hasAbsentDescendant(n.node))
         {
-          stop = view->footprintInPixels(rectangleCorners(lo, hi, b, c)) <= Options.pixelThreshold;
+          stop =
+              view->footprintInPixels(rectangleCorners(lo, hi, b, c)) <= Options.pixelThreshold &&
+              !(Grid.hasMask() && cutCellMaskedBelow(n));
         }
         if (!stop)
         {

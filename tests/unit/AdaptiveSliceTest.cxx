@@ -387,7 +387,6 @@ TEST(AdaptiveSlice, LevelOfDetailCoversEachCutLeafExactlyOnce)
   for (std::uint64_t seed = 1; seed <= 6; ++seed)
   {
     RandomForestOptions o = sliceOptions(seed);
-    o.maskProbability = 0; // level of detail draws masked parts of coarse nodes
     o.skipEveryOtherRoot = false;
     o.maxLevels = o.branchFactor == 3 ? 4 : 7;
     o.refineProbability = 0.6;
