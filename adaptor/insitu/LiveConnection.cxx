@@ -146,9 +146,10 @@ void shutDownSocketsTo(int first, int last)
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd", error))
   {
+    const std::string name = entry.path().filename().string();
     char* end = nullptr;
-    const long descriptor = std::strtol(entry.path().filename().c_str(), &end, 10);
-    if (*end != '\0')
+    const long descriptor = std::strtol(name.c_str(), &end, 10);
+    if (name.empty() || *end != '\0')
     {
       continue;
     }
