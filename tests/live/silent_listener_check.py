@@ -6,8 +6,9 @@ would wait in its handshake forever, holding the simulation.
 
 Listens on PORT without ever answering, runs the simulation with
 --live localhost:PORT --live-stall-limit 2, and checks that it ends with 0, no
-failed pipeline and an image for every step, having waited once (one warning
-naming the address, the next attempt a minute later), not at every step.
+failed pipeline and an image for every step, having waited once, for the stall
+limit (one warning naming the address, the next attempt a minute later), not at
+every step.
 """
 import glob
 import os
@@ -47,8 +48,8 @@ expect(len(steps) > 1 and len(images) == len(steps),
 waits = re.findall(r"WARN\|.*Catalyst Live: something at localhost:%d accepted the connection "
                    r"but did not answer for 2 s.*next attempt is in 60 s" % port, log)
 expect(len(waits) == 1, "one warning for the silent listener (%d)" % len(waits))
-slow = [float(ms) for ms in re.findall(r"canopy ([0-9.]+) ms", log)[1:] if float(ms) > 1500]
-expect(not slow, "only one step waited for it (later steps over 1.5 s: %s)" % slow)
+# One warning: the wait happened once (each attempt that waits warns), not at
+# every step; a wait without the guard would never end (the timeout above).
 expect(not re.search(r"ERR\|", log), "no error in the simulation's log")
 print("took %.1f s" % took)
 finish()
