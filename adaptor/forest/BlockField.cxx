@@ -58,8 +58,9 @@ BlockField<T>::BlockField(const FieldDescription& field, std::shared_ptr<const B
   }
   const std::size_t blocks = this->Cells->numberOfBlocks();
   const auto nc = static_cast<std::size_t>(this->Components);
-  // Left uninitialized (untouched pages cost nothing) until a block's first read.
-  this->Pyramid.reset(new T[blocks * nc * this->PyramidSize]);
+  // Each block's pyramid is allocated at its first read: the wrap costs a
+  // pointer per block, not a value per cell (BlockField.h).
+  this->Pyramids.reset(new std::unique_ptr<T[]>[blocks]);
   this->PyramidBuilt.reset(new std::once_flag[blocks]);
   this->NodeMean.reset(new double[this->Cells->numberOfNodes() * nc]);
   this->NodeMeanBuilt.reset(new std::once_flag[this->Cells->numberOfNodes()]);
@@ -117,6 +118,8 @@ void BlockField<T>::buildPyramid(std::size_t block) const
   const int dimension = this->Cells->dimension();
   const std::size_t children = this->Cells->childrenPerNode();
   const auto nc = static_cast<std::size_t>(this->Components);
+  this->Pyramids[block].reset(new T[nc * this->PyramidSize]);
+  T* pyramid = this->Pyramids[block].get();
   // Level m-1 (the cells' parents) in double, then each level from the one below.
   std::size_t side = this->Cells->cellsPerSide() / bf;
   const std::size_t sideJ = dimension >= 2 ? side : 1;
@@ -156,8 +159,8 @@ void BlockField<T>::buildPyramid(std::size_t block) const
           }
         }
       }
-      T* level = this->Pyramid.get() + (block * nc + c) * this->PyramidSize +
-                 this->PyramidLevelStart[static_cast<std::size_t>(s)];
+      T* level =
+          pyramid + c * this->PyramidSize + this->PyramidLevelStart[static_cast<std::size_t>(s)];
       for (std::size_t v = 0; v < above.size(); ++v)
       {
         above[v] /= static_cast<double>(children);
@@ -204,10 +207,9 @@ double BlockField<T>::coarseInBlock(std::size_t block, int subLevel,
   }
   const std::size_t sideJ = dimension >= 2 ? side : 1;
   const std::size_t at = position[0] + side * (position[1] + sideJ * position[2]);
-  const auto nc = static_cast<std::size_t>(this->Components);
   return static_cast<double>(
-      this->Pyramid[(block * nc + static_cast<std::size_t>(component)) * this->PyramidSize +
-                    this->PyramidLevelStart[static_cast<std::size_t>(subLevel)] + at]);
+      this->Pyramids[block][static_cast<std::size_t>(component) * this->PyramidSize +
+                            this->PyramidLevelStart[static_cast<std::size_t>(subLevel)] + at]);
 }
 
 template <typename T>

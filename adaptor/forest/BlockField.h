@@ -6,7 +6,7 @@
 // (volume averages, the plain mean of a node's equal children) and are computed
 // when something reads them:
 //  - inside a block, the level just above the cells from its bf^d cells on every
-//    read; the levels above that from a per-block pyramid of means, built on the
+//    read; the levels above that from a per-block pyramid of means, allocated and built on the
 //    block's first such read (bf^-2d of the block's cells: 1/64 of them in 3D);
 //  - above blocks, a described node's mean of its unmasked children (every present
 //    child when all are masked; absent ones left out, as LeafRestriction.h), kept
@@ -71,7 +71,7 @@ private:
   // cube i fastest, then the components.
   std::size_t PyramidSize = 0; ///< values per block and component
   std::vector<std::size_t> PyramidLevelStart;
-  mutable std::unique_ptr<T[]> Pyramid;
+  mutable std::unique_ptr<std::unique_ptr<T[]>[]> Pyramids; ///< per block, at its first read
   mutable std::unique_ptr<std::once_flag[]> PyramidBuilt;
   mutable std::unique_ptr<double[]> NodeMean; ///< per described node and component
   mutable std::unique_ptr<std::once_flag[]> NodeMeanBuilt;
