@@ -14,8 +14,8 @@
 //    Heap and resident memory each adds per cell; the first full reads of
 //    Canopy's grid (coarse values are computed when first read); where Canopy's
 //    build goes (its internal steps, GridAssembly.h, timed one by one, and VTK's
-//    BuildFromBreadthFirstOrderDescriptor against InitializeForReader on the same
-//    bits).
+//    BuildFromBreadthFirstOrderDescriptor, which Canopy used before, against
+//    InitializeForReader, which it uses, on the same bits).
 // 2. Images (--part image; renders, run under tests/support/with_xvfb.sh): the
 //    adaptive surface (the whole domain; with the octant towards the camera cut
 //    away by masking its blocks) and three adaptive slices, 1024x1024, in a
@@ -802,7 +802,7 @@ void printWrap(const std::vector<WrapRow>& rows, std::ofstream& csv)
   std::cout << "\n## Where Canopy's build goes (ms, best of " << Repetitions
             << "; internal steps, GridAssembly.h)\n\n"
             << "| forest | validation + layout | block index | VTK trees (Canopy's "
-               "descriptor + BuildFromBreadthFirstOrderDescriptor) | mask | fields | VTK "
+               "descriptor + InitializeForReader) | mask | fields | VTK "
                "descriptor bits per grid cell | BuildFromBreadthFirstOrderDescriptor alone: "
                "ns/bit, heap B/cell | InitializeForReader, same bits: ns/bit, heap B/cell "
                "(same trees) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
