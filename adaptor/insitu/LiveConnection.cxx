@@ -12,6 +12,7 @@
 #include <vtkHyperTreeGrid.h>
 #include <vtkLiveInsituLink.h>
 #include <vtkMultiProcessController.h>
+#include <vtkMultiProcessStream.h>
 #include <vtkPolyData.h>
 #include <vtkSMProxyManager.h>
 #include <vtkSMSessionProxyManager.h>
@@ -28,6 +29,7 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdlib>
@@ -137,16 +139,18 @@ private:
   loguru::Verbosity Saved;
 };
 
-/// Shuts down this process's TCP sockets whose peer port is in [first, last]:
-/// the viewer's control port and its data ports (one per simulation rank).
-/// Found through /proc/self/fd, because ParaView's link opens them inside calls
-/// that can block (connecting, its handshake) before Canopy could know them.
-void shutDownSocketsTo(int first, int last)
+/// Shuts down this process's TCP sockets connected to one of `ports` (the
+/// viewer's ports this rank talks to). Found through /proc/self/fd, because
+/// ParaView's link opens them inside calls that can block (connecting, its
+/// handshake) before Canopy could know them.
+void shutDownSocketsTo(const std::vector<int>& ports)
 {
   std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd", error))
+  std::filesystem::directory_iterator entry("/proc/self/fd", error);
+  // Never throws: the guard's thread must not terminate the simulation.
+  for (; !error && entry != std::filesystem::directory_iterator(); entry.increment(error))
   {
-    const std::string name = entry.path().filename().string();
+    const std::string name = entry->path().filename().string();
     char* end = nullptr;
     const long descriptor = std::strtol(name.c_str(), &end, 10);
     if (name.empty() || *end != '\0')
@@ -168,7 +172,7 @@ void shutDownSocketsTo(int first, int last)
     {
       port = ntohs(reinterpret_cast<const sockaddr_in6*>(&peer)->sin6_port);
     }
-    if (port >= first && port <= last)
+    if (std::find(ports.begin(), ports.end(), port) != ports.end())
     {
       shutdown(static_cast<int>(descriptor), SHUT_RDWR);
     }
@@ -182,21 +186,21 @@ void shutDownSocketsTo(int first, int last)
 class StallGuard
 {
 public:
-  StallGuard(double seconds, int firstPort, int lastPort)
+  StallGuard(double seconds, std::vector<int> ports)
   {
     if (seconds <= 0.0)
     {
       return;
     }
     this->Thread = std::thread(
-        [this, seconds, firstPort, lastPort]
+        [this, seconds, ports = std::move(ports)]
         {
           std::unique_lock<std::mutex> lock(this->Mutex);
           if (!this->Done.wait_for(lock, std::chrono::duration<double>(seconds),
                                    [this] { return this->Disarmed; }))
           {
             this->Fired = true;
-            shutDownSocketsTo(firstPort, lastPort);
+            shutDownSocketsTo(ports);
           }
         });
   }
@@ -320,12 +324,17 @@ std::vector<std::string> LiveConnection::update(double time, std::int64_t step)
     bool paused = false;
     while (again)
     {
-      StallGuard guard(this->Options.stallSeconds, this->Options.port, this->lastDataPort());
+      StallGuard guard(this->Options.stallSeconds, this->viewerPorts());
       std::vector<std::string> requestMessages;
       {
+        // ParaView's link names a missing source only in an error message, which
+        // VTK drops while its warnings are off (a simulation may turn them off).
+        const int display = vtkObject::GetGlobalWarningDisplay();
+        vtkObject::GlobalWarningDisplayOn();
         const VtkMessageCapture requests;
         this->Link->InsituUpdate(time, static_cast<vtkIdType>(step));
         requestMessages = requests.messages();
+        vtkObject::SetGlobalWarningDisplay(display);
       }
       this->prepareExtracts(requestMessages, warnings);
       this->Link->InsituPostProcess(time, static_cast<vtkIdType>(step));
@@ -344,6 +353,11 @@ std::vector<std::string> LiveConnection::update(double time, std::int64_t step)
       this->PauseExpired = false;
     }
   }
+  if (!this->connected())
+  {
+    // The viewer left: what was kept for it (a packed grid on rank 0) goes too.
+    this->Substitutes.clear();
+  }
   for (const auto& message : logged.messages())
   {
     std::string key;
@@ -355,10 +369,16 @@ std::vector<std::string> LiveConnection::update(double time, std::int64_t step)
   return warnings;
 }
 
-int LiveConnection::lastDataPort() const
+std::vector<int> LiveConnection::viewerPorts() const
 {
-  auto* controller = ranks();
-  return this->Options.port + (controller ? controller->GetNumberOfProcesses() : 1);
+  // Rank 0: the control port and its data port; rank r: its data port, port + 1 + r
+  // (vtkLiveInsituLink::InsituConnect). Nothing else is ever shut down.
+  const int rank = rankOf(ranks());
+  if (rank == 0)
+  {
+    return {this->Options.port, this->Options.port + 1};
+  }
+  return {this->Options.port + 1 + rank};
 }
 
 bool LiveConnection::connectIfListening(std::vector<std::string>& warnings)
@@ -381,7 +401,7 @@ bool LiveConnection::connectIfListening(std::vector<std::string>& warnings)
   }
   // Rank 0 connects when a viewer listens (refused at once when none does);
   // the guard bounds a listener that accepts and never answers the handshake.
-  StallGuard guard(this->Options.stallSeconds, this->Options.port, this->lastDataPort());
+  StallGuard guard(this->Options.stallSeconds, this->viewerPorts());
   auto* pxm = vtkSMProxyManager::GetProxyManager()->GetActiveSessionProxyManager();
   const bool linked = this->Link->Initialize(pxm);
   if (guard.disarm() && !linked)
@@ -421,29 +441,54 @@ void LiveConnection::prepareExtracts(const std::vector<std::string>& requestMess
       warnings.push_back("the viewer asked for '" + key + "', " + what);
     }
   };
-  // Every rank reads the same requests (ParaView broadcasts them) and logs the
-  // same missing sources, so every rank substitutes the same extracts.
-  auto& producers = DeliveryAccess::producers(helper);
-  for (const auto& message : requestMessages)
-  {
-    std::string key;
-    if (missingSourceKey(message, key))
-    {
-      auto& substitute = this->Substitutes[key];
-      if (!substitute)
-      {
-        auto empty = vtkSmartPointer<vtkTrivialProducer>::New();
-        empty->SetOutput(vtkSmartPointer<vtkPolyData>::New());
-        substitute = empty;
-      }
-      producers[key] = substitute->GetOutputPort();
-      warnOnce(key, "which this simulation does not have: it gets an empty vtkPolyData (ParaView's "
-                    "viewer shows nothing new until every extract it asked for arrives)");
-    }
-  }
+  // Rank 0 decides which sources are missing and tells the others, so that every
+  // rank substitutes the same extracts (ParaView's delivery is collective).
   auto* controller = ranks();
   const int rank = rankOf(controller);
   const int size = controller ? controller->GetNumberOfProcesses() : 1;
+  std::vector<std::string> missing;
+  if (rank == 0)
+  {
+    for (const auto& message : requestMessages)
+    {
+      std::string key;
+      if (missingSourceKey(message, key))
+      {
+        missing.push_back(key);
+      }
+    }
+  }
+  if (size > 1)
+  {
+    vtkMultiProcessStream keys;
+    keys << static_cast<int>(missing.size());
+    for (const auto& key : missing)
+    {
+      keys << key;
+    }
+    controller->Broadcast(keys, 0);
+    int count = 0;
+    keys >> count;
+    missing.resize(static_cast<std::size_t>(count));
+    for (auto& key : missing)
+    {
+      keys >> key;
+    }
+  }
+  auto& producers = DeliveryAccess::producers(helper);
+  for (const auto& key : missing)
+  {
+    auto& substitute = this->Substitutes[key];
+    if (!vtkTrivialProducer::SafeDownCast(substitute))
+    {
+      auto empty = vtkSmartPointer<vtkTrivialProducer>::New();
+      empty->SetOutput(vtkSmartPointer<vtkPolyData>::New());
+      substitute = empty;
+    }
+    producers[key] = substitute->GetOutputPort();
+    warnOnce(key, "which this simulation does not have: it gets an empty vtkPolyData (ParaView's "
+                  "viewer shows nothing new until every extract it asked for arrives)");
+  }
   for (auto& entry : producers)
   {
     vtkAlgorithmOutput* port = entry.second;
@@ -466,6 +511,12 @@ void LiveConnection::prepareExtracts(const std::vector<std::string>& requestMess
           entry.first,
           "a hypertree grid, which VTK 9.2 cannot send: it is sent packed; apply Canopy Unpack "
           "Grid to it in the viewer (docs/insitu.md, Catalyst Live)");
+    }
+    if (auto* packer = vtkCanopyHyperTreeGridPacker::SafeDownCast(algorithm))
+    {
+      // Executed on every rank at every exchange, never skipped by one rank as
+      // up to date: its gather is collective.
+      packer->Modified();
     }
     if (algorithm)
     {
@@ -513,7 +564,12 @@ bool LiveConnection::waitWhilePaused(double pausedSeconds, std::vector<std::stri
   {
     controller->Broadcast(&decision, 1, 0);
   }
-  return decision == 1 && this->Link->WaitForLiveChange() == 0;
+  if (decision != 1)
+  {
+    return false;
+  }
+  StallGuard guard(this->Options.stallSeconds, this->viewerPorts());
+  return this->Link->WaitForLiveChange() == 0;
 }
 
 } // namespace canopy

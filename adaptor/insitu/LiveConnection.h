@@ -68,9 +68,8 @@ private:
   /// accepts and does not answer within stallSeconds is left, with a warning,
   /// and not tried again for a minute (doubling each time it happens again).
   bool connectIfListening(std::vector<std::string>& warnings);
-  /// The last port of the viewer's: its control port, then one data port per
-  /// simulation rank.
-  int lastDataPort() const;
+  /// The viewer's ports this rank talks to (the stall guard's targets).
+  std::vector<int> viewerPorts() const;
   /// Makes every extract the viewer asked for sendable and up to date.
   /// `requestMessages`: what ParaView's link logged while reading the requests
   /// (its "No proxy: group, name" errors name the missing sources).
@@ -83,7 +82,7 @@ private:
   Settings Options;
   vtkSmartPointer<vtkLiveInsituLink> Link;
   /// What is sent instead of an unsendable or missing extract, by key
-  /// ("group:name:port"), kept while the viewer asks for it.
+  /// ("group:name:port"), kept while a viewer is connected.
   std::map<std::string, vtkSmartPointer<vtkAlgorithm>> Substitutes;
   std::set<std::string> Warned; ///< extracts already warned about
   bool PauseExpired = false;

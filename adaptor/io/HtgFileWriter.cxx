@@ -344,8 +344,14 @@ std::string writeHtgText(vtkHyperTreeGrid* htg, std::string& text,
   {
     return std::string("cannot open a memory stream: ") + std::strerror(errno);
   }
+  errno = 0;
   const bool written = writeAssembled(header, file, out);
+  int error = errno;
   const bool closed = std::fclose(out) == 0;
+  if (!closed && written)
+  {
+    error = errno;
+  }
   if (written && closed)
   {
     text.assign(buffer, size);
@@ -353,7 +359,7 @@ std::string writeHtgText(vtkHyperTreeGrid* htg, std::string& text,
   std::free(buffer);
   return written && closed ? std::string()
                            : std::string("cannot write the .htg text in memory: ") +
-                                 std::strerror(errno ? errno : ENOMEM);
+                                 std::strerror(error ? error : ENOMEM);
 }
 
 } // namespace canopy::io
