@@ -25,6 +25,8 @@ MiniAppForest::MiniAppForest(const MiniAppForestOptions& options, MPI_Comm commu
                                  std::to_string(options.maxLevel),
                                  "--steps",
                                  std::to_string(options.steps),
+                                 "--regrid-every",
+                                 std::to_string(options.regridEvery),
                                  "--no-insitu",
                                  "--quiet"};
   std::vector<char*> argv;
@@ -77,14 +79,16 @@ std::string MiniAppForest::label() const
   const std::string r = std::to_string(Options.roots);
   return "mini-app " + std::to_string(Options.dimension) + "D, " + r + "^" +
          std::to_string(Options.dimension) + " roots, " + std::to_string(Options.maxLevel) +
-         " levels, step " + std::to_string(step());
+         " levels, step " + std::to_string(step()) +
+         (Options.regridEvery > 1 ? ", regrid every " + std::to_string(Options.regridEvery) : "");
 }
 
 std::string MiniAppForest::commandLine() const
 {
   return "canopy_miniamr --dimension " + std::to_string(Options.dimension) + " --roots " +
          std::to_string(Options.roots) + " --max-level " + std::to_string(Options.maxLevel) +
-         " --steps " + std::to_string(step());
+         " --steps " + std::to_string(step()) +
+         (Options.regridEvery > 1 ? " --regrid-every " + std::to_string(Options.regridEvery) : "");
 }
 
 MiniAppForestOptions parseMiniAppForest(const std::string& text)
@@ -105,15 +109,17 @@ MiniAppForestOptions parseMiniAppForest(const std::string& text)
     }
     start = comma + 1;
   }
-  if (numbers.size() != 4 || (numbers[0] != 2 && numbers[0] != 3) || numbers[1] < 1 ||
-      numbers[2] < 0 || numbers[3] < 0)
-    throw std::invalid_argument("mini-app forest '" + text +
-                                "': expected DIMENSION,ROOTS,MAX_LEVEL,STEPS, e.g. 2,32,9,20");
+  if ((numbers.size() != 4 && numbers.size() != 5) || (numbers[0] != 2 && numbers[0] != 3) ||
+      numbers[1] < 1 || numbers[2] < 0 || numbers[3] < 0 || (numbers.size() == 5 && numbers[4] < 1))
+    throw std::invalid_argument(
+        "mini-app forest '" + text +
+        "': expected DIMENSION,ROOTS,MAX_LEVEL,STEPS[,REGRID_EVERY], e.g. 2,32,9,20");
   MiniAppForestOptions o;
   o.dimension = numbers[0];
   o.roots = numbers[1];
   o.maxLevel = numbers[2];
   o.steps = numbers[3];
+  o.regridEvery = numbers.size() == 5 ? numbers[4] : 1;
   return o;
 }
 

@@ -24,9 +24,10 @@ namespace canopy::tools
 struct MiniAppForestOptions
 {
   int dimension = 2;
-  int roots = 32;   ///< root cells per axis
-  int maxLevel = 8; ///< finest level (level 0 = roots)
-  int steps = 20;   ///< steps simulated before the forest is taken
+  int roots = 32;      ///< root cells per axis
+  int maxLevel = 8;    ///< finest level (level 0 = roots)
+  int steps = 20;      ///< steps simulated before the forest is taken
+  int regridEvery = 1; ///< the mesh adapts every this many steps (the mini-app's default: 1)
 };
 
 class MiniAppForest
@@ -60,7 +61,8 @@ private:
   std::unique_ptr<miniamr::Simulation> Simulation;
 };
 
-/// Parses "DIM,ROOTS,MAXLEVEL,STEPS" (e.g. "2,32,9,20"); throws std::invalid_argument.
+/// Parses "DIM,ROOTS,MAXLEVEL,STEPS[,REGRID_EVERY]" (e.g. "2,32,9,20"); throws
+/// std::invalid_argument.
 MiniAppForestOptions parseMiniAppForest(const std::string& text);
 
 /// MPI_Init if nobody did (benchmarks run as a single process also work).

@@ -347,6 +347,10 @@ std::vector<SelectedNode> CellSelection::byRegion(const Overlaps& overlaps,
       Progress, static_cast<vtkIdType>(trees.size()),
       [&](vtkIdType t)
       {
+        if (Skipped && (*Skipped)[static_cast<std::size_t>(t)])
+        {
+          return true;
+        }
         const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
         walkTree(Grid, tree,
                  [&](WalkNode& n)

@@ -64,6 +64,10 @@ public:
   /// their results are to be discarded. (Locations are looked up point by
   /// point, without a loop over trees.)
   void setProgress(const ProgressShare& progress) { Progress = progress; }
+  /// Trees a box or frustum selection does not walk (one entry per
+  /// grid.trees(), nonzero: skipped; nullptr: none), for a caller that keeps
+  /// their result from before (SelectionMaskMemo). Must outlive the selections.
+  void setSkippedTrees(const std::vector<unsigned char>* skipped) { Skipped = skipped; }
 
   /// The unmasked leaf containing each point (see the rule above).
   std::vector<SelectedNode> byLocation(const std::vector<Vec3>& points,
@@ -110,6 +114,7 @@ private:
   const HyperTreeAccess& Grid;
   bool AllowMasked;
   ProgressShare Progress;
+  const std::vector<unsigned char>* Skipped = nullptr;
 };
 
 } // namespace canopy

@@ -238,6 +238,14 @@ public:
            ((MaskBits[globalIndex >> 3] >> (7 - (globalIndex & 7))) & 1) != 0;
   }
 
+  /// The mask's packed bits (nullptr without a mask) and its length in cells;
+  /// the ghost marks (nullptr without them) and their count: what the cells'
+  /// hidden state is read from, for fingerprints of it.
+  const unsigned char* maskBits() const { return MaskBits; }
+  vtkIdType maskSize() const { return MaskSize; }
+  const unsigned char* ghostMarks() const { return Ghosts; }
+  vtkIdType ghostMarkCount() const { return GhostsSize; }
+
 private:
   void computeHiddenBelow(TreeAccess& access, bool masked, bool absent) const;
   void countVisibleLeaves(TreeAccess& access) const;

@@ -10,14 +10,17 @@
 // that rank may have selected (the 3D surface takes a masked node for a hole as
 // large as the node).
 //
-// Cost: per tree, one byte per node, a mark per selected node (and subtree) or
-// one walk of the visible nodes (inverted), one reverse pass over the nodes
-// (children follow their parents in local order), then N / 8 bytes of mask.
-// Trees run in parallel.
+// Cost: per tree the memo does not keep (SelectionMaskMemo.h: only the trees
+// whose topology, marks or selection changed), one byte per node, a mark per
+// selected node (and subtree) or one walk of the visible nodes (inverted), one
+// reverse pass over the nodes (children follow their parents in local order);
+// then the mask: the last one patched (N / 4 bytes copied), or packed anew from
+// every tree's bytes. Trees run in parallel.
 #pragma once
 
 #include "CellSelection.h"
 #include "HyperTreeAccess.h"
+#include "SelectionMaskMemo.h"
 #include "TreeProgress.h"
 
 #include <vtkSmartPointer.h>
@@ -41,18 +44,23 @@ struct SelectionMaskResult
   std::array<double, 6> bounds;
 };
 
-/// `selected`: what the selection picked (any order). `allowMasked`: masked
-/// cells count as selectable (as CellSelection's). `progress`: where the loop
-/// over trees reports and learns that the execution was aborted; stopped, the
-/// result has no mask.
+/// `selected`: what the selection picked (any order; nodes of trees the memo
+/// keeps are not read). `allowMasked`: masked cells count as selectable (as
+/// CellSelection's). `memo`: begun for this grid and selection
+/// (SelectionMaskMemo::begin); the trees it keeps are not marked again, and it
+/// keeps this mask for the next execution. `progress`: where the loop over
+/// trees reports and learns that the execution was aborted; stopped, the
+/// result has no mask and the memo is cleared.
 SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
                                   const std::vector<SelectedNode>& selected, bool invert,
-                                  bool allowMasked, const ProgressShare& progress = {});
+                                  bool allowMasked, SelectionMaskMemo& memo,
+                                  const ProgressShare& progress = {});
 
 /// The same for a selection of leaves by a test of their global index (a value
 /// range): the leaves are tested in the mask's own pass, no node list is made.
 SelectionMaskResult selectionMaskOfLeaves(const HyperTreeAccess& grid,
                                           const std::function<bool(vtkIdType)>& picked, bool invert,
-                                          bool allowMasked, const ProgressShare& progress = {});
+                                          bool allowMasked, SelectionMaskMemo& memo,
+                                          const ProgressShare& progress = {});
 
 } // namespace canopy

@@ -1,5 +1,6 @@
 #include "vtkCanopyExtractSelection.h"
 
+#include "ByteHash.h"
 #include "CellSelection.h"
 #include "Frustum.h"
 #include "GatherTuples.h"
@@ -8,6 +9,7 @@
 #include "PointMerger.h"
 #include "PureMask.h"
 #include "SelectionMask.h"
+#include "SelectionMaskMemo.h"
 #include "TreeProgress.h"
 
 #include <vtkBitArray.h>
@@ -38,7 +40,8 @@
 vtkStandardNewMacro(vtkCanopyExtractSelection);
 
 vtkCanopyExtractSelection::vtkCanopyExtractSelection()
-    : Topology(std::make_unique<canopy::HyperTreeAccessCache>())
+    : Topology(std::make_unique<canopy::HyperTreeAccessCache>()),
+      MaskMemo(std::make_unique<canopy::SelectionMaskMemo>())
 {
   this->SetNumberOfInputPorts(2);
 }
@@ -247,6 +250,38 @@ void toUnstructured(const canopy::HyperTreeAccess& grid, const canopy::CellSelec
   output->GetCellData()->AddArray(level);
 }
 
+/// What a masked selection depends on beside the trees (SelectionMaskMemo):
+/// the grid's kind, the mode and its parameters, and for a value range the
+/// values' array and its modified time (VTK gives each change a later time).
+std::uint64_t selectionFingerprint(const canopy::HyperTreeAccess& grid, int mode, bool invert,
+                                   bool allowMasked, const std::vector<canopy::Vec3>& points,
+                                   const std::vector<vtkIdType>& ids, vtkDataArray* values,
+                                   int component, const double range[2],
+                                   const std::array<double, 6>& box, const canopy::Frustum& frustum)
+{
+  using canopy::hashBytes;
+  using canopy::hashCombine;
+  std::uint64_t h = hashCombine(0xCA40B1ull, static_cast<std::uint64_t>(mode));
+  h = hashCombine(h, (invert ? 1u : 0u) | (allowMasked ? 2u : 0u));
+  h = hashCombine(h, static_cast<std::uint64_t>(grid.dimension() * 64 + grid.childrenPerNode()));
+  switch (mode)
+  {
+  case vtkCanopyExtractSelection::LOCATIONS:
+    return hashBytes(points.data(), points.size() * sizeof(canopy::Vec3), h);
+  case vtkCanopyExtractSelection::IDS:
+    return hashBytes(ids.data(), ids.size() * sizeof(vtkIdType), h);
+  case vtkCanopyExtractSelection::VALUE_RANGE:
+    h = hashCombine(h, reinterpret_cast<std::uintptr_t>(values));
+    h = hashCombine(h, values ? values->GetMTime() : 0);
+    h = hashCombine(h, static_cast<std::uint64_t>(component + 1));
+    return hashBytes(range, 2 * sizeof(double), h);
+  case vtkCanopyExtractSelection::BOX:
+    return hashBytes(box.data(), sizeof(box), h);
+  default:
+    return hashBytes(frustum.planes.data(), sizeof(frustum.planes), h);
+  }
+}
+
 } // namespace
 
 int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector** inputVector,
@@ -258,6 +293,8 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
   vtkDataObject* outputObject = vtkDataObject::GetData(outputVector, 0);
   this->LastOutside = this->LastMasked = this->LastOutOfRange = this->LastDuplicates = 0;
   this->LastVisited = 0;
+  this->LastKeptTrees = 0;
+  this->LastRecomputedNodes = 0;
   for (int a = 0; a < 3; ++a)
   {
     this->LastSelectedBounds[2 * a] = 1e300;
@@ -473,6 +510,20 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     const canopy::HyperTreeAccess& grid = *access;
     canopy::CellSelection selection(grid, this->AllowMasked);
     selection.setProgress(share.part(0, 0.5));
+    if (this->PreserveTopology)
+    {
+      // Trees whose mask is kept from the last execution are not selected again.
+      const auto& kept =
+          this->MaskMemo->begin(grid,
+                                selectionFingerprint(grid, mode, invert, this->AllowMasked, points,
+                                                     ids, values, component, range, box, frustum),
+                                mode == IDS || mode == VALUE_RANGE);
+      selection.setSkippedTrees(&kept);
+    }
+    else
+    {
+      this->MaskMemo->clear();
+    }
     canopy::SelectionReport report;
     std::vector<canopy::SelectedNode> nodes;
     if (mode == LOCATIONS)
@@ -502,6 +553,7 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     this->LastVisited = static_cast<vtkIdType>(report.visited);
     if (progress.stopped())
     {
+      this->MaskMemo->clear();
       return abandon();
     }
     if (this->PreserveTopology)
@@ -513,12 +565,15 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
               ? canopy::selectionMaskOfLeaves(
                     grid,
                     canopy::CellSelection::valueInRange(values, component, range[0], range[1]),
-                    invert, this->AllowMasked, share.part(0.5, 1))
-              : canopy::selectionMask(grid, nodes, invert, this->AllowMasked, share.part(0.5, 1));
+                    invert, this->AllowMasked, *this->MaskMemo, share.part(0.5, 1))
+              : canopy::selectionMask(grid, nodes, invert, this->AllowMasked, *this->MaskMemo,
+                                      share.part(0.5, 1));
       if (progress.stopped())
       {
         return abandon();
       }
+      this->LastKeptTrees = static_cast<vtkIdType>(this->MaskMemo->keptTrees());
+      this->LastRecomputedNodes = static_cast<vtkIdType>(this->MaskMemo->recomputedNodes());
       std::copy(shown.bounds.begin(), shown.bounds.end(), this->LastSelectedBounds);
       shareWithMask(input, vtkHyperTreeGrid::SafeDownCast(outputObject), shown.mask, shown.pure);
     }
@@ -553,6 +608,7 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
   catch (const std::exception& e)
   {
     this->Topology->clear();
+    this->MaskMemo->clear();
     vtkErrorMacro("cannot extract the selection: " << e.what());
     return 0;
   }
@@ -585,6 +641,8 @@ void vtkCanopyExtractSelection::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "LastOutOfRange: " << this->LastOutOfRange << "\n"
      << indent << "LastDuplicates: " << this->LastDuplicates << "\n"
      << indent << "LastVisited: " << this->LastVisited << "\n"
+     << indent << "LastKeptTrees: " << this->LastKeptTrees << "\n"
+     << indent << "LastRecomputedNodes: " << this->LastRecomputedNodes << "\n"
      << indent << "LastSelectedBounds: " << this->LastSelectedBounds[0] << " "
      << this->LastSelectedBounds[1] << " " << this->LastSelectedBounds[2] << " "
      << this->LastSelectedBounds[3] << " " << this->LastSelectedBounds[4] << " "

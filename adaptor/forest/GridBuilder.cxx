@@ -1,5 +1,6 @@
 #include "canopy/GridBuilder.h"
 
+#include "ByteHash.h"
 #include "GridAssembly.h"
 #include "ValidatedTrees.h"
 
@@ -13,34 +14,6 @@ namespace canopy
 {
 namespace
 {
-
-/// 64-bit hash of a byte range: four independent multiply-xorshift lanes over
-/// 32-byte blocks (a fraction of a nanosecond per byte, against tens of
-/// nanoseconds per node for VTK to build a tree).
-std::uint64_t hashBytes(const void* data, std::size_t bytes, std::uint64_t seed)
-{
-  constexpr std::uint64_t k = 0x9E3779B97F4A7C15ull;
-  std::uint64_t lanes[4] = {seed ^ (bytes * k), seed + k, seed ^ 0xD6E8FEB86659FD93ull, seed - k};
-  const auto* p = static_cast<const unsigned char*>(data);
-  std::size_t i = 0;
-  for (; i + 32 <= bytes; i += 32)
-  {
-    for (int l = 0; l < 4; ++l)
-    {
-      std::uint64_t word;
-      std::memcpy(&word, p + i + 8 * l, 8);
-      lanes[l] = (lanes[l] ^ word) * k;
-      lanes[l] ^= lanes[l] >> 29;
-    }
-  }
-  std::uint64_t h = lanes[0] ^ (lanes[1] * 3) ^ (lanes[2] * 5) ^ (lanes[3] * 7);
-  for (; i < bytes; ++i)
-  {
-    h = (h ^ p[i]) * k;
-  }
-  h ^= h >> 32;
-  return h * 0xD6E8FEB86659FD93ull;
-}
 
 /// Fingerprints of what a tree's parts of the grid depend on. A missing array
 /// hashes to another constant than any present one.

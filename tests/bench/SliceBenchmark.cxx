@@ -11,26 +11,39 @@
 //             both; vtkCanopyExtractSelection (+ another, inverted, for the cut) +
 //             vtkCanopyAdaptiveSurface against vtkHyperTreeGridThreshold (new mask,
 //             no copy) / vtkHyperTreeGridAxisClip + vtkHyperTreeGridGeometry.
+//             The cut's box moves a little at every execution: every tree is redone.
+// moving.csv  the cut-away octant of the mini-app's 3D forest, step after step
+//             (--miniapp DIM,ROOTS,MAXLEVEL,STEPS[,REGRID_EVERY], default 3,16,4,20
+//             and 3,16,4,20,4; means over 2 x repetitions steps): its objects move,
+//             the mesh adapts every step (or every REGRID_EVERY steps), GridBuilder
+//             rebuilds the trees whose refinement changed, and the
+//             same filter keeps the mask of the others (SelectionMaskMemo); against a
+//             new filter at each step (the whole mask computed), checked equal bit for
+//             bit.
 //
 // Planes sit 0.013 off the centre: VTK 9.2's AxisCut aborts on a plane that lies
 // on a cell face (PLATFORM.md). Debian's VTK is built with assertions on: the
 // upstream filters are slower here than in a release build.
 //
 // Usage: canopy_bench_slice [--output DIR] [--forest ROOTS,LEVELS]... [--repetitions N]
-//          [--canopy-only] [--breadth-first] [--far]
+//          [--miniapp DIM,ROOTS,MAXLEVEL,STEPS[,REGRID_EVERY]]... [--canopy-only]
+//          [--breadth-first] [--far]
 // (--breadth-first: nodes stored breadth-first, implicit global indices; default
 // depth-first with a slot map, explicit indices; --far: the camera 4 times as far, the
 // cells 4 times smaller on screen; default forests 7,6 (about 1e6 leaves) and 9,7
 // (about 1e7); the region table runs on the first forest only)
 #include "ChildProcess.h"
+#include "MiniAppForest.h"
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
 
+#include "canopy/GridBuilder.h"
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSlice.h"
 #include "vtkCanopyAdaptiveSurface.h"
 #include "vtkCanopyExtractSelection.h"
 
+#include <vtkBitArray.h>
 #include <vtkCamera.h>
 #include <vtkDataObject.h>
 #include <vtkHyperTreeGrid.h>
@@ -44,6 +57,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -53,7 +67,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
 
 namespace
 {
@@ -292,7 +305,12 @@ void region(std::ofstream& csv, const Forest& f, canopy::testing::OffscreenRende
   auto change = [&](int repetition)
   {
     byValue->SetValueRange(low(repetition), 4.5);
-    cut->Modified(); // a cut alone changes too (the box could move with the camera)
+    // The box moves (with the camera, say) by less than a cell: a new selection,
+    // every tree redone (the filter keeps trees only for the same box).
+    double moved[6];
+    std::copy(octant, octant + 6, moved);
+    moved[0] += 1e-9 * repetition;
+    cut->SetBox(moved);
   };
   const double canopySeconds = median(change, [&] { surface->Update(); });
   // The same executions split: the selection alone, then the surface alone.
@@ -367,12 +385,112 @@ void region(std::ofstream& csv, const Forest& f, canopy::testing::OffscreenRende
             << std::setprecision(4) << canopyArea << " | " << vtkArea << " |" << std::endl;
 }
 
+/// The cut-away octant of the mini-app's 3D forest, step after step: the
+/// objects move, GridBuilder rebuilds the trees whose refinement changed.
+void movingCut(std::ofstream& csv, const canopy::tools::MiniAppForestOptions& options,
+               canopy::testing::OffscreenRenderer& r)
+{
+  canopy::tools::MiniAppForest simulation(options, MPI_COMM_SELF);
+  canopy::GridBuilder builder;
+  vtkSmartPointer<vtkHyperTreeGrid> grid = builder.build(simulation.description());
+  double b[6];
+  grid->GetBounds(b);
+  // The octant towards the camera (x, y, z above the centre), as the 3D pipeline cuts.
+  const double octant[6] = {0.5 * (b[0] + b[1]), b[1] + 1, 0.5 * (b[2] + b[3]), b[3] + 1,
+                            0.5 * (b[4] + b[5]), b[5] + 1};
+  vtkNew<vtkCanopyExtractSelection> cut;
+  cut->SetInputData(grid);
+  cut->SetSelectionMode(vtkCanopyExtractSelection::BOX);
+  cut->SetBox(octant);
+  cut->InvertOn();
+  cut->PreserveTopologyOn();
+  vtkNew<vtkCanopyAdaptiveSurface> surface;
+  surface->SetInputConnection(cut->GetOutputPort());
+  surface->SetRenderer(r.renderer());
+  surface->AddField("scalar");
+  r.renderer()->ResetCamera(b);
+  std::vector<double> build;
+  std::vector<double> kept;
+  std::vector<double> whole;
+  std::vector<double> shown;
+  std::vector<double> rebuilt;
+  std::vector<double> keptTrees;
+  std::vector<double> recomputed;
+  std::vector<double> cells;
+  for (int step = 0; step <= 2 * Repetitions; ++step)
+  {
+    simulation.advance();
+    auto start = Clock::now();
+    grid = builder.build(simulation.description());
+    const double buildSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    start = Clock::now();
+    cut->Update();
+    const double keptSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    start = Clock::now();
+    surface->Update();
+    const double surfaceSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    vtkNew<vtkCanopyExtractSelection> fresh;
+    fresh->SetInputData(grid);
+    fresh->SetSelectionMode(vtkCanopyExtractSelection::BOX);
+    fresh->SetBox(octant);
+    fresh->InvertOn();
+    fresh->PreserveTopologyOn();
+    start = Clock::now();
+    fresh->Update();
+    const double wholeSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    vtkBitArray* a = vtkHyperTreeGrid::SafeDownCast(cut->GetOutputDataObject(0))->GetMask();
+    vtkBitArray* c = vtkHyperTreeGrid::SafeDownCast(fresh->GetOutputDataObject(0))->GetMask();
+    if (a->GetNumberOfValues() != c->GetNumberOfValues() ||
+        std::memcmp(a->GetPointer(0), c->GetPointer(0),
+                    static_cast<std::size_t>((a->GetNumberOfValues() + 7) / 8)) != 0)
+    {
+      std::cerr << "canopy_bench_slice: the kept mask differs from a new filter's at step "
+                << simulation.step() << "\n";
+      std::exit(1);
+    }
+    if (step == 0) // the first execution computes every tree
+    {
+      continue;
+    }
+    build.push_back(buildSeconds);
+    kept.push_back(keptSeconds);
+    whole.push_back(wholeSeconds);
+    shown.push_back(surfaceSeconds);
+    rebuilt.push_back(static_cast<double>(builder.lastBuild().treesRebuilt));
+    keptTrees.push_back(static_cast<double>(cut->GetLastKeptTrees()));
+    recomputed.push_back(static_cast<double>(cut->GetLastRecomputedNodes()));
+    cells.push_back(static_cast<double>(grid->GetNumberOfCells()));
+  }
+  // Means over the steps: with regridding every few steps, what a step costs on average.
+  auto middle = [](const std::vector<double>& v)
+  {
+    double sum = 0;
+    for (double x : v)
+      sum += x;
+    return sum / static_cast<double>(v.size());
+  };
+  const std::size_t trees = simulation.description().trees.size();
+  csv << simulation.globalLeaves() << "," << trees << "," << middle(rebuilt) << ","
+      << middle(keptTrees) << "," << middle(recomputed) << "," << middle(cells) << ","
+      << middle(build) << "," << middle(kept) << "," << middle(whole) << "," << middle(shown)
+      << "\n";
+  std::cout << std::fixed << std::setprecision(0) << "| " << simulation.label() << ", "
+            << simulation.globalLeaves() << " leaves | " << trees << " | " << middle(rebuilt)
+            << " | " << middle(keptTrees) << " | " << middle(recomputed) << " of " << middle(cells)
+            << " (" << std::setprecision(1) << 100.0 * middle(recomputed) / middle(cells) << "%) | "
+            << std::setprecision(4) << middle(build) << " | " << middle(kept) << " | "
+            << middle(whole) << " (" << std::setprecision(1) << middle(whole) / middle(kept)
+            << "x) | " << std::setprecision(4) << middle(shown) << " |" << std::endl;
+}
+
 } // namespace
 
 int main(int argc, char** argv)
 {
+  const bool ownsMpi = canopy::tools::initializeMpiIfNeeded(&argc, &argv);
   std::filesystem::path out = "bench-slice";
   std::vector<std::pair<int, int>> forests;
+  std::vector<canopy::tools::MiniAppForestOptions> miniapps;
   for (int i = 1; i < argc; ++i)
   {
     const std::string arg = argv[i];
@@ -391,6 +509,8 @@ int main(int argc, char** argv)
       }
       forests.emplace_back(roots, levels);
     }
+    else if (arg == "--miniapp" && i + 1 < argc)
+      miniapps.push_back(canopy::tools::parseMiniAppForest(argv[++i]));
     else if (arg == "--repetitions" && i + 1 < argc)
       Repetitions = std::max(1, std::atoi(argv[++i]));
     else if (arg == "--canopy-only")
@@ -402,13 +522,20 @@ int main(int argc, char** argv)
     else
     {
       std::cerr << "usage: canopy_bench_slice [--output DIR] [--forest ROOTS,LEVELS]... "
-                   "[--repetitions N] [--canopy-only] [--breadth-first] [--far]\n";
+                   "[--miniapp DIM,ROOTS,MAXLEVEL,STEPS[,REGRID_EVERY]]... [--repetitions N] "
+                   "[--canopy-only] "
+                   "[--breadth-first] [--far]\n";
       return 2;
     }
   }
   if (forests.empty())
   {
     forests = {{7, 6}, {9, 7}};
+  }
+  if (miniapps.empty())
+  {
+    miniapps = {canopy::tools::parseMiniAppForest("3,16,4,20"),
+                canopy::tools::parseMiniAppForest("3,16,4,20,4")};
   }
   std::filesystem::create_directories(out);
   canopy::testing::OffscreenRenderer renderer(1024, 1024);
@@ -426,7 +553,7 @@ int main(int argc, char** argv)
       << "| leaves | Canopy LOD s | Canopy full s | AxisCut+Geometry s (ratio) | "
          "PlaneCutter s (ratio) | Canopy LOD quads | Canopy full quads | AxisCut quads | "
          "pixels covered | quads / pixel | nodes visited | Canopy full area | AxisCut area |\n"
-      << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|" << std::endl;
+      << "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|" << std::endl;
   std::vector<Forest> built;
   for (const auto& [roots, levels] : forests)
   {
@@ -448,6 +575,24 @@ int main(int argc, char** argv)
         RegionCase{"range + cut-away", true, true}})
   {
     region(regionCsv, built.front(), renderer, c);
+  }
+  std::ofstream movingCsv(out / "moving.csv");
+  movingCsv << "leaves,trees,trees_rebuilt,trees_kept,nodes_recomputed,cells,build_s,"
+               "cut_kept_s,cut_whole_s,surface_s\n";
+  std::cout << "\n## Cut-away octant of the mini-app's 3D forest, step after step (mean of "
+            << 2 * Repetitions << " steps)\n\n"
+            << "| forest | trees | trees rebuilt per step | trees kept by the cut | nodes "
+               "recomputed | GridBuilder s | cut, same filter s | cut, new filter s (ratio) | "
+               "surface s |\n"
+            << "|---|---:|---:|---:|---:|---:|---:|---:|---:|" << std::endl;
+  built.clear();
+  for (const auto& options : miniapps)
+  {
+    movingCut(movingCsv, options, renderer);
+  }
+  if (ownsMpi)
+  {
+    MPI_Finalize();
   }
   return 0;
 }

@@ -64,7 +64,8 @@
 namespace canopy
 {
 class HyperTreeAccessCache;
-}
+class SelectionMaskMemo;
+} // namespace canopy
 
 class CANOPYFILTERS_EXPORT vtkCanopyExtractSelection : public vtkDataObjectAlgorithm
 {
@@ -156,6 +157,12 @@ public:
   /// Nodes the last BOX or FRUSTUM selection examined: the roots and the children
   /// of the coarse nodes that overlap the region (what the selection cost).
   vtkGetMacro(LastVisited, vtkIdType);
+  /// With PreserveTopology: the trees whose part of the mask the last execution
+  /// kept from the one before (their topology, mask and ghost marks, root box
+  /// and the selection unchanged), and the nodes whose part it computed anew.
+  /// A selected region rebuilt every step costs the trees that changed.
+  vtkGetMacro(LastKeptTrees, vtkIdType);
+  vtkGetMacro(LastRecomputedNodes, vtkIdType);
   /// Bounds of the cells the last execution selected on this process (xmin, xmax,
   /// ymin, ymax, zmin, zmax; min > max when none): what a camera frames to show
   /// the selected region.
@@ -186,6 +193,8 @@ protected:
   vtkIdType LastOutOfRange = 0;
   vtkIdType LastDuplicates = 0;
   vtkIdType LastVisited = 0;
+  vtkIdType LastKeptTrees = 0;
+  vtkIdType LastRecomputedNodes = 0;
   double LastSelectedBounds[6] = {1, -1, 1, -1, 1, -1};
 
 private:
@@ -195,4 +204,7 @@ private:
   /// The input's topology read once while it is unchanged (a value range that
   /// changes every step re-reads nothing but the values).
   std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
+  /// The last mask, tree by tree (PreserveTopology): the next execution redoes
+  /// only the trees whose inputs changed.
+  std::unique_ptr<canopy::SelectionMaskMemo> MaskMemo;
 };

@@ -1,0 +1,123 @@
+// What a selection mask was, tree by tree, at a filter's last execution, so
+// that the next execution redoes only the trees whose inputs changed: a selected
+// region rebuilt every step costs what changed since the last step, not a walk
+// of the whole grid (a simulation's step usually refines a few trees).
+//
+// A tree's flags are kept when the selection is the same (the `selection`
+// fingerprint the filter gives: mode, region, list or range, the values' array
+// and its modified time, Invert, AllowMasked) and so is everything of the tree
+// the flags depend on: the tree object and its modified time (VTK gives every
+// new object a time later than any before, so an address reused by a new tree
+// is noticed), its vertex count and child table, its root cell's box, the mask
+// and absent marks of its cells, and for selections that read cells by number
+// (ids, values) its first global index. Trees with explicit global indices are
+// always redone (their index tables would have to be compared node by node).
+//
+// The packed masks are kept too: when the grid has the same number of cells and
+// every tree has the cells it had, the next mask is the last one with the
+// redone trees' bits rewritten, copied out (two bits a cell); otherwise (a tree
+// grew: the trees after it moved) it is packed anew from every tree's flags (a
+// byte a cell, no walk).
+//
+// Memory kept between executions: a byte per node (the flags) and two bits per
+// cell (the last mask and pure mask). Checking the keys costs, per tree, a hash
+// of its child table (4 bytes per refined node) and, on masked grids, of its
+// cells' mask bits and ghost marks.
+#pragma once
+
+#include "HyperTreeAccess.h"
+
+#include <vtkSmartPointer.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+class vtkBitArray;
+
+namespace canopy
+{
+
+/// One tree's part of a selection mask: per local node, bit 0 visible and bit 1
+/// VTK's pure mark (PureMask.h); the bounds of its selected visible leaves.
+struct SelectionTreeFlags
+{
+  std::vector<unsigned char> flags;
+  std::array<double, 6> bounds{{1e300, -1e300, 1e300, -1e300, 1e300, -1e300}};
+
+  void include(const std::array<double, 3>& lo, const std::array<double, 3>& hi)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      bounds[2 * a] = lo[a] < bounds[2 * a] ? lo[a] : bounds[2 * a];
+      bounds[2 * a + 1] = hi[a] > bounds[2 * a + 1] ? hi[a] : bounds[2 * a + 1];
+    }
+  }
+};
+
+class SelectionMaskMemo
+{
+public:
+  /// Decides, for a selection fingerprinted `selection` on `grid`, which trees
+  /// keep their flags from the last execution; returns one entry per
+  /// grid.trees() (1: kept). `readsByCellNumber`: the selection reads cells by
+  /// their global index (ids, values), so a tree whose cells are numbered from
+  /// another first index is redone; other selections keep a tree that only
+  /// moved (an earlier tree grew).
+  const std::vector<unsigned char>& begin(const HyperTreeAccess& grid, std::uint64_t selection,
+                                          bool readsByCellNumber);
+
+  /// Whether tree t (its position in grid.trees()) keeps its flags.
+  bool kept(std::size_t t) const { return Kept[t] != 0; }
+  /// Tree t's flags: the kept ones, or where the caller writes new ones (each
+  /// tree by one thread).
+  SelectionTreeFlags& tree(std::size_t t) { return Current[t].flags; }
+  const SelectionTreeFlags& tree(std::size_t t) const { return Current[t].flags; }
+
+  /// The packed mask and pure mask (vtkBitArray's order) of every tree's flags,
+  /// the last ones patched where possible; kept for the next execution.
+  void pack(const HyperTreeAccess& grid, vtkSmartPointer<vtkBitArray>& mask,
+            vtkSmartPointer<vtkBitArray>& pure);
+
+  /// Forget everything (an aborted or failed execution).
+  void clear();
+
+  /// What the last execution did: trees kept, and nodes whose flags were
+  /// computed anew.
+  std::size_t keptTrees() const { return KeptTrees; }
+  std::size_t recomputedNodes() const { return RecomputedNodes; }
+
+private:
+  struct TreeKey
+  {
+    vtkIdType index = -1;
+    const void* tree = nullptr;
+    vtkMTimeType treeTime = 0;
+    vtkIdType vertices = 0;
+    vtkIdType firstCell = -1; ///< -1: explicit global indices (never kept)
+    std::uint64_t shape = 0;  ///< child table and root box
+    std::uint64_t marks = 0;  ///< its cells' mask bits and absent marks
+    /// Whether flags made for `o` hold for this tree.
+    bool sameFlags(const TreeKey& o, bool numbering) const;
+  };
+  struct TreeEntry
+  {
+    TreeKey key;
+    SelectionTreeFlags flags;
+  };
+  static TreeKey keyOf(const HyperTreeAccess& grid, const TreeAccess& tree);
+
+  std::uint64_t Selection = 0;
+  std::vector<TreeEntry> Current; ///< by position in the grid's trees
+  std::vector<unsigned char> Kept;
+  /// Where each tree's cells were in the last packed masks (tree index, first
+  /// cell, vertices; by position), and how many cells the grid had.
+  std::vector<std::array<vtkIdType, 3>> LastRanges;
+  vtkIdType LastCells = -1;
+  std::vector<unsigned char> LastMask; ///< packed as vtkBitArray packs
+  std::vector<unsigned char> LastPure;
+  std::size_t KeptTrees = 0;
+  std::size_t RecomputedNodes = 0;
+};
+
+} // namespace canopy
