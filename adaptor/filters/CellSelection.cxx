@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -335,11 +336,14 @@ std::vector<SelectedNode> CellSelection::complement(const std::vector<SelectedNo
                        [](vtkIdType) { return true; });
 }
 
-template <typename Overlaps>
-std::vector<SelectedNode> CellSelection::byRegion(const Overlaps& overlaps,
+std::vector<SelectedNode> CellSelection::byRegion(const SelectionRegion& region,
                                                   SelectionReport& report) const
 {
   std::vector<SelectedNode> selected;
+  if (region.empty)
+  {
+    return selected;
+  }
   Vec3 lo;
   Vec3 hi;
   const auto& trees = Grid.trees();
@@ -347,10 +351,6 @@ std::vector<SelectedNode> CellSelection::byRegion(const Overlaps& overlaps,
       Progress, static_cast<vtkIdType>(trees.size()),
       [&](vtkIdType t)
       {
-        if (Skipped && (*Skipped)[static_cast<std::size_t>(t)])
-        {
-          return true;
-        }
         const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
         walkTree(Grid, tree,
                  [&](WalkNode& n)
@@ -361,7 +361,7 @@ std::vector<SelectedNode> CellSelection::byRegion(const Overlaps& overlaps,
                      return WalkStep::Skip;
                    }
                    Grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
-                   if (!overlaps(lo, hi))
+                   if (!region.overlaps(lo, hi))
                    {
                      return WalkStep::Skip; // nothing below can overlap: children lie inside
                    }
@@ -376,49 +376,57 @@ std::vector<SelectedNode> CellSelection::byRegion(const Overlaps& overlaps,
   return selected;
 }
 
-std::vector<SelectedNode> CellSelection::byBox(const std::array<double, 6>& box,
-                                               SelectionReport& report) const
+SelectionRegion CellSelection::boxRegion(const std::array<double, 6>& box) const
 {
   // Exact comparisons of the cells' own bounds: touching is not overlapping.
-  const std::vector<int>& axes = Grid.activeAxes();
-  return byRegion(
-      [&](const Vec3& lo, const Vec3& hi)
+  const std::vector<int> axes = Grid.activeAxes();
+  SelectionRegion region;
+  region.overlaps = [axes, box](const Vec3& lo, const Vec3& hi)
+  {
+    for (int a : axes)
+    {
+      if (!(std::max(lo[a], box[2 * a]) < std::min(hi[a], box[2 * a + 1])))
       {
-        for (int a : axes)
-        {
-          if (!(std::max(lo[a], box[2 * a]) < std::min(hi[a], box[2 * a + 1])))
-          {
-            return false;
-          }
-        }
-        return true;
-      },
-      report);
+        return false;
+      }
+    }
+    return true;
+  };
+  region.contains = [axes, box](const Vec3& lo, const Vec3& hi)
+  {
+    for (int a : axes)
+    {
+      if (!(box[2 * a] <= lo[a] && lo[a] < hi[a] && hi[a] <= box[2 * a + 1]))
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  return region;
 }
 
-std::vector<SelectedNode> CellSelection::byFrustum(const Frustum& frustum,
-                                                   SelectionReport& report) const
+SelectionRegion CellSelection::frustumRegion(const Frustum& frustum) const
 {
   // Relative to the grid's centre: planes far from the origin keep their precision.
   const auto& b = Grid.bounds();
   const Vec3 anchor{{0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])}};
   const std::vector<HalfSpace> halfSpaces = frustum.halfSpaces(anchor);
+  SelectionRegion region;
+  region.contains = [](const Vec3&, const Vec3&) { return false; };
   if (Grid.dimension() == 3)
   {
-    const ClippedPolytope region(halfSpaces, anchor, {{b[0], b[2], b[4]}}, {{b[1], b[3], b[5]}});
-    if (region.empty())
-    {
-      return {};
-    }
-    return byRegion([&](const Vec3& lo, const Vec3& hi) { return region.overlaps(lo, hi); },
-                    report);
+    auto polytope = std::make_shared<const ClippedPolytope>(
+        halfSpaces, anchor, Vec3{{b[0], b[2], b[4]}}, Vec3{{b[1], b[3], b[5]}});
+    region.empty = polytope->empty();
+    region.overlaps = [polytope](const Vec3& lo, const Vec3& hi)
+    { return polytope->overlaps(lo, hi); };
+    return region;
   }
-  const GridSection section(Grid, halfSpaces, anchor);
-  if (section.empty())
-  {
-    return {};
-  }
-  return byRegion([&](const Vec3& lo, const Vec3& hi) { return section.overlaps(lo, hi); }, report);
+  auto section = std::make_shared<const GridSection>(Grid, halfSpaces, anchor);
+  region.empty = section->empty();
+  region.overlaps = [section](const Vec3& lo, const Vec3& hi) { return section->overlaps(lo, hi); };
+  return region;
 }
 
 } // namespace canopy

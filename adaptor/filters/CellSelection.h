@@ -35,6 +35,21 @@ class vtkDataArray;
 namespace canopy
 {
 
+/// A box or frustum as the selections test cells against it (the rule above).
+struct SelectionRegion
+{
+  /// Whether the closed box [lo, hi] shares a part of positive measure with the
+  /// region (what selects a leaf).
+  std::function<bool(const Vec3&, const Vec3&)> overlaps;
+  /// Whether the closed box [lo, hi], of positive measure, lies in the closed
+  /// region: every leaf below it overlaps. May answer false when unsure (a
+  /// frustum never says yes).
+  std::function<bool(const Vec3&, const Vec3&)> contains;
+  /// The region meets no cell of the grid (a frustum that misses it): nothing
+  /// to walk.
+  bool empty = false;
+};
+
 /// A selected node.
 struct SelectedNode
 {
@@ -64,10 +79,6 @@ public:
   /// their results are to be discarded. (Locations are looked up point by
   /// point, without a loop over trees.)
   void setProgress(const ProgressShare& progress) { Progress = progress; }
-  /// Trees a box or frustum selection does not walk (one entry per
-  /// grid.trees(), nonzero: skipped; nullptr: none), for a caller that keeps
-  /// their result from before (SelectionMaskMemo). Must outlive the selections.
-  void setSkippedTrees(const std::vector<unsigned char>* skipped) { Skipped = skipped; }
 
   /// The unmasked leaf containing each point (see the rule above).
   std::vector<SelectedNode> byLocation(const std::vector<Vec3>& points,
@@ -84,14 +95,14 @@ public:
   static std::function<bool(vtkIdType)> valueInRange(vtkDataArray* values, int component,
                                                      double low, double high);
 
-  /// Visible leaves overlapping the box [xmin, xmax, ymin, ymax, zmin, zmax]
-  /// with positive measure along the grid's active axes (flat axes ignored).
-  /// Precondition: min <= max on every axis, no NaN.
-  std::vector<SelectedNode> byBox(const std::array<double, 6>& box, SelectionReport& report) const;
-  /// Visible leaves overlapping the frustum with positive volume (3D), or its
-  /// section by the grid's plane (2D) or line (1D) with positive area or length.
-  /// Precondition: frustum.problem() is empty.
-  std::vector<SelectedNode> byFrustum(const Frustum& frustum, SelectionReport& report) const;
+  /// The box [xmin, xmax, ymin, ymax, zmin, zmax] as a region, along the grid's
+  /// active axes (flat axes ignored). Precondition: min <= max on every axis, no NaN.
+  SelectionRegion boxRegion(const std::array<double, 6>& box) const;
+  /// The frustum as a region: in 3D, its volume; in 2D or 1D, its section by the
+  /// grid's plane or line. Precondition: frustum.problem() is empty.
+  SelectionRegion frustumRegion(const Frustum& frustum) const;
+  /// Visible leaves overlapping the region, descending only into nodes that do.
+  std::vector<SelectedNode> byRegion(const SelectionRegion& region, SelectionReport& report) const;
 
   /// The visible leaves (selectable: unmasked, or masked with allowMasked; never
   /// absent) that are neither one of `selected` nor below one: what an inverted
@@ -107,14 +118,9 @@ private:
   /// skip(global) names are left out, and leaves for which keep(global) fails.
   template <typename Skip, typename Keep>
   std::vector<SelectedNode> visibleLeaves(const Skip& skip, const Keep& keep) const;
-  /// Visible leaves for which overlaps(lo, hi) holds, descending only into
-  /// nodes for which it holds.
-  template <typename Overlaps>
-  std::vector<SelectedNode> byRegion(const Overlaps& overlaps, SelectionReport& report) const;
   const HyperTreeAccess& Grid;
   bool AllowMasked;
   ProgressShare Progress;
-  const std::vector<unsigned char>* Skipped = nullptr;
 };
 
 } // namespace canopy

@@ -20,8 +20,37 @@ namespace
 
 using TreeMask = SelectionTreeFlags;
 
+/// Completes a tree's flags from its marks, in one reverse pass (children
+/// follow their parents in local order): ancestors of visible nodes become
+/// visible (and so do nodes with other ranks' parts below), then VTK's pure
+/// mark: hidden, or refined with a marked child. Nodes below a hidden one keep
+/// whatever they have: VTK's walk never reaches them. Bit 0 visible, bit 1 pure.
+void completeFlags(const HyperTreeAccess& grid, const TreeAccess& tree, TreeMask& mask)
+{
+  auto& visible = mask.flags;
+  const int children = grid.childrenPerNode();
+  for (vtkIdType n = tree.numberOfVertices; n-- > 0;)
+  {
+    auto& flags = visible[static_cast<std::size_t>(n)];
+    if (tree.isLeaf(n))
+    {
+      flags = static_cast<unsigned char>(flags ? 1 : 2);
+      continue;
+    }
+    const vtkIdType first = tree.firstChild(n);
+    unsigned char below = 0;
+    for (vtkIdType c = first; c < first + children; ++c)
+    {
+      below |= visible[static_cast<std::size_t>(c)];
+    }
+    const bool shown = flags || (below & 1) || tree.hasAbsentDescendant(n);
+    flags = static_cast<unsigned char>(shown ? 1 | (below & 2) : 2);
+  }
+}
+
 /// The mask's common part. `markTree(t, tree, mask)` marks tree t's visible
-/// selected nodes (with their subtrees) in mask.flags and their bounds; the
+/// selected nodes (with their subtrees) in mask.flags and their bounds, and
+/// returns false; or writes the final flags itself and returns true. The
 /// ancestors, the nodes above other ranks' parts, the pure mask and the packing
 /// are the same for every way of selecting. Trees the memo keeps are not
 /// marked again.
@@ -34,38 +63,18 @@ SelectionMaskResult buildSelectionMask(const HyperTreeAccess& grid, const Progre
       forEachTree(progress, static_cast<vtkIdType>(trees.size()),
                   [&](vtkIdType t)
                   {
-                    if (kept.kept(static_cast<std::size_t>(t)))
+                    const auto position = static_cast<std::size_t>(t);
+                    if (kept.kept(position))
                     {
                       return;
                     }
-                    const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
-                    TreeMask& mask = kept.tree(static_cast<std::size_t>(t));
+                    const TreeAccess& tree = trees[position];
+                    TreeMask& mask = kept.tree(position);
                     mask = TreeMask();
                     mask.flags.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
-                    auto& visible = mask.flags;
-                    markTree(static_cast<std::size_t>(t), tree, mask);
-                    // One reverse pass (children follow their parents in local order):
-                    // ancestors of visible nodes become visible (and so do nodes with
-                    // other ranks' parts below), then VTK's pure mark: hidden, or refined
-                    // with a marked child. Nodes below a hidden one keep whatever they
-                    // have: VTK's walk never reaches them. Bit 0 visible, bit 1 pure.
-                    const int children = grid.childrenPerNode();
-                    for (vtkIdType n = tree.numberOfVertices; n-- > 0;)
+                    if (!markTree(position, tree, mask))
                     {
-                      auto& flags = visible[static_cast<std::size_t>(n)];
-                      if (tree.isLeaf(n))
-                      {
-                        flags = static_cast<unsigned char>(flags ? 1 : 2);
-                        continue;
-                      }
-                      const vtkIdType first = tree.firstChild(n);
-                      unsigned char below = 0;
-                      for (vtkIdType c = first; c < first + children; ++c)
-                      {
-                        below |= visible[static_cast<std::size_t>(c)];
-                      }
-                      const bool shown = flags || (below & 1) || tree.hasAbsentDescendant(n);
-                      flags = static_cast<unsigned char>(shown ? 1 | (below & 2) : 2);
+                      completeFlags(grid, tree, mask);
                     }
                   });
   SelectionMaskResult result;
@@ -160,7 +169,7 @@ SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
                                 markLeaves(
                                     grid, tree, allowMasked, mask, [](vtkIdType) { return true; },
                                     &chosen);
-                                return;
+                                return false;
                               }
                               // Selected subtrees: marked whole, but for what stays hidden.
                               std::vector<vtkIdType> stack;
@@ -191,6 +200,7 @@ SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
                                   }
                                 }
                               }
+                              return false;
                             });
 }
 
@@ -205,7 +215,96 @@ SelectionMaskResult selectionMaskOfLeaves(const HyperTreeAccess& grid,
                               markLeaves(grid, tree, allowMasked, mask,
                                          [&](vtkIdType node)
                                          { return picked(tree.globalIndex(node)) != invert; });
+                              return false;
                             });
+}
+
+namespace
+{
+
+/// Whether a tree has a cell that stays hidden in a selected subtree.
+bool hasHiddenCell(const HyperTreeAccess& grid, const TreeAccess& tree, bool allowMasked)
+{
+  for (vtkIdType n = 0; grid.hasMask() && n < tree.numberOfVertices; ++n)
+  {
+    if (hiddenNode(grid, tree, n, allowMasked))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Marks the leaves of a tree the region selects (overlapping it; inverted, not
+/// overlapping it) with their bounds; returns whether it wrote final flags.
+bool markRegion(const HyperTreeAccess& grid, const TreeAccess& tree, const SelectionRegion& region,
+                bool invert, bool allowMasked, TreeMask& mask, std::size_t& examined)
+{
+  Vec3 lo;
+  Vec3 hi;
+  // A tree the region misses or holds whole, with no hidden cell, is selected
+  // whole or not at all: its flags without a walk (every node visible and
+  // unmarked, or hidden and marked pure).
+  grid.nodeBounds(tree, 0, {{0, 0, 0}}, lo, hi);
+  ++examined;
+  const bool misses = region.empty || !region.overlaps(lo, hi);
+  if ((misses || region.contains(lo, hi)) && !hasHiddenCell(grid, tree, allowMasked))
+  {
+    const bool selected = misses == invert;
+    std::fill(mask.flags.begin(), mask.flags.end(), selected ? 1 : 2);
+    if (selected)
+    {
+      mask.include(lo, hi);
+    }
+    return true;
+  }
+  // Otherwise leaf by leaf, descending only into nodes that overlap the region
+  // (inverted: into every node; a leaf that misses it is selected).
+  walkTree(grid, tree,
+           [&](WalkNode& n)
+           {
+             ++examined;
+             if (hiddenNode(grid, tree, n.node, allowMasked))
+             {
+               return WalkStep::Skip;
+             }
+             grid.nodeBounds(tree, n.level, n.ijk, lo, hi);
+             const bool overlaps = !region.empty && region.overlaps(lo, hi);
+             if (!overlaps && !invert)
+             {
+               return WalkStep::Skip; // nothing below can overlap: children lie inside
+             }
+             if (tree.isLeaf(n.node))
+             {
+               if (overlaps != invert)
+               {
+                 mask.flags[static_cast<std::size_t>(n.node)] = 1;
+                 mask.include(lo, hi);
+               }
+               return WalkStep::Skip;
+             }
+             return WalkStep::Descend;
+           });
+  return false;
+}
+
+} // namespace
+
+SelectionMaskResult selectionMaskOfRegion(const HyperTreeAccess& grid,
+                                          const SelectionRegion& region, bool invert,
+                                          bool allowMasked, SelectionMaskMemo& memo,
+                                          std::size_t& visited, const ProgressShare& progress)
+{
+  std::vector<std::size_t> examined(grid.trees().size(), 0);
+  SelectionMaskResult result = buildSelectionMask(
+      grid, progress, memo,
+      [&](std::size_t t, const TreeAccess& tree, TreeMask& mask)
+      { return markRegion(grid, tree, region, invert, allowMasked, mask, examined[t]); });
+  for (std::size_t n : examined)
+  {
+    visited += n;
+  }
+  return result;
 }
 
 } // namespace canopy

@@ -63,4 +63,14 @@ SelectionMaskResult selectionMaskOfLeaves(const HyperTreeAccess& grid,
                                           bool allowMasked, SelectionMaskMemo& memo,
                                           const ProgressShare& progress = {});
 
+/// The same for a box or frustum (CellSelection::boxRegion, frustumRegion):
+/// the visible leaves overlapping it, tested in the mask's own pass. A tree the
+/// region misses or contains, with no hidden cell, is marked whole without a
+/// walk; other trees descend only into nodes that overlap the region (inverted:
+/// into every node). `visited`: increased by the nodes examined, roots included.
+SelectionMaskResult selectionMaskOfRegion(const HyperTreeAccess& grid,
+                                          const SelectionRegion& region, bool invert,
+                                          bool allowMasked, SelectionMaskMemo& memo,
+                                          std::size_t& visited, const ProgressShare& progress = {});
+
 } // namespace canopy

@@ -50,7 +50,8 @@ std::uint64_t hashBits(const unsigned char* bits, vtkIdType from, vtkIdType to, 
 bool SelectionMaskMemo::TreeKey::sameFlags(const TreeKey& o, bool numbering) const
 {
   return index == o.index && tree == o.tree && treeTime == o.treeTime && vertices == o.vertices &&
-         (!numbering || firstCell == o.firstCell) && shape == o.shape && marks == o.marks;
+         (!numbering || firstCell == o.firstCell) && elderChild == o.elderChild &&
+         elderChildSize == o.elderChildSize && box == o.box && marks == o.marks;
 }
 
 SelectionMaskMemo::TreeKey SelectionMaskMemo::keyOf(const HyperTreeAccess& grid,
@@ -62,10 +63,13 @@ SelectionMaskMemo::TreeKey SelectionMaskMemo::keyOf(const HyperTreeAccess& grid,
   key.treeTime = tree.tree ? tree.tree->GetMTime() : 0;
   key.vertices = tree.numberOfVertices;
   key.firstCell = tree.implicitGlobalIndex ? tree.globalIndexStart : -1;
-  std::uint64_t shape =
-      hashBytes(tree.elderChild, tree.elderChildSize * sizeof(unsigned int), 0x5E1EC7ull);
-  shape = hashBytes(tree.origin.data(), sizeof(tree.origin), shape);
-  key.shape = hashBytes(tree.size.data(), sizeof(tree.size), shape);
+  // The child table by where it lives and the vertex count, as
+  // HyperTreeAccessCache keys it: VTK 9.2 only refines a tree in place
+  // (SubdivideLeaf adds vertices), never coarsens one.
+  key.elderChild = tree.elderChild;
+  key.elderChildSize = tree.elderChildSize;
+  key.box = hashBytes(tree.size.data(), sizeof(tree.size),
+                      hashBytes(tree.origin.data(), sizeof(tree.origin), 0x5E1EC7ull));
   if (key.firstCell < 0)
   {
     return key;

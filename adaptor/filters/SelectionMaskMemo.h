@@ -1,14 +1,15 @@
 // What a selection mask was, tree by tree, at a filter's last execution, so
 // that the next execution redoes only the trees whose inputs changed: a selected
-// region rebuilt every step costs what changed since the last step, not a walk
-// of the whole grid (a simulation's step usually refines a few trees).
+// region rebuilt every step walks the trees that changed since the last step,
+// not the whole grid (docs/benchmarks.md measures how many a mini-app step changes).
 //
 // A tree's flags are kept when the selection is the same (the `selection`
 // fingerprint the filter gives: mode, region, list or range, the values' array
 // and its modified time, Invert, AllowMasked) and so is everything of the tree
 // the flags depend on: the tree object and its modified time (VTK gives every
 // new object a time later than any before, so an address reused by a new tree
-// is noticed), its vertex count and child table, its root cell's box, the mask
+// is noticed), its vertex count and child table (where it lives and its size:
+// VTK 9.2 refines a tree in place, never coarsens it), its root cell's box, the mask
 // and absent marks of its cells, and for selections that read cells by number
 // (ids, values) its first global index. Trees with explicit global indices are
 // always redone (their index tables would have to be compared node by node).
@@ -20,9 +21,8 @@
 // byte a cell, no walk).
 //
 // Memory kept between executions: a byte per node (the flags) and two bits per
-// cell (the last mask and pure mask). Checking the keys costs, per tree, a hash
-// of its child table (4 bytes per refined node) and, on masked grids, of its
-// cells' mask bits and ghost marks.
+// cell (the last mask and pure mask). Checking the keys costs a few words per
+// tree and, on masked grids, a hash of its cells' mask bits and ghost marks.
 #pragma once
 
 #include "HyperTreeAccess.h"
@@ -94,9 +94,11 @@ private:
     const void* tree = nullptr;
     vtkMTimeType treeTime = 0;
     vtkIdType vertices = 0;
-    vtkIdType firstCell = -1; ///< -1: explicit global indices (never kept)
-    std::uint64_t shape = 0;  ///< child table and root box
-    std::uint64_t marks = 0;  ///< its cells' mask bits and absent marks
+    vtkIdType firstCell = -1;                 ///< -1: explicit global indices (never kept)
+    const unsigned int* elderChild = nullptr; ///< the child table, where it lives
+    std::size_t elderChildSize = 0;
+    std::uint64_t box = 0;   ///< the root cell's box
+    std::uint64_t marks = 0; ///< its cells' mask bits and absent marks
     /// Whether flags made for `o` hold for this tree.
     bool sameFlags(const TreeKey& o, bool numbering) const;
   };

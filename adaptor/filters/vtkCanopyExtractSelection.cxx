@@ -512,17 +512,21 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     selection.setProgress(share.part(0, 0.5));
     if (this->PreserveTopology)
     {
-      // Trees whose mask is kept from the last execution are not selected again.
-      const auto& kept =
-          this->MaskMemo->begin(grid,
-                                selectionFingerprint(grid, mode, invert, this->AllowMasked, points,
-                                                     ids, values, component, range, box, frustum),
-                                mode == IDS || mode == VALUE_RANGE);
-      selection.setSkippedTrees(&kept);
+      // Trees whose mask is kept from the last execution are not marked again.
+      this->MaskMemo->begin(grid,
+                            selectionFingerprint(grid, mode, invert, this->AllowMasked, points, ids,
+                                                 values, component, range, box, frustum),
+                            mode == IDS || mode == VALUE_RANGE);
     }
     else
     {
       this->MaskMemo->clear();
+    }
+    const bool byRegion = mode == BOX || mode == FRUSTUM;
+    canopy::SelectionRegion region;
+    if (byRegion)
+    {
+      region = mode == BOX ? selection.boxRegion(box) : selection.frustumRegion(frustum);
     }
     canopy::SelectionReport report;
     std::vector<canopy::SelectedNode> nodes;
@@ -538,13 +542,9 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     {
       nodes = selection.byValue(values, component, range[0], range[1]);
     }
-    else if (mode == BOX)
+    else if (byRegion && !this->PreserveTopology)
     {
-      nodes = selection.byBox(box, report);
-    }
-    else if (mode == FRUSTUM)
-    {
-      nodes = selection.byFrustum(frustum, report);
+      nodes = selection.byRegion(region, report);
     }
     this->LastOutside = static_cast<vtkIdType>(report.outside);
     this->LastMasked = static_cast<vtkIdType>(report.masked);
@@ -559,15 +559,21 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     if (this->PreserveTopology)
     {
       // The same grid with a mask: no node list for the complement, no copy.
-      // A value range is tested in the mask's own pass: no node list.
+      // A value range, a box or a frustum is tested in the mask's own pass: no
+      // node list.
+      std::size_t visited = 0;
+      const canopy::ProgressShare maskShare = share.part(0.5, 1);
       const canopy::SelectionMaskResult shown =
           mode == VALUE_RANGE
               ? canopy::selectionMaskOfLeaves(
                     grid,
                     canopy::CellSelection::valueInRange(values, component, range[0], range[1]),
-                    invert, this->AllowMasked, *this->MaskMemo, share.part(0.5, 1))
-              : canopy::selectionMask(grid, nodes, invert, this->AllowMasked, *this->MaskMemo,
-                                      share.part(0.5, 1));
+                    invert, this->AllowMasked, *this->MaskMemo, maskShare)
+          : byRegion ? canopy::selectionMaskOfRegion(grid, region, invert, this->AllowMasked,
+                                                     *this->MaskMemo, visited, maskShare)
+                     : canopy::selectionMask(grid, nodes, invert, this->AllowMasked,
+                                             *this->MaskMemo, maskShare);
+      this->LastVisited += static_cast<vtkIdType>(visited);
       if (progress.stopped())
       {
         return abandon();

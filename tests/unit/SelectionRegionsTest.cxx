@@ -309,6 +309,104 @@ TEST(SelectionByBox, RandomBoxesEqualBruteForceIn2DAnd3D)
   EXPECT_GE(nonTrivial, 16);
 }
 
+TEST(SelectionByBox, BoxesOnAndJustOffRootCellBoundariesEqualBruteForce)
+{
+  // A masked selection marks a tree the box misses or holds whole without a
+  // walk: boxes whose faces lie on root-cell boundaries, or a millionth of a
+  // root cell inside or outside them, decide that exactly (inverted or not).
+  int wholeTrees = 0;
+  for (std::uint64_t seed = 1; seed <= 24; ++seed)
+  {
+    const int dimension = seed % 3 == 0 ? 3 : 2;
+    RandomForestOptions o = randomOptions(seed, dimension);
+    o.maskProbability = seed % 2 ? 0.0 : 0.05;
+    // Binary trees over dyadic coordinates: the brute force's cell bounds (VTK's
+    // cursor) are exact, so a face on a root boundary touches exactly.
+    o.branchFactor = 2;
+    o.maxLevels = dimension == 3 ? 5 : 7;
+    RandomForest forest(o);
+    auto& coords = const_cast<std::array<std::vector<double>, 3>&>(forest.coordinates());
+    for (auto& axis : coords)
+    {
+      for (std::size_t i = 0; i < axis.size(); ++i)
+      {
+        axis[i] = 0.5 * static_cast<double>(i) - 1;
+      }
+    }
+    auto htg = buildHyperTreeGrid(forest.description());
+    double b[6];
+    htg->GetBounds(b);
+    vtkDataArray* coordinates[3] = {htg->GetXCoordinates(), htg->GetYCoordinates(),
+                                    htg->GetZCoordinates()};
+    std::mt19937_64 random(seed);
+    // On the boundary, a millionth of a root cell off it, or a third into the
+    // next root cell (where a tree is neither missed nor held whole).
+    const double offsets[5] = {-0.3, -1e-6, 0, 1e-6, 0.3};
+    Box box;
+    for (int a = 0; a < 3; ++a)
+    {
+      const vtkIdType points = coordinates[a]->GetNumberOfTuples();
+      if (points < 2)
+      {
+        box[2 * a] = b[2 * a] - 1; // a flat axis: ignored
+        box[2 * a + 1] = b[2 * a + 1] + 1;
+        continue;
+      }
+      vtkIdType i = static_cast<vtkIdType>(random() % static_cast<std::uint64_t>(points));
+      vtkIdType j = static_cast<vtkIdType>(random() % static_cast<std::uint64_t>(points));
+      if (i > j)
+        std::swap(i, j);
+      if (i == j)
+        j = std::min<vtkIdType>(points - 1, i + 1), i = j - 1;
+      const double root = coordinates[a]->GetTuple1(1) - coordinates[a]->GetTuple1(0);
+      box[2 * a] = coordinates[a]->GetTuple1(i) + offsets[random() % 5] * root;
+      box[2 * a + 1] = coordinates[a]->GetTuple1(j) + offsets[random() % 5] * root;
+    }
+    // Trees the box holds or misses whole (along the active axes).
+    for (const TreeDescription& tree : forest.description().trees)
+    {
+      double origin[3];
+      double size[3];
+      htg->GetLevelZeroOriginAndSizeFromIndex(tree.rootIndex, origin, size);
+      bool holds = true;
+      bool misses = false;
+      for (int a = 0; a < 3; ++a)
+      {
+        if (size[a] > 0)
+        {
+          holds = holds && box[2 * a] <= origin[a] && origin[a] + size[a] <= box[2 * a + 1];
+          misses = misses || origin[a] + size[a] <= box[2 * a] || box[2 * a + 1] <= origin[a];
+        }
+      }
+      wholeTrees += holds || misses;
+    }
+    const auto inside = expectedInBox(htg, box);
+    std::set<vtkIdType> outside;
+    for (const LeafBox& leaf : visibleLeafBoxes(htg))
+    {
+      if (!inside.count(leaf.global))
+        outside.insert(leaf.global);
+    }
+    for (bool invert : {false, true})
+    {
+      vtkNew<vtkCanopyExtractSelection> filter;
+      filter->SetInputData(htg);
+      filter->PreserveTopologyOn();
+      useBox(filter, box.data());
+      filter->SetInvert(invert);
+      filter->Update();
+      std::set<vtkIdType> got;
+      for (const LeafBox& leaf :
+           visibleLeafBoxes(vtkHyperTreeGrid::SafeDownCast(filter->GetOutput())))
+      {
+        got.insert(leaf.global);
+      }
+      EXPECT_EQ(got, invert ? outside : inside) << "seed " << seed << (invert ? " inverted" : "");
+    }
+  }
+  EXPECT_GE(wholeTrees, 40) << "the boxes held or missed whole trees";
+}
+
 TEST(SelectionByBox, CellsTouchingTheBoxAreNotSelected)
 {
   // Binary trees over dyadic coordinates: VTK's cursor bounds are exact, so a
