@@ -46,6 +46,10 @@
  * vtkUnstructuredGrid of VTK_LINE (1D), VTK_QUAD (2D) or VTK_HEXAHEDRON (3D)
  * cells with merged points, the input's cell fields, "OriginalCellId" and
  * "Level". Grids of any dimension (1, 2, 3) and any axis-aligned orientation.
+ * With PreserveTopology the filter keeps its last mask tree by tree and redoes
+ * only the trees whose topology, mask or ghost marks, root box or selection
+ * changed (GetLastKeptTrees, GetLastRecomputedNodes); a box or frustum that
+ * misses or holds a tree whole (no masked cell in it) marks it without a walk.
  *
  * An execution reports its progress a few times (UpdateProgress) and checks
  * once per tree whether it was aborted (AbortExecute, CheckAbort): aborted, it
