@@ -18,14 +18,12 @@ namespace canopy
 namespace
 {
 
-using TreeMask = SelectionTreeFlags;
-
 /// Completes a tree's flags from its marks, in one reverse pass (children
 /// follow their parents in local order): ancestors of visible nodes become
 /// visible (and so do nodes with other ranks' parts below), then VTK's pure
 /// mark: hidden, or refined with a marked child. Nodes below a hidden one keep
 /// whatever they have: VTK's walk never reaches them. Bit 0 visible, bit 1 pure.
-void completeFlags(const HyperTreeAccess& grid, const TreeAccess& tree, TreeMask& mask)
+void completeFlags(const HyperTreeAccess& grid, const TreeAccess& tree, SelectionTreeFlags& mask)
 {
   auto& visible = mask.flags;
   const int children = grid.childrenPerNode();
@@ -69,8 +67,8 @@ SelectionMaskResult buildSelectionMask(const HyperTreeAccess& grid, const Progre
                       return;
                     }
                     const TreeAccess& tree = trees[position];
-                    TreeMask& mask = kept.tree(position);
-                    mask = TreeMask();
+                    SelectionTreeFlags& mask = kept.tree(position);
+                    mask = SelectionTreeFlags();
                     mask.flags.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
                     if (!markTree(position, tree, mask))
                     {
@@ -86,7 +84,7 @@ SelectionMaskResult buildSelectionMask(const HyperTreeAccess& grid, const Progre
   }
   for (std::size_t t = 0; t < trees.size(); ++t)
   {
-    const TreeMask& mask = kept.tree(t);
+    const SelectionTreeFlags& mask = kept.tree(t);
     for (int a = 0; a < 3; ++a)
     {
       result.bounds[2 * a] = std::min(result.bounds[2 * a], mask.bounds[2 * a]);
@@ -114,7 +112,8 @@ bool hiddenNode(const HyperTreeAccess& grid, const TreeAccess& tree, vtkIdType n
 /// bounds; subtrees whose root `skip` flags are left out.
 template <typename Pick>
 void markLeaves(const HyperTreeAccess& grid, const TreeAccess& tree, bool allowMasked,
-                TreeMask& mask, const Pick& pick, const std::vector<unsigned char>* skip = nullptr)
+                SelectionTreeFlags& mask, const Pick& pick,
+                const std::vector<unsigned char>* skip = nullptr)
 {
   Vec3 lo;
   Vec3 hi;
@@ -155,7 +154,7 @@ SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
     byTree[static_cast<std::size_t>(n.tree - trees.data())].push_back(&n);
   }
   return buildSelectionMask(grid, progress, memo,
-                            [&](std::size_t t, const TreeAccess& tree, TreeMask& mask)
+                            [&](std::size_t t, const TreeAccess& tree, SelectionTreeFlags& mask)
                             {
                               auto& visible = mask.flags;
                               if (invert)
@@ -210,7 +209,7 @@ SelectionMaskResult selectionMaskOfLeaves(const HyperTreeAccess& grid,
                                           const ProgressShare& progress)
 {
   return buildSelectionMask(grid, progress, memo,
-                            [&](std::size_t, const TreeAccess& tree, TreeMask& mask)
+                            [&](std::size_t, const TreeAccess& tree, SelectionTreeFlags& mask)
                             {
                               markLeaves(grid, tree, allowMasked, mask,
                                          [&](vtkIdType node)
@@ -238,7 +237,7 @@ bool hasHiddenCell(const HyperTreeAccess& grid, const TreeAccess& tree, bool all
 /// Marks the leaves of a tree the region selects (overlapping it; inverted, not
 /// overlapping it) with their bounds; returns whether it wrote final flags.
 bool markRegion(const HyperTreeAccess& grid, const TreeAccess& tree, const SelectionRegion& region,
-                bool invert, bool allowMasked, TreeMask& mask, std::size_t& examined)
+                bool invert, bool allowMasked, SelectionTreeFlags& mask, std::size_t& examined)
 {
   Vec3 lo;
   Vec3 hi;
@@ -298,7 +297,7 @@ SelectionMaskResult selectionMaskOfRegion(const HyperTreeAccess& grid,
   std::vector<std::size_t> examined(grid.trees().size(), 0);
   SelectionMaskResult result = buildSelectionMask(
       grid, progress, memo,
-      [&](std::size_t t, const TreeAccess& tree, TreeMask& mask)
+      [&](std::size_t t, const TreeAccess& tree, SelectionTreeFlags& mask)
       { return markRegion(grid, tree, region, invert, allowMasked, mask, examined[t]); });
   for (std::size_t n : examined)
   {
