@@ -3,17 +3,25 @@
 // tables, masked- and absent-descendant flags) is paid once per topology, not
 // once per camera move.
 //
-// The key is what VTK's pipeline says changed: the grid object and its
-// modified time, the mask's and the ghost array's objects, times and storage,
-// plus each tree's object, vertex count and child table (a tree refined in
-// place without Modified() is noticed too). Checking it costs one step per
-// tree, not per node.
+// The key is what the access reads: the grid's shape (dimension, branch
+// factor, root dimensions, the coordinates' values, the trees-elsewhere flag),
+// the mask's and the ghost array's objects, times and storage, and each tree's
+// object and modified time, vertex count, child table and first global index
+// (a tree refined in place without Modified() is noticed too). Not the grid's
+// own modified time, which changes at every step of a simulation even when
+// only its field values did: a simulation's masked grid (split trees, a
+// masked block forest) keeps its access, masked-descendant flags and surface
+// memos from step to step while its topology holds. Grids with explicit
+// global indices key on the grid's modified time as well (their index tables
+// are not compared). Checking it costs one step per tree and root coordinate,
+// not per node.
 #pragma once
 
 #include "HyperTreeAccess.h"
 
 #include <vtkType.h>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -40,18 +48,23 @@ private:
   {
     vtkIdType index;
     const void* tree;
+    vtkMTimeType treeTime;
     vtkIdType vertices;
     const void* elderChild;
+    std::size_t elderChildSize;
+    vtkIdType globalIndexStart;
     bool operator==(const TreeKey& o) const
     {
-      return index == o.index && tree == o.tree && vertices == o.vertices &&
-             elderChild == o.elderChild;
+      return index == o.index && tree == o.tree && treeTime == o.treeTime &&
+             vertices == o.vertices && elderChild == o.elderChild &&
+             elderChildSize == o.elderChildSize && globalIndexStart == o.globalIndexStart;
     }
   };
   struct Key
   {
     const void* grid = nullptr;
-    vtkMTimeType gridTime = 0;
+    vtkMTimeType gridTime = 0; ///< 0 unless a tree has explicit global indices
+    std::uint64_t shape = 0;   ///< dimension, branch factor, dimensions, coordinates, flag
     const void* mask = nullptr;
     vtkMTimeType maskTime = 0;
     const void* maskBits = nullptr;

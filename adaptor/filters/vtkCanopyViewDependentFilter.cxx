@@ -467,6 +467,11 @@ void vtkCanopyViewDependentFilter::AddAxisNormals(vtkPolyData* output)
   output->GetCellData()->SetNormals(normals);
 }
 
+bool vtkCanopyViewDependentFilter::GetLastTopologyKept() const
+{
+  return this->Topology->lastWasKept();
+}
+
 void vtkCanopyViewDependentFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -492,6 +497,7 @@ void vtkCanopyViewDependentFilter::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "ColorComponent: " << this->ColorComponent << "\n"
      << indent << "FilterColorsOnPixels: " << this->FilterColorsOnPixels << "\n"
      << indent << "LastPixelFiltered: " << this->LastPixelFiltered << "\n"
+     << indent << "LastTopologyKept: " << this->GetLastTopologyKept() << "\n"
      << indent << "Controller: " << this->Controller << "\n"
      << indent << "Fields:";
   for (const std::string& field : this->Fields)

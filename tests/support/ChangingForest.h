@@ -69,6 +69,14 @@ public:
       tree.masked[n] = unit(Random) < 0.1;
   }
 
+  /// Moves every root coordinate by `d` (a mesh that moves, same topology).
+  void shiftCoordinates(double d)
+  {
+    for (auto& axis : Coordinates)
+      for (double& x : axis)
+        x += d;
+  }
+
   void toggleMask(std::size_t t)
   {
     auto& masked = Trees[t].masked;
@@ -113,6 +121,7 @@ public:
   }
 
   std::size_t size() const { return Trees.size(); }
+  std::size_t numberOfNodes(std::size_t t) const { return Trees[t].refinement.size(); }
 
 private:
   struct Tree

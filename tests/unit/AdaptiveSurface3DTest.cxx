@@ -4,12 +4,14 @@
 // voxel behind it and an empty one in front, closed-surface volume identity),
 // and culling must only ever remove pieces of that surface.
 #include "CameraPlanes.h"
+#include "ChangingForest.h"
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
 #include "SurfaceRuns.h"
 #include "VoxelBoundary.h"
 
+#include "canopy/GridBuilder.h"
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSurface.h"
 
@@ -138,6 +140,58 @@ TEST(AdaptiveSurface3D, KeptTopologyFollowsMaskAndGridChanges)
   kept->Update();
   EXPECT_EQ(quadKeys(kept->GetPolyDataOutput()),
             quadKeys(viewSurface(other, camera, 800, 600, false)));
+}
+
+TEST(AdaptiveSurface3D, KeptTopologyAcrossSimulationSteps)
+{
+  // A simulation's grid from GridBuilder: the same grid object, modified at every
+  // step. A step that changes only values keeps the filter's topology (and the
+  // surface's memos); a mask, a tree or the coordinates changing does not. At
+  // every step the output equals a fresh filter's.
+  ChangingForest forest(3, 27, false, 31);
+  GridBuilder builder;
+  vtkNew<vtkCamera> camera;
+  camera->SetFocalPoint(0.6, 0.7, 0.8);
+  camera->SetPosition(0.6 + 4, 0.7 - 5, 0.8 + 3);
+  camera->SetViewUp(0, 0, 1);
+  vtkNew<vtkCanopyAdaptiveSurface> kept;
+  kept->SetCamera(camera);
+  kept->SetViewportSize(800, 600);
+  kept->SetLevelOfDetail(false);
+  enum class Change
+  {
+    Values,
+    Mask,
+    Tree,
+    Coordinates
+  };
+  const std::vector<std::pair<Change, bool>> steps{
+      {Change::Values, false}, {Change::Values, true},       {Change::Values, true},
+      {Change::Mask, false},   {Change::Values, true},       {Change::Tree, false},
+      {Change::Values, true},  {Change::Coordinates, false}, {Change::Values, true}};
+  for (std::size_t step = 0; step < steps.size(); ++step)
+  {
+    const auto [change, keep] = steps[step];
+    if (change == Change::Mask)
+      forest.toggleMask(13);
+    else if (change == Change::Tree)
+    {
+      // Re-refined until it has another shape (a draw may give the same tree).
+      const std::size_t before = forest.numberOfNodes(5);
+      while (forest.numberOfNodes(5) == before)
+        forest.refine(5);
+    }
+    else if (change == Change::Coordinates)
+      forest.shiftCoordinates(0.125);
+    const ForestDescription description = forest.describe(10.0 * static_cast<double>(step));
+    vtkSmartPointer<vtkHyperTreeGrid> grid = builder.build(description);
+    kept->SetInputData(grid);
+    kept->Update();
+    EXPECT_EQ(kept->GetLastTopologyKept(), keep) << "step " << step;
+    EXPECT_EQ(quadKeys(kept->GetPolyDataOutput()),
+              quadKeys(viewSurface(grid, camera, 800, 600, false)))
+        << "step " << step;
+  }
 }
 
 TEST(AdaptiveSurface3D, WholeGridInViewEqualsTheFullSurface)

@@ -157,6 +157,12 @@ public:
   vtkGetMacro(LastPixelFiltered, vtkIdType);
   ///@}
 
+  /// Whether the last execution read the input's topology as kept from the one
+  /// before (trees, mask, ghost marks and coordinates unchanged; a simulation
+  /// step that changed only field values keeps it): its per-node passes were
+  /// not paid again.
+  bool GetLastTopologyKept() const;
+
   ///@{
   /// The ranks that exchange what their quads add to pixels at the edges of
   /// their parts (the box filter on pixels) and, for 3D surfaces of grids split
