@@ -21,8 +21,9 @@
 //    away by masking its blocks) and three adaptive slices, 1024x1024, in a
 //    perspective view of the whole domain, one 4 times as far (cells below a
 //    pixel) and one 16 times as far (blocks about a pixel). For each: a step
-//    (GridBuilder::build with the same trees, then the filter) and the filters'
-//    per-topology pass in it (HyperTreeAccess), a camera move (the filter alone),
+//    (GridBuilder::build with the same trees, then the filter), the filters'
+//    per-topology pass alone (HyperTreeAccess: paid by a step whose topology
+//    changed; kept across steps that change only values), a camera move (the filter alone),
 //    the first camera move after a step, the render and read-back; quads drawn,
 //    blocks drawn (distinct blocks with a drawn cell, found through Canopy's
 //    BlockCells index), nodes visited (slices); against vtkHyperTreeGridGeometry
@@ -984,8 +985,9 @@ void image(const BlockForest& forest, const Picture& picture, double distance,
     row.firstMoveHeap =
         static_cast<double>(after > heap ? after - heap : 0) / static_cast<double>(row.cells);
   }
-  // What a step pays before walking: the filters' view of the grid's topology
-  // (HyperTreeAccess, kept while the grid is unmodified), built as the filter asks.
+  // What a step whose topology changed pays before walking: the filters' view of
+  // the grid's topology (HyperTreeAccess, kept across steps while the topology
+  // holds), built as the filter asks.
   row.topologyPass =
       timeRuns(Repetitions,
                [&] { canopy::HyperTreeAccess access(grid, !picture.slices, !picture.slices); })
@@ -1207,8 +1209,8 @@ int main(int argc, char** argv)
     canopy::testing::OffscreenRenderer renderer(1024, 1024);
     std::cout << "\n## Images at 1024x1024 (ms, best of " << Repetitions
               << "; step = GridBuilder::build with the same trees + the filter)\n\n"
-              << "| forest | view | picture | step: build + filter | of which the topology pass "
-                 "(HyperTreeAccess) | filter, camera move | "
+              << "| forest | view | picture | step: build + filter | the topology pass alone "
+                 "(HyperTreeAccess, when the topology changed) | filter, camera move | "
                  "first camera move after a step (heap it keeps) | first execution | render + "
                  "read-back | quads | blocks drawn | nodes above "
                  "blocks drawn | drawn cells per level in their block (root .. cells) | nodes "
