@@ -412,14 +412,14 @@ void movingCut(std::ofstream& csv, const canopy::tools::MiniAppForestOptions& op
   surface->SetRenderer(r.renderer());
   surface->AddField("scalar");
   r.renderer()->ResetCamera(b);
-  std::vector<double> build;
-  std::vector<double> kept;
-  std::vector<double> whole;
-  std::vector<double> shown;
-  std::vector<double> rebuilt;
-  std::vector<double> keptTrees;
-  std::vector<double> recomputed;
-  std::vector<double> cells;
+  // What each measured step did: GridBuilder, the cut by the same filter and by
+  // a new one, the surface (seconds); trees rebuilt and kept, nodes recomputed,
+  // cells.
+  struct Step
+  {
+    double build, kept, whole, shown, rebuilt, keptTrees, recomputed, cells;
+  };
+  std::vector<Step> steps;
   for (int step = 0; step <= 2 * Repetitions; ++step)
   {
     simulation.advance();
@@ -455,35 +455,38 @@ void movingCut(std::ofstream& csv, const canopy::tools::MiniAppForestOptions& op
     {
       continue;
     }
-    build.push_back(buildSeconds);
-    kept.push_back(keptSeconds);
-    whole.push_back(wholeSeconds);
-    shown.push_back(surfaceSeconds);
-    rebuilt.push_back(static_cast<double>(builder.lastBuild().treesRebuilt));
-    keptTrees.push_back(static_cast<double>(cut->GetLastKeptTrees()));
-    recomputed.push_back(static_cast<double>(cut->GetLastRecomputedNodes()));
-    cells.push_back(static_cast<double>(grid->GetNumberOfCells()));
+    steps.push_back({buildSeconds, keptSeconds, wholeSeconds, surfaceSeconds,
+                     static_cast<double>(builder.lastBuild().treesRebuilt),
+                     static_cast<double>(cut->GetLastKeptTrees()),
+                     static_cast<double>(cut->GetLastRecomputedNodes()),
+                     static_cast<double>(grid->GetNumberOfCells())});
   }
   // Means over the steps: with regridding every few steps, what a step costs on average.
-  auto middle = [](const std::vector<double>& v)
+  auto mean = [&](double Step::*what)
   {
     double sum = 0;
-    for (double x : v)
-      sum += x;
-    return sum / static_cast<double>(v.size());
+    for (const Step& step : steps)
+      sum += step.*what;
+    return sum / static_cast<double>(steps.size());
   };
+  const double build = mean(&Step::build);
+  const double kept = mean(&Step::kept);
+  const double whole = mean(&Step::whole);
+  const double shown = mean(&Step::shown);
+  const double rebuilt = mean(&Step::rebuilt);
+  const double keptTrees = mean(&Step::keptTrees);
+  const double recomputed = mean(&Step::recomputed);
+  const double cells = mean(&Step::cells);
   const std::size_t trees = simulation.description().trees.size();
-  csv << simulation.globalLeaves() << "," << trees << "," << middle(rebuilt) << ","
-      << middle(keptTrees) << "," << middle(recomputed) << "," << middle(cells) << ","
-      << middle(build) << "," << middle(kept) << "," << middle(whole) << "," << middle(shown)
+  csv << simulation.globalLeaves() << "," << trees << "," << rebuilt << "," << keptTrees << ","
+      << recomputed << "," << cells << "," << build << "," << kept << "," << whole << "," << shown
       << "\n";
   std::cout << std::fixed << std::setprecision(0) << "| " << simulation.label() << ", "
-            << simulation.globalLeaves() << " leaves | " << trees << " | " << middle(rebuilt)
-            << " | " << middle(keptTrees) << " | " << middle(recomputed) << " of " << middle(cells)
-            << " (" << std::setprecision(1) << 100.0 * middle(recomputed) / middle(cells) << "%) | "
-            << std::setprecision(4) << middle(build) << " | " << middle(kept) << " | "
-            << middle(whole) << " (" << std::setprecision(1) << middle(whole) / middle(kept)
-            << "x) | " << std::setprecision(4) << middle(shown) << " |" << std::endl;
+            << simulation.globalLeaves() << " leaves | " << trees << " | " << rebuilt << " | "
+            << keptTrees << " | " << recomputed << " of " << cells << " (" << std::setprecision(1)
+            << 100.0 * recomputed / cells << "%) | " << std::setprecision(4) << build << " | "
+            << kept << " | " << whole << " (" << std::setprecision(1) << whole / kept << "x) | "
+            << std::setprecision(4) << shown << " |" << std::endl;
 }
 
 } // namespace
