@@ -93,9 +93,8 @@ SelectionMaskMemo::TreeKey SelectionMaskMemo::keyOf(const HyperTreeAccess& grid,
   return key;
 }
 
-const std::vector<unsigned char>& SelectionMaskMemo::begin(const HyperTreeAccess& grid,
-                                                           std::uint64_t selection,
-                                                           bool readsByCellNumber)
+void SelectionMaskMemo::begin(const HyperTreeAccess& grid, std::uint64_t selection,
+                              bool readsByCellNumber)
 {
   const auto& trees = grid.trees();
   const bool sameSelection = selection == Selection;
@@ -128,7 +127,6 @@ const std::vector<unsigned char>& SelectionMaskMemo::begin(const HyperTreeAccess
     }
   }
   Selection = selection;
-  return Kept;
 }
 
 namespace

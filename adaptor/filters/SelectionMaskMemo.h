@@ -59,13 +59,11 @@ class SelectionMaskMemo
 {
 public:
   /// Decides, for a selection fingerprinted `selection` on `grid`, which trees
-  /// keep their flags from the last execution; returns one entry per
-  /// grid.trees() (1: kept). `readsByCellNumber`: the selection reads cells by
-  /// their global index (ids, values), so a tree whose cells are numbered from
-  /// another first index is redone; other selections keep a tree that only
-  /// moved (an earlier tree grew).
-  const std::vector<unsigned char>& begin(const HyperTreeAccess& grid, std::uint64_t selection,
-                                          bool readsByCellNumber);
+  /// keep their flags from the last execution (kept()). `readsByCellNumber`:
+  /// the selection reads cells by their global index (ids, values), so a tree
+  /// whose cells are numbered from another first index is redone; other
+  /// selections keep a tree that only moved (an earlier tree grew).
+  void begin(const HyperTreeAccess& grid, std::uint64_t selection, bool readsByCellNumber);
 
   /// Whether tree t (its position in grid.trees()) keeps its flags.
   bool kept(std::size_t t) const { return Kept[t] != 0; }
