@@ -29,13 +29,7 @@ void CellSelection::bounds(const SelectedNode& n, Vec3& lo, Vec3& hi) const
 
 bool CellSelection::hidden(const TreeAccess& tree, vtkIdType node) const
 {
-  if (!Grid.hasMask())
-  {
-    return false;
-  }
-  // Absent cells (another rank's) are never selectable, even with AllowMasked.
-  const vtkIdType global = tree.globalIndex(node);
-  return Grid.isAbsent(global) || (!AllowMasked && Grid.isMasked(global));
+  return unselectable(Grid, tree, node, AllowMasked);
 }
 
 namespace

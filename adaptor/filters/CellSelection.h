@@ -50,6 +50,20 @@ struct SelectionRegion
   bool empty = false;
 };
 
+/// Whether a node can never be selected: absent (another rank's part) always,
+/// masked unless masked cells may be selected. The one rule every selection
+/// (node lists and masks) applies.
+inline bool unselectable(const HyperTreeAccess& grid, const TreeAccess& tree, vtkIdType node,
+                         bool allowMasked)
+{
+  if (!grid.hasMask())
+  {
+    return false;
+  }
+  const vtkIdType global = tree.globalIndex(node);
+  return grid.isAbsent(global) || (!allowMasked && grid.isMasked(global));
+}
+
 /// A selected node.
 struct SelectedNode
 {

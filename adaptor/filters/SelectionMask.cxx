@@ -95,19 +95,6 @@ SelectionMaskResult buildSelectionMask(const HyperTreeAccess& grid, const Progre
   return result;
 }
 
-/// Whether a node stays hidden in a selected subtree: absent always, masked
-/// unless masked cells may be selected.
-bool hiddenNode(const HyperTreeAccess& grid, const TreeAccess& tree, vtkIdType node,
-                bool allowMasked)
-{
-  if (!grid.hasMask())
-  {
-    return false;
-  }
-  const vtkIdType global = tree.globalIndex(node);
-  return grid.isAbsent(global) || (!allowMasked && grid.isMasked(global));
-}
-
 /// Marks the selectable leaves of a tree for which pick(node) holds, with their
 /// bounds; subtrees whose root `skip` flags are left out.
 template <typename Pick>
@@ -121,7 +108,7 @@ void markLeaves(const HyperTreeAccess& grid, const TreeAccess& tree, bool allowM
            [&](WalkNode& n)
            {
              if ((skip && (*skip)[static_cast<std::size_t>(n.node)]) ||
-                 hiddenNode(grid, tree, n.node, allowMasked))
+                 unselectable(grid, tree, n.node, allowMasked))
              {
                return WalkStep::Skip;
              }
@@ -191,7 +178,7 @@ SelectionMaskResult selectionMask(const HyperTreeAccess& grid,
                                   for (vtkIdType c = tree.firstChild(m);
                                        c < tree.firstChild(m) + grid.childrenPerNode(); ++c)
                                   {
-                                    if (!hiddenNode(grid, tree, c, allowMasked))
+                                    if (!unselectable(grid, tree, c, allowMasked))
                                     {
                                       visible[static_cast<std::size_t>(c)] = 1;
                                       stack.push_back(c);
@@ -226,7 +213,7 @@ bool hasHiddenCell(const HyperTreeAccess& grid, const TreeAccess& tree, bool all
 {
   for (vtkIdType n = 0; grid.hasMask() && n < tree.numberOfVertices; ++n)
   {
-    if (hiddenNode(grid, tree, n, allowMasked))
+    if (unselectable(grid, tree, n, allowMasked))
     {
       return true;
     }
@@ -263,7 +250,7 @@ bool markRegion(const HyperTreeAccess& grid, const TreeAccess& tree, const Selec
            [&](WalkNode& n)
            {
              ++examined;
-             if (hiddenNode(grid, tree, n.node, allowMasked))
+             if (unselectable(grid, tree, n.node, allowMasked))
              {
                return WalkStep::Skip;
              }
