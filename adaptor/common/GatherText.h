@@ -1,5 +1,6 @@
-// Gathering one text from every rank: the one home of this exchange in Canopy
-// (lengths first, then the characters at their offsets). Used by Canopy::IO's
+// Texts between ranks: gathering one text from every rank, the one home of this
+// exchange in Canopy (lengths first, then the characters at their offsets), and
+// one rank's text broadcast to all. Used by Canopy::IO's
 // writer agreement and insitu's CollectiveAgreement. Header only, MPI's C API
 // only, so any Canopy library can include it. (The filters' gatherFromAll is
 // the same exchange over a VTK controller, which need not be MPI.)
@@ -89,6 +90,27 @@ inline std::vector<std::string> gatherTextsToRoot(MPI_Comm communicator, const s
   MPI_Gatherv(text.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR,
               root, communicator);
   return gather_text_detail::split(all, lengths, offsets);
+}
+
+/// `root`'s `text` (any bytes) on every rank. Collective over `communicator`;
+/// MPI_COMM_NULL means a single process (`text`).
+inline std::string broadcastText(MPI_Comm communicator, const std::string& text, int root = 0)
+{
+  if (communicator == MPI_COMM_NULL)
+  {
+    return text;
+  }
+  int length = static_cast<int>(text.size());
+  MPI_Bcast(&length, 1, MPI_INT, root, communicator);
+  std::string all(static_cast<std::size_t>(length), '\0');
+  int rank = 0;
+  MPI_Comm_rank(communicator, &rank);
+  if (rank == root)
+  {
+    all = text;
+  }
+  MPI_Bcast(all.data(), length, MPI_CHAR, root, communicator);
+  return all;
 }
 
 } // namespace canopy

@@ -9,13 +9,29 @@
 // failed piece is an error the pipeline reports, not a crash. Checked by
 // insitu.fault.write_errors_mid_piece (EIO in the middle of the surface and
 // selection pieces).
+//
+// And VTK's XML writers never see a write that fails when the file is closed:
+// what is still in the stream's buffer (all of a small file) is written by the
+// stream's destructor, whose failure nobody checks, and a truncated or empty
+// file is left as if written. So each file is read back at its end
+// (finishedXmlFile) and a truncated one is an error (insitu.writer_faults.*).
 #pragma once
 
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <string>
+
 namespace canopy::io
 {
+
+/// Why the VTK XML file `fileName` is not whole ("" if it is): it must end with
+/// the closing tag </VTKFile> (whitespace after it allowed).
+std::string unfinishedXmlFile(const std::string& fileName);
+
+/// After `writer` wrote its file (borrowed for the call): removes the file if it
+/// is not whole and says why ("" if it is whole, or went to a string).
+std::string removeUnfinishedXmlFile(vtkXMLWriterBase* writer);
 
 class FailSafeXmlPolyDataPieceWriter : public vtkXMLPolyDataWriter
 {
@@ -26,6 +42,8 @@ public:
 protected:
   FailSafeXmlPolyDataPieceWriter() = default;
   ~FailSafeXmlPolyDataPieceWriter() override = default;
+
+  int WriteInternal() override;
 
   void AllocatePositionArrays() override;
   void DeletePositionArrays() override;
@@ -43,6 +61,8 @@ public:
 protected:
   FailSafeXmlUnstructuredGridPieceWriter() = default;
   ~FailSafeXmlUnstructuredGridPieceWriter() override = default;
+
+  int WriteInternal() override;
 
   void AllocatePositionArrays() override;
   void DeletePositionArrays() override;

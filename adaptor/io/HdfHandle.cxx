@@ -53,20 +53,6 @@ std::string hdfErrorText()
   return text;
 }
 
-HdfFile openFile(MPI_Comm communicator, const std::string& name, bool create)
-{
-  HdfProperties access{H5Pcreate(H5P_FILE_ACCESS)};
-  if (communicator != MPI_COMM_NULL)
-  {
-    H5Pset_fapl_mpio(access.get(), communicator, MPI_INFO_NULL);
-    // Metadata read once and broadcast, written collectively: fewer small I/Os.
-    H5Pset_all_coll_metadata_ops(access.get(), true);
-    H5Pset_coll_metadata_write(access.get(), true);
-  }
-  return HdfFile{create ? H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get())
-                        : H5Fopen(name.c_str(), H5F_ACC_RDWR, access.get())};
-}
-
 HdfGroup createGroup(hid_t location, const std::string& path)
 {
   return HdfGroup{H5Gcreate2(location, path.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)};

@@ -6,7 +6,6 @@
 #pragma once
 
 #include <hdf5.h>
-#include <mpi.h>
 
 #include <cstdint>
 #include <optional>
@@ -86,10 +85,6 @@ std::string hdfErrorText();
 
 // ---- files and groups ------------------------------------------------------------------
 
-/// Creates (truncating) or opens for writing the file `name`, for every rank of
-/// `communicator` through MPI-IO, which the file then uses until it is closed
-/// (MPI_COMM_NULL: one process, HDF5's default driver). Collective.
-HdfFile openFile(MPI_Comm communicator, const std::string& name, bool create);
 /// `path` is relative to `location` (a file or group; borrowed for the call).
 HdfGroup createGroup(hid_t location, const std::string& path);
 HdfGroup openGroup(hid_t location, const std::string& path);
@@ -100,7 +95,7 @@ std::vector<std::string> linkNames(hid_t group);
 
 /// A new empty dataset of rows of `columns` values (1: a 1D dataset) of
 /// `fileType`, unlimited in rows, stored in chunks of `chunkRows` rows. Its values
-/// are never filled in: every row is written. Collective when the file is parallel.
+/// are never filled in: every row is written.
 HdfDataset createGrowingDataset(hid_t location, const std::string& path, hid_t fileType,
                                 int columns, hsize_t chunkRows);
 HdfDataset openDataset(hid_t location, const std::string& path);
@@ -108,10 +103,10 @@ HdfDataset openDataset(hid_t location, const std::string& path);
 std::int64_t rowsOf(hid_t dataset);
 /// Values per row of `dataset`: 1 for a 1D dataset, -1 on error or for a scalar.
 int columnsOf(hid_t dataset);
-/// Resizes `dataset` to `rows` rows of `columns` values. Collective when parallel.
+/// Resizes `dataset` to `rows` rows of `columns` values.
 bool setRows(hid_t dataset, std::int64_t rows, int columns);
 /// Writes `rows` rows of `columns` values from `values` (of `memoryType`) at row
-/// `first` of `dataset` (independent I/O: each rank writes its own rows).
+/// `first` of `dataset`.
 bool writeRows(hid_t dataset, int columns, std::int64_t first, std::int64_t rows, hid_t memoryType,
                const void* values);
 /// Reads `rows` values of the 1D `dataset` from row `first` into `values`.

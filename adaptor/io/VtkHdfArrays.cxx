@@ -30,16 +30,25 @@ struct PackedSpec
   std::int32_t components = 1;
 };
 
-std::string pack(const std::vector<vtkDataArray*>& arrays)
+std::vector<ArraySpec> specsOf(const std::vector<vtkDataArray*>& arrays)
 {
-  std::string bytes;
+  std::vector<ArraySpec> specs;
   for (vtkDataArray* array : arrays)
   {
-    const std::string name = array->GetName();
-    const PackedSpec fields{static_cast<std::int32_t>(name.size()), array->GetDataType(),
-                            array->GetNumberOfComponents()};
+    specs.push_back({array->GetName(), array->GetDataType(), array->GetNumberOfComponents()});
+  }
+  return specs;
+}
+
+std::string pack(const std::vector<ArraySpec>& specs)
+{
+  std::string bytes;
+  for (const ArraySpec& spec : specs)
+  {
+    const PackedSpec fields{static_cast<std::int32_t>(spec.name.size()), spec.type,
+                            spec.components};
     bytes.append(reinterpret_cast<const char*>(&fields), sizeof(fields));
-    bytes += name;
+    bytes += spec.name;
   }
   return bytes;
 }
@@ -190,7 +199,7 @@ AgreedArrays gatherArraySpecs(MPI_Comm communicator, const std::vector<vtkDataAr
 {
   AgreedArrays agreed;
   std::map<std::string, ArraySpec> seen;
-  for (const std::string& bytes : gatherTextsToAll(communicator, pack(arrays)))
+  for (const std::string& bytes : gatherTextsToAll(communicator, pack(specsOf(arrays))))
   {
     for (ArraySpec& spec : unpack(bytes))
     {
@@ -210,6 +219,12 @@ AgreedArrays gatherArraySpecs(MPI_Comm communicator, const std::vector<vtkDataAr
     }
   }
   return agreed;
+}
+
+std::vector<ArraySpec> broadcastArraySpecs(MPI_Comm communicator,
+                                           const std::vector<ArraySpec>& specs)
+{
+  return unpack(broadcastText(communicator, pack(specs)));
 }
 
 std::string missingArrays(const std::vector<ArraySpec>& specs,

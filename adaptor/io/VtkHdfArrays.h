@@ -52,6 +52,11 @@ struct AgreedArrays
 /// Collective over `communicator` (MPI_COMM_NULL: one process).
 AgreedArrays gatherArraySpecs(MPI_Comm communicator, const std::vector<vtkDataArray*>& arrays);
 
+/// Rank 0's `specs` (the file's arrays, which only the writing rank reads) on
+/// every rank. Collective over `communicator` (MPI_COMM_NULL: one process).
+std::vector<ArraySpec> broadcastArraySpecs(MPI_Comm communicator,
+                                           const std::vector<ArraySpec>& specs);
+
 /// Why `arrays` cannot give the file's arrays `specs` their values ("" if they
 /// can): each must be there, with the file's components; only the ghost array
 /// may be missing (it is then written as zeros).

@@ -428,25 +428,6 @@ std::string VtkHdfLayout::writeStepRow(const StepShape& shape, double time)
   return problem;
 }
 
-std::string VtkHdfLayout::shrinkToSteps()
-{
-  std::string problem;
-  this->forEachDataset(
-      [&](GrowingDataset& dataset)
-      {
-        if (!dataset.handle.valid())
-        {
-          return;
-        }
-        if (!setRows(dataset.handle.get(), dataset.committed, dataset.columns) && problem.empty())
-        {
-          problem = dataset.path + ": " + hdfErrorText();
-        }
-        dataset.handle.reset();
-      });
-  return problem;
-}
-
 void VtkHdfLayout::close()
 {
   this->forEachDataset([](GrowingDataset& dataset) { dataset.handle.reset(); });
@@ -460,17 +441,12 @@ std::string writeDatasetRows(const GrowingDataset& dataset, std::int64_t first, 
              : "cannot write " + dataset.path + ": " + hdfErrorText();
 }
 
-std::string commitNumberOfSteps(hid_t file, std::int64_t committedSteps, std::int64_t steps)
+std::string writeNumberOfSteps(hid_t file, std::int64_t steps)
 {
   HdfGroup group = openGroup(file, "VTKHDF/Steps");
-  if (writeAttribute(group.get(), "NSteps", H5T_STD_I64LE, H5T_NATIVE_INT64, 0, &steps) &&
-      H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0)
-  {
-    return {};
-  }
-  const std::string problem = "cannot update NSteps: " + hdfErrorText();
-  writeAttribute(group.get(), "NSteps", H5T_STD_I64LE, H5T_NATIVE_INT64, 0, &committedSteps);
-  return problem;
+  return writeAttribute(group.get(), "NSteps", H5T_STD_I64LE, H5T_NATIVE_INT64, 0, &steps)
+             ? std::string()
+             : "cannot update NSteps: " + hdfErrorText();
 }
 
 } // namespace canopy::io

@@ -88,33 +88,32 @@ public:
   explicit VtkHdfLayout(std::vector<ArraySpec> arrays = {});
 
   const std::vector<ArraySpec>& arrays() const { return this->Arrays; }
-  Series& grid(GridDataset which) { return this->AllSeries[static_cast<std::size_t>(which)]; }
-  /// The dataset of arrays()[index].
-  Series& cellData(std::size_t index) { return this->AllSeries[NumberOfGridDatasets + index]; }
+  /// Every dataset of /VTKHDF: the grid's in GridDataset order, then one per arrays() entry.
+  std::size_t numberOfSeries() const { return this->AllSeries.size(); }
+  Series& series(std::size_t index) { return this->AllSeries[index]; }
+  const Series& series(std::size_t index) const { return this->AllSeries[index]; }
+  Series& grid(GridDataset which) { return this->series(static_cast<std::size_t>(which)); }
   GrowingDataset& step(StepDataset which)
   {
     return this->StepDatasets[static_cast<std::size_t>(which)];
   }
 
   /// Creates /VTKHDF in `file` (borrowed): attributes, groups, empty datasets,
-  /// chunked for steps like `shape`. Collective.
+  /// chunked for steps like `shape`.
   std::string create(hid_t file, const StepShape& shape, bool transposedRootIndexing);
   /// Becomes the layout of `file` (borrowed), written before: checks it holds
   /// a grid like `shape`'s, takes its cell arrays, opens its datasets, reads its
-  /// number of steps into `steps` and the rows they hold. Collective.
+  /// number of steps into `steps` and the rows they hold.
   std::string open(hid_t file, const StepShape& shape, std::int64_t& steps);
 
-  /// Drops rows beyond the file's steps (a failed or interrupted step). Collective.
+  /// Drops rows beyond the file's steps (a step a killed run left behind).
   std::string trim();
-  /// Grows /VTKHDF's datasets by the step's rows. Collective.
+  /// Grows /VTKHDF's datasets by the step's rows.
   std::string extendData(const StepShape& shape);
-  /// Grows /VTKHDF/Steps' datasets by a row. Collective.
+  /// Grows /VTKHDF/Steps' datasets by a row.
   std::string extendSteps();
-  /// The step's row of every /VTKHDF/Steps dataset (one rank writes it).
+  /// The step's row of every /VTKHDF/Steps dataset.
   std::string writeStepRow(const StepShape& shape, double time);
-  /// Shrinks the open datasets back to the file's steps, then closes them.
-  /// Collective. The first problem, if any.
-  std::string shrinkToSteps();
   /// Closes every dataset.
   void close();
 
@@ -134,12 +133,12 @@ private:
 };
 
 /// Writes `rows` rows of `memoryType` from `values` (borrowed) at row `first` of
-/// `dataset` (open). Independent I/O. "" or what went wrong.
+/// `dataset` (open). "" or what went wrong.
 std::string writeDatasetRows(const GrowingDataset& dataset, std::int64_t first, std::int64_t rows,
                              hid_t memoryType, const void* values);
 
-/// Sets /VTKHDF/Steps' NSteps of `file` (borrowed) to `steps` and flushes: the
-/// step exists from then on. Restores `committedSteps` if that fails. Collective.
-std::string commitNumberOfSteps(hid_t file, std::int64_t committedSteps, std::int64_t steps);
+/// Sets /VTKHDF/Steps' NSteps of `file` (borrowed) to `steps`: readers see the
+/// step from then on.
+std::string writeNumberOfSteps(hid_t file, std::int64_t steps);
 
 } // namespace canopy::io

@@ -4,6 +4,7 @@
 #include "CellArrayBlocks.h"
 #include "HyperTreeGridPiece.h"
 #include "VtkHdfLayout.h"
+#include "VtkHdfRowTransfer.h"
 
 #include <vtkDataArray.h>
 #include <vtkHyperTreeGrid.h>
@@ -16,7 +17,7 @@ namespace
 /// Where the values of a grid dataset are, for those the piece holds as stored.
 struct PieceValues
 {
-  hid_t memoryType;
+  int vtkType;
   const void* values;
 };
 
@@ -27,15 +28,15 @@ PieceValues valuesOf(GridDataset which, const HyperTreeGridPiece& piece, const P
   switch (which)
   {
   case GridDataset::TreeIds:
-    return {H5T_NATIVE_INT64, piece.treeIds.data()};
+    return {VTK_LONG_LONG, piece.treeIds.data()};
   case GridDataset::DepthPerTree:
-    return {H5T_NATIVE_INT64, piece.depthPerTree.data()};
+    return {VTK_LONG_LONG, piece.depthPerTree.data()};
   case GridDataset::NumberOfCellsPerTreeDepth:
-    return {H5T_NATIVE_INT64, piece.cellsPerTreeDepth.data()};
+    return {VTK_LONG_LONG, piece.cellsPerTreeDepth.data()};
   case GridDataset::Descriptors:
-    return {H5T_NATIVE_UCHAR, piece.descriptors.bytes().data()};
+    return {VTK_UNSIGNED_CHAR, piece.descriptors.bytes().data()};
   case GridDataset::Mask:
-    return {H5T_NATIVE_UCHAR, piece.leafMask.bytes().data()};
+    return {VTK_UNSIGNED_CHAR, piece.leafMask.bytes().data()};
   default:
     break;
   }
@@ -43,14 +44,14 @@ PieceValues valuesOf(GridDataset which, const HyperTreeGridPiece& piece, const P
   {
     if (field.dataset == which)
     {
-      return {H5T_NATIVE_INT64, &(counts.*field.count)};
+      return {VTK_LONG_LONG, &(counts.*field.count)};
     }
   }
-  return {H5I_INVALID_HID, nullptr};
+  return {VTK_VOID, nullptr};
 }
 
-std::string writeCoordinates(const Series& series, std::int64_t first, std::int64_t length,
-                             vtkHyperTreeGrid* htg)
+std::string putCoordinates(RowSink& sink, std::size_t index, const Series& series,
+                           std::int64_t length, vtkHyperTreeGrid* htg)
 {
   vtkDataArray* axis = series.axis == 0   ? htg->GetXCoordinates()
                        : series.axis == 1 ? htg->GetYCoordinates()
@@ -60,31 +61,29 @@ std::string writeCoordinates(const Series& series, std::int64_t first, std::int6
   {
     values[static_cast<std::size_t>(i)] = axis->GetComponent(i, 0);
   }
-  return writeDatasetRows(series.data, first, length, H5T_NATIVE_DOUBLE, values.data());
+  return sink.put(index, 0, length, VTK_DOUBLE, 1, values.data());
 }
 
 /// `array` (null: only the ghost array may be missing, on a rank without other
-/// ranks' parts; written as zeros) in the piece's file order.
-std::string writeCellArray(const Series& series, std::int64_t first,
-                           const HyperTreeGridPiece& piece, vtkDataArray* array)
+/// ranks' parts; given as zeros) in the piece's file order.
+std::string putCellArray(RowSink& sink, std::size_t index, const Series& series,
+                         const HyperTreeGridPiece& piece, vtkDataArray* array)
 {
+  const int columns = series.data.columns;
   if (array == nullptr)
   {
-    std::vector<unsigned char> zeros(
-        static_cast<std::size_t>(piece.numberOfCells * series.data.columns), 0);
-    return writeDatasetRows(series.data, first, piece.numberOfCells, H5T_NATIVE_UCHAR,
-                            zeros.data());
+    std::vector<unsigned char> zeros(static_cast<std::size_t>(piece.numberOfCells * columns), 0);
+    return sink.put(index, 0, piece.numberOfCells, VTK_UNSIGNED_CHAR, columns, zeros.data());
   }
-  const hid_t memoryType = memoryTypeOf(array->GetDataType());
   std::string problem;
-  std::int64_t row = first;
+  std::int64_t row = 0;
   CellArrayBlocks(array, piece.runs)
       .forEach(
           [&](const void* values, vtkIdType tuples)
           {
             if (problem.empty())
             {
-              problem = writeDatasetRows(series.data, row, tuples, memoryType, values);
+              problem = sink.put(index, row, tuples, array->GetDataType(), columns, values);
             }
             row += tuples;
           });
@@ -93,35 +92,31 @@ std::string writeCellArray(const Series& series, std::int64_t first,
 
 } // namespace
 
-std::string writePieceRows(VtkHdfLayout& layout, const StepShape& shape,
-                           const HyperTreeGridPiece& piece, vtkHyperTreeGrid* htg,
-                           const std::vector<vtkDataArray*>& arrays)
+std::string putPieceRows(RowSink& sink, const VtkHdfLayout& layout, const StepShape& shape,
+                         const HyperTreeGridPiece& piece, vtkHyperTreeGrid* htg,
+                         const std::vector<vtkDataArray*>& arrays)
 {
-  const int rank = shape.rank;
-  auto firstRow = [&](const Series& series)
-  { return series.data.committed + shape.prefix(series.kind, rank, series.axis); };
   std::string problem;
   for (std::size_t d = 0; d < NumberOfGridDatasets && problem.empty(); ++d)
   {
     const auto which = static_cast<GridDataset>(d);
-    const Series& series = layout.grid(which);
-    const std::int64_t rows = shape.rows(series.kind, rank, series.axis);
+    const Series& series = layout.series(d);
+    const std::int64_t rows = shape.rows(series.kind, shape.rank, series.axis);
     if (series.kind == Kind::Coordinate)
     {
-      problem = writeCoordinates(series, firstRow(series), rows, htg);
+      problem = putCoordinates(sink, d, series, rows, htg);
     }
     else
     {
       const PieceValues values = valuesOf(which, piece, shape.mine());
-      problem =
-          writeDatasetRows(series.data, firstRow(series), rows, values.memoryType, values.values);
+      problem = sink.put(d, 0, rows, values.vtkType, 1, values.values);
     }
   }
   for (std::size_t a = 0; a < layout.arrays().size() && problem.empty(); ++a)
   {
-    const Series& series = layout.cellData(a);
-    problem =
-        writeCellArray(series, firstRow(series), piece, findArray(arrays, layout.arrays()[a].name));
+    const std::size_t index = NumberOfGridDatasets + a;
+    problem = putCellArray(sink, index, layout.series(index), piece,
+                           findArray(arrays, layout.arrays()[a].name));
   }
   return problem;
 }

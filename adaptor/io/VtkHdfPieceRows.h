@@ -1,6 +1,6 @@
 // This rank's rows of a VTKHDF step: its piece of the grid (counts, trees,
-// descriptors, mask, coordinates) and its cell arrays, written into the
-// datasets of the layout at the rank's place within the step.
+// descriptors, mask, coordinates) and its cell arrays, given to a RowSink
+// (VtkHdfRowTransfer.h) dataset by dataset, in the layout's order.
 #pragma once
 
 #include <string>
@@ -12,15 +12,17 @@ class vtkHyperTreeGrid;
 namespace canopy::io
 {
 
+class RowSink;
 class VtkHdfLayout;
 struct HyperTreeGridPiece;
 struct StepShape;
 
-/// Writes `piece` of `htg` and its cell `arrays` (all borrowed for the call)
-/// into the datasets of `layout`, open and grown by the step of `shape`.
-/// Independent I/O: each rank writes its own rows. The first problem, if any.
-std::string writePieceRows(VtkHdfLayout& layout, const StepShape& shape,
-                           const HyperTreeGridPiece& piece, vtkHyperTreeGrid* htg,
-                           const std::vector<vtkDataArray*>& arrays);
+/// Gives `sink` the rows of `piece` of `htg` and of its cell `arrays` (all
+/// borrowed for the call) for each dataset of `layout` (only its list of
+/// datasets is read: no file is needed), sized by this rank's counts in `shape`.
+/// The first problem, if any (then the rest is not given).
+std::string putPieceRows(RowSink& sink, const VtkHdfLayout& layout, const StepShape& shape,
+                         const HyperTreeGridPiece& piece, vtkHyperTreeGrid* htg,
+                         const std::vector<vtkDataArray*>& arrays);
 
 } // namespace canopy::io

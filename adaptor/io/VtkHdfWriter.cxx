@@ -1,16 +1,22 @@
-// The step protocol of canopy::io::VtkHdfWriter (VtkHdfWriter.h). A step goes
-// through phases, each ending where every rank agrees it went well: what the
-// ranks have (their pieces, arrays and counts: VtkHdfStepShape.h), the file
-// opened or created (its layout: VtkHdfLayout.h), the arrays checked against the
-// file's, the rows written, then the step committed by NSteps. A problem on any
-// rank stops every rank at the same phase and removes the step's rows again.
+// The step protocol of canopy::io::VtkHdfWriter (VtkHdfWriter.h). One process
+// writes the file: rank 0 of the writer's communicator, through a file driver
+// that can undo a step byte for byte (StepRollback.h); every other rank sends
+// its rows to it (VtkHdfRowTransfer.h). A step goes through phases, each ending
+// where every rank agrees it went well: what the ranks have (their pieces,
+// arrays and counts: VtkHdfStepShape.h), the file opened or created (its layout:
+// VtkHdfLayout.h) and its arrays known to every rank, the rows written, then the
+// step's offsets and NSteps, the file closed and made durable. A problem on any
+// rank stops every rank at the same phase, and rank 0 undoes the step.
 #include "VtkHdfWriter.h"
 
+#include "GatherText.h"
 #include "HdfHandle.h"
 #include "HyperTreeGridPiece.h"
+#include "StepRollback.h"
 #include "VtkHdfArrays.h"
 #include "VtkHdfLayout.h"
 #include "VtkHdfPieceRows.h"
+#include "VtkHdfRowTransfer.h"
 #include "VtkHdfStepShape.h"
 #include "WriterAgreement.h"
 
@@ -45,12 +51,36 @@ std::string joined(const std::vector<std::string>& problems)
 
 struct VtkHdfWriter::Implementation
 {
-  MPI_Comm Communicator;
+  MPI_Comm Communicator;         // the caller's: agreements
+  MPI_Comm Rows = MPI_COMM_NULL; // a duplicate of it, for the rows sent to rank 0
   std::string FileName;
   VtkHdfWriterOptions Options;
-  bool Started = false; // a step of this run reached the file (later steps append)
+  bool Started = false; // a step of this run is in the file (later steps append)
   std::int64_t Steps = 0;
-  VtkHdfLayout Layout; // the file's datasets, open while a step is written
+  std::vector<ArraySpec> Arrays; // the file's arrays, on every rank
+  // Rank 0's, while a step is written:
+  StepRollback Rollback;
+  VtkHdfLayout Layout;
+  HdfFile File;
+  bool StepOpen = false; // begun and neither kept nor undone
+
+  Implementation(MPI_Comm communicator, std::string fileName, VtkHdfWriterOptions options)
+      : Communicator(communicator), FileName(std::move(fileName)), Options(std::move(options)),
+        Rollback(this->FileName)
+  {
+  }
+
+  ~Implementation()
+  {
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (this->Rows != MPI_COMM_NULL && !finalized)
+    {
+      MPI_Comm_free(&this->Rows);
+    }
+  }
+
+  bool writes() const { return rankOf(this->Communicator) == 0; }
 
   std::string where(std::int64_t step, double time) const
   {
@@ -64,34 +94,43 @@ struct VtkHdfWriter::Implementation
     return text.str();
   }
 
+  /// Rank 0: what went wrong on the disk so far in this step ("" if nothing).
+  std::string diskProblem() const
+  {
+    return this->Rollback.failed()
+               ? "cannot write " + this->FileName + ": " + this->Rollback.failure()
+               : std::string();
+  }
+
+  /// Rank 0: closes the file and puts it back as it was before the step.
+  std::string abandon()
+  {
+    if (!this->StepOpen)
+    {
+      return {};
+    }
+    this->Layout.close();
+    this->File.reset();
+    this->StepOpen = false;
+    const std::string undone = this->Rollback.undo();
+    return undone.empty() ? std::string()
+                          : "; the file could not be put back yet (tried again at the next "
+                            "step): " +
+                                undone;
+  }
+
   /// Throws the same WriteError on every rank when any rank has a problem,
-  /// after restoring `file` (null: not open on every rank) to its earlier steps.
-  void agree(const std::string& localProblem, const std::string& context, HdfFile* file)
+  /// after rank 0 has undone the step.
+  void agree(const std::string& localProblem, const std::string& context)
   {
     const std::string problems = gatherProblems(this->Communicator, localProblem);
     if (problems.empty())
     {
       return;
     }
-    std::string restore;
-    if (file != nullptr)
-    {
-      restore = this->rollBack(*file);
-    }
-    throw WriteError(context + ": " + problems +
-                     (restore.empty() ? "" : "; restoring the earlier steps: " + restore));
-  }
-
-  /// Shrinks every dataset back to the rows of the file's steps and closes the
-  /// file. Collective. Returns what went wrong, if anything.
-  std::string rollBack(HdfFile& file)
-  {
-    std::string local = this->Layout.shrinkToSteps();
-    if (!file.reset() && local.empty())
-    {
-      local = "closing: " + hdfErrorText();
-    }
-    return gatherProblems(this->Communicator, local);
+    const std::string undo = this->abandon();
+    // Rank 0's undo is news for every rank: the message is the same everywhere.
+    throw WriteError(context + ": " + problems + canopy::broadcastText(this->Communicator, undo));
   }
 
   // ---- the phases of a step, in order ---------------------------------------------------
@@ -106,7 +145,11 @@ struct VtkHdfWriter::Implementation
     }
     LocalStep local{HyperTreeGridPiece::describe(htg),
                     selectStepArrays(htg, this->Options.arrays, problems)};
-    this->agree(joined(problems), context, nullptr);
+    this->agree(joined(problems), context);
+    if (this->Rows == MPI_COMM_NULL && this->Communicator != MPI_COMM_NULL)
+    {
+      MPI_Comm_dup(this->Communicator, &this->Rows); // collective: every rank is here
+    }
     return local;
   }
 
@@ -120,108 +163,176 @@ struct VtkHdfWriter::Implementation
       // The same on every rank: every rank compares every piece.
       throw WriteError(context + ": the ranks' grids differ in branch factor or dimensions");
     }
-    // A write that fails for want of space may leave HDF5 unable to close the file
-    // (HDF5 1.10 then crashes at exit, HDFFV-11052): refuse a step that will not
-    // fit before touching the file.
-    this->agree(shape.rank == 0 && this->Options.checkFreeSpace
+    // A step that cannot fit would fail and be undone: refuse it before any work.
+    this->agree(this->writes() && this->Options.checkFreeSpace
                     ? freeSpaceProblem(this->FileName, shape.dataBytes)
                     : std::string(),
-                context, nullptr);
+                context);
     return shape;
   }
 
-  /// The file, created at the run's first step, then appended to.
-  HdfFile openOrCreate(vtkHyperTreeGrid* htg, const LocalStep& local, const StepShape& shape,
-                       const std::string& context)
+  /// The file, created at the run's first step, then appended to; its arrays
+  /// known to every rank and given by every rank.
+  void openOrCreate(vtkHyperTreeGrid* htg, const LocalStep& local, const StepShape& shape,
+                    const std::string& context)
   {
-    int exists = std::filesystem::exists(this->FileName) ? 1 : 0;
+    int create = 0;
+    if (this->writes())
+    {
+      create =
+          !std::filesystem::exists(this->FileName) || (!this->Started && !this->Options.append);
+    }
     if (this->Communicator != MPI_COMM_NULL)
     {
-      MPI_Bcast(&exists, 1, MPI_INT, 0, this->Communicator); // rank 0's view decides
+      MPI_Bcast(&create, 1, MPI_INT, 0, this->Communicator);
     }
-    const bool create = !exists || (!this->Started && !this->Options.append);
-    HdfFile file = openFile(this->Communicator, this->FileName, create);
-    this->agree(file.valid() ? std::string()
-                             : std::string(create ? "cannot create " : "cannot open ") +
-                                   this->FileName + ": " + hdfErrorText(),
-                context, nullptr);
+    AgreedArrays agreed;
     if (create)
     {
-      this->create(file, htg, local, shape, context);
+      // The arrays: those of every rank, in rank order, each once.
+      agreed = gatherArraySpecs(this->Communicator, local.arrays);
+      if (!agreed.conflict.empty())
+      {
+        throw WriteError(context + ": " + agreed.conflict); // the same on every rank
+      }
+    }
+    std::string problem;
+    if (this->writes())
+    {
+      problem = this->Rollback.begin();
+      if (problem.empty())
+      {
+        this->StepOpen = true;
+        problem =
+            create ? this->createFile(htg, shape, std::move(agreed.specs)) : this->openFile(shape);
+      }
+      if (problem.empty())
+      {
+        problem = this->diskProblem();
+      }
+    }
+    this->agree(problem, context);
+    this->Arrays = broadcastArraySpecs(this->Communicator, this->Layout.arrays());
+    // Every array of the file must come from every rank (the ghost array excepted).
+    this->agree(missingArrays(this->Arrays, local.arrays), context);
+  }
+
+  std::string createFile(vtkHyperTreeGrid* htg, const StepShape& shape,
+                         std::vector<ArraySpec> arrays)
+  {
+    HdfProperties access{this->Rollback.fileAccess()};
+    this->File =
+        HdfFile{H5Fcreate(this->FileName.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get())};
+    if (!this->File.valid())
+    {
+      return "cannot create " + this->FileName + ": " + hdfErrorText();
+    }
+    this->Steps = 0;
+    this->Layout = VtkHdfLayout(std::move(arrays));
+    return this->Layout.create(this->File.get(), shape, htg->GetTransposedRootIndexing());
+  }
+
+  std::string openFile(const StepShape& shape)
+  {
+    HdfProperties access{this->Rollback.fileAccess()};
+    this->File = HdfFile{H5Fopen(this->FileName.c_str(), H5F_ACC_RDWR, access.get())};
+    if (!this->File.valid())
+    {
+      return "cannot open " + this->FileName + ": " + hdfErrorText();
+    }
+    std::string problem = this->Layout.open(this->File.get(), shape, this->Steps);
+    // Drop rows a step of a killed run left behind.
+    return problem.empty() ? this->Layout.trim() : problem;
+  }
+
+  /// Every rank's rows: rank 0 writes its own, then each other rank's as they
+  /// come; the other ranks send theirs.
+  void writeRows(const LocalStep& local, vtkHyperTreeGrid* htg, const StepShape& shape,
+                 const std::string& context)
+  {
+    std::string problem;
+    if (this->writes())
+    {
+      problem = this->Layout.extendData(shape);
+      WrittenRows own(this->Layout, shape, 0);
+      if (problem.empty())
+      {
+        problem = putPieceRows(own, this->Layout, shape, local.piece, htg, local.arrays);
+      }
+      for (int from = 1; from < shape.numberOfPieces(); ++from)
+      {
+        WrittenRows theirs(this->Layout, shape, from);
+        const std::string received = receiveRows(this->Rows, from, theirs);
+        if (problem.empty())
+        {
+          problem = received;
+        }
+      }
+      if (problem.empty())
+      {
+        problem = this->diskProblem();
+      }
     }
     else
     {
-      this->agree(this->Layout.open(file.get(), shape, this->Steps), context, &file);
-      // Drop rows a failed or interrupted step left behind.
-      this->agree(this->Layout.trim(), context, &file);
+      // Only the list of datasets is read: no file here.
+      const VtkHdfLayout layout(this->Arrays);
+      SentRows sent(this->Rows);
+      problem = putPieceRows(sent, layout, shape, local.piece, htg, local.arrays);
+      sent.finish();
     }
-    return file;
+    this->agree(problem, context);
   }
 
-  void create(HdfFile& file, vtkHyperTreeGrid* htg, const LocalStep& local, const StepShape& shape,
-              const std::string& context)
+  /// The step's offsets and NSteps (the step exists once it says so), the file
+  /// closed and made durable, or undone.
+  void commit(const StepShape& shape, double time, const std::string& context)
   {
-    // The arrays: those of every rank, in rank order, each once.
-    AgreedArrays agreed = gatherArraySpecs(this->Communicator, local.arrays);
-    if (!agreed.conflict.empty())
+    std::string problem;
+    if (this->writes())
     {
-      file.reset();
-      throw WriteError(context + ": " + agreed.conflict);
+      problem = this->Layout.extendSteps();
+      if (problem.empty())
+      {
+        problem = this->Layout.writeStepRow(shape, time);
+      }
+      if (problem.empty())
+      {
+        problem = writeNumberOfSteps(this->File.get(), this->Steps + 1);
+      }
+      this->Layout.close();
+      if (!this->File.reset() && problem.empty())
+      {
+        problem = "closing " + this->FileName + ": " + hdfErrorText();
+      }
+      if (problem.empty())
+      {
+        problem = this->diskProblem();
+      }
+      if (problem.empty())
+      {
+        this->StepOpen = false;
+        const std::string kept = this->Rollback.keep(); // undoes the step if it fails
+        if (!kept.empty())
+        {
+          problem = "cannot write " + this->FileName + ": " + kept;
+        }
+      }
     }
-    this->Steps = 0;
-    this->Layout = VtkHdfLayout(std::move(agreed.specs));
-    std::string created = this->Layout.create(file.get(), shape, htg->GetTransposedRootIndexing());
-    if (created.empty() && H5Fflush(file.get(), H5F_SCOPE_GLOBAL) < 0)
-    {
-      // On disk before any data: a later failure finds a file it can restore.
-      created = "cannot flush the new file: " + hdfErrorText();
-    }
-    this->agree(created, context, &file);
-  }
-
-  /// Data, then the step's offsets: nothing a reader sees until commit().
-  void writeRows(HdfFile& file, const LocalStep& local, vtkHyperTreeGrid* htg,
-                 const StepShape& shape, double time, const std::string& context)
-  {
-    this->agree(this->Layout.extendData(shape), context, &file);
-    this->agree(writePieceRows(this->Layout, shape, local.piece, htg, local.arrays), context,
-                &file);
-    std::string row = this->Layout.extendSteps();
-    if (row.empty() && shape.rank == 0)
-    {
-      row = this->Layout.writeStepRow(shape, time);
-    }
-    this->agree(row, context, &file);
-    this->agree(H5Fflush(file.get(), H5F_SCOPE_GLOBAL) < 0
-                    ? "cannot flush the step's data: " + hdfErrorText()
-                    : std::string(),
-                context, &file);
-  }
-
-  /// NSteps: the step exists once it says so. Then the file is closed.
-  void commit(HdfFile& file, const std::string& context)
-  {
-    const std::int64_t stepsAfter = this->Steps + 1;
-    this->agree(commitNumberOfSteps(file.get(), this->Steps, stepsAfter), context, &file);
-    this->Layout.close();
-    const std::string closed = file.reset() ? std::string() : "closing: " + hdfErrorText();
+    this->agree(problem, context);
     this->Started = true;
-    this->Steps = stepsAfter;
-    const std::string closeProblems = gatherProblems(this->Communicator, closed);
-    if (!closeProblems.empty())
+    std::int64_t steps = this->Steps + 1;
+    if (this->Communicator != MPI_COMM_NULL)
     {
-      throw WriteError(context + " completely (the step's data and offsets were flushed before): " +
-                       closeProblems);
+      MPI_Bcast(&steps, 1, MPI_INT64_T, 0, this->Communicator); // the file's, from rank 0
     }
+    this->Steps = steps;
   }
 };
 
 VtkHdfWriter::VtkHdfWriter(MPI_Comm communicator, std::string fileName, VtkHdfWriterOptions options)
-    : Impl(std::make_unique<Implementation>())
+    : Impl(std::make_unique<Implementation>(communicator, std::move(fileName), std::move(options)))
 {
-  this->Impl->Communicator = communicator;
-  this->Impl->FileName = std::move(fileName);
-  this->Impl->Options = std::move(options);
 }
 
 VtkHdfWriter::~VtkHdfWriter() = default;
@@ -243,11 +354,9 @@ void VtkHdfWriter::writeStep(vtkHyperTreeGrid* htg, std::int64_t step, double ti
   const std::string context = impl.where(step, time);
   const LocalStep local = impl.describe(htg, context);
   const StepShape shape = impl.gatherShape(local, htg, context);
-  HdfFile file = impl.openOrCreate(htg, local, shape, context);
-  // Every array of the file must come from every rank (the ghost array excepted).
-  impl.agree(missingArrays(impl.Layout.arrays(), local.arrays), context, &file);
-  impl.writeRows(file, local, htg, shape, time, context);
-  impl.commit(file, context);
+  impl.openOrCreate(htg, local, shape, context);
+  impl.writeRows(local, htg, shape, context);
+  impl.commit(shape, time, context);
 }
 
 } // namespace canopy::io

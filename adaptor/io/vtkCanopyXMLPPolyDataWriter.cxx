@@ -2,7 +2,11 @@
 
 #include "FailSafeXmlPieceWriters.h"
 
+#include <vtkErrorCode.h>
+#include <vtkInformation.h>
+#include <vtkMultiProcessController.h>
 #include <vtkObjectFactory.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 
 vtkStandardNewMacro(vtkCanopyXMLPPolyDataWriter);
 
@@ -18,4 +22,24 @@ vtkXMLUnstructuredDataWriter* vtkCanopyXMLPPolyDataWriter::CreateUnstructuredPie
   auto* piece = canopy::io::FailSafeXmlPolyDataPieceWriter::New();
   piece->SetInputConnection(this->GetInputConnection(0, 0));
   return piece;
+}
+
+vtkTypeBool vtkCanopyXMLPPolyDataWriter::ProcessRequest(vtkInformation* request,
+                                                        vtkInformationVector** inputVector,
+                                                        vtkInformationVector* outputVector)
+{
+  const vtkTypeBool done = this->Superclass::ProcessRequest(request, inputVector, outputVector);
+  // The summary: written on rank 0 with the last piece (vtkXMLPDataObjectWriter).
+  const bool wroteSummary = done && request->Has(vtkDemandDrivenPipeline::REQUEST_DATA()) &&
+                            !request->Has(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING()) &&
+                            this->WriteSummaryFile &&
+                            (!this->Controller || this->Controller->GetLocalProcessId() == 0);
+  const std::string problem = wroteSummary ? canopy::io::removeUnfinishedXmlFile(this) : "";
+  if (!problem.empty())
+  {
+    this->SetErrorCode(vtkErrorCode::OutOfDiskSpaceError);
+    vtkErrorMacro(<< problem);
+    return 0;
+  }
+  return done;
 }

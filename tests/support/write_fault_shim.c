@@ -16,6 +16,21 @@
  *                               that is that full would. fsync fails with ERRNO once
  *                               the bytes are used up.
  *
+ * Words after BYTES aim the fault at one kind of write (a disk that goes bad
+ * there and stays bad: once one write has failed, every later one to the files
+ * aimed at fails too):
+ *   rank=R      only the process of MPI rank R (OMPI_COMM_WORLD_RANK, PMIX_RANK
+ *               or PMI_RANK) has faults; the others write normally
+ *   only=TEXT   only files whose path contains TEXT count and fail
+ *   min=N       only writes of at least N bytes count (data, not metadata)
+ *   overwrite   only writes into bytes the file had when it was opened count
+ *               (a file format's metadata, rewritten in place)
+ *   at=OFFSET   only writes covering byte OFFSET count (at=0: a header at the
+ *               file's start, often written last, when the file is closed)
+ *   skip=N      the first N writes aimed at succeed (a disk failing later)
+ *   fsync       writes succeed; fsync and fdatasync fail (a disk whose errors
+ *               show when the data is made durable)
+ *
  * Writes are seen where libraries make them: write/pwrite/writev (libstdc++'s
  * streams, HDF5, MPI-IO) and fwrite (stdio, libpng), for descriptors and
  * streams opened under the folder by open/openat/creat/fopen. The budget is per
@@ -43,15 +58,38 @@ static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
 static unsigned char tracked[MAX_TRACKED_FD]; /* fd -> opened under the folder */
 static struct
 {
-  int known;       /* the control file was read at this (inode, mtime, size) */
+  int known; /* the control file was read at this (inode, mtime, size) */
   ino_t inode;
   struct timespec mtime;
   off_t size;
-  int active;      /* faults on */
-  int error;       /* errno to fail with */
-  long long left;  /* bytes still allowed */
-  int statvfs;     /* report `left` as the free space */
+  int active;     /* faults on */
+  int error;      /* errno to fail with */
+  long long left; /* bytes still allowed */
+  int statvfs;    /* report `left` as the free space */
+  int rank;       /* the only MPI rank with faults; -1: every process */
+  char only[128]; /* only paths containing this count ("": all) */
+  long long min;  /* only writes of at least this many bytes count */
+  int overwrite;  /* only writes into a file's bytes at its opening count */
+  int sync_only;  /* only fsync/fdatasync fail */
+  long long at;   /* only writes covering this byte count (-1: any) */
+  long long skip; /* aimed writes still to let through */
+  int tripped;    /* a write has failed: every later one fails */
 } fault;
+static char* paths[MAX_TRACKED_FD];       /* fd -> its path, for only= */
+static off_t opened_size[MAX_TRACKED_FD]; /* fd -> its size when opened, for overwrite */
+
+/* This process's MPI rank, -1 when not started by an MPI launcher. */
+static int mpi_rank(void)
+{
+  const char* names[] = {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"};
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
+  {
+    const char* value = getenv(names[i]);
+    if (value && *value)
+      return atoi(value);
+  }
+  return -1;
+}
 
 static const char* folder(void)
 {
@@ -121,20 +159,73 @@ static void refresh(void)
     return;
   char name[16] = "";
   long long bytes = 0;
-  char flag[16] = "";
-  const int read = fscanf(file, "%15s %lld %15s", name, &bytes, flag);
+  const int read = fscanf(file, "%15s %lld", name, &bytes);
+  fault.statvfs = 0;
+  fault.rank = -1;
+  fault.only[0] = '\0';
+  fault.min = 0;
+  fault.overwrite = 0;
+  fault.sync_only = 0;
+  fault.at = -1;
+  fault.skip = 0;
+  fault.tripped = 0;
+  char word[120];
+  while (read == 2 && fscanf(file, "%119s", word) == 1)
+  {
+    if (strcmp(word, "statvfs") == 0)
+      fault.statvfs = 1;
+    else if (strcmp(word, "overwrite") == 0)
+      fault.overwrite = 1;
+    else if (strcmp(word, "fsync") == 0)
+      fault.sync_only = 1;
+    else if (strncmp(word, "rank=", 5) == 0)
+      fault.rank = atoi(word + 5);
+    else if (strncmp(word, "min=", 4) == 0)
+      fault.min = atoll(word + 4);
+    else if (strncmp(word, "at=", 3) == 0)
+      fault.at = atoll(word + 3);
+    else if (strncmp(word, "skip=", 5) == 0)
+      fault.skip = atoll(word + 5);
+    else if (strncmp(word, "only=", 5) == 0)
+      snprintf(fault.only, sizeof fault.only, "%s", word + 5);
+  }
   fclose(file);
-  if (read >= 2)
+  if (read == 2 && (fault.rank < 0 || fault.rank == mpi_rank()))
   {
     fault.active = 1;
     fault.error = errno_named(name);
     fault.left = bytes < 0 ? 0 : bytes;
-    fault.statvfs = read == 3 && strcmp(flag, "statvfs") == 0;
   }
 }
 
-/* How many of `count` bytes to `fd` may be written; 0 with errno set: none. */
-static size_t allowed(int fd, size_t count, int* refused)
+/* Whether `fd`'s file is one the control file aims at (only=). Called with the
+ * lock held. */
+static int file_aimed_at(int fd)
+{
+  return !fault.only[0] || (paths[fd] && strstr(paths[fd], fault.only));
+}
+
+/* Whether a write of `count` bytes at `offset` (-1: unknown) to `fd` is of the
+ * kind the control file aims at. Called with the lock held. */
+static int aimed_at(int fd, size_t count, off_t offset)
+{
+  if ((long long)count < fault.min)
+    return 0;
+  if (fault.overwrite && !(offset >= 0 && offset < opened_size[fd]))
+    return 0;
+  if (fault.at >= 0 && !(offset >= 0 && offset <= fault.at && fault.at < offset + (off_t)count))
+    return 0;
+  if (fault.skip > 0)
+  {
+    --fault.skip;
+    return 0;
+  }
+  return 1;
+}
+
+/* How many of `count` bytes to `fd` at `offset` (-1: unknown) may be written;
+ * 0 with `refused` set: none. */
+static size_t allowed(int fd, size_t count, off_t offset, int* refused)
 {
   *refused = 0;
   if (fd < 0 || fd >= MAX_TRACKED_FD || !tracked[fd] || count == 0)
@@ -142,12 +233,14 @@ static size_t allowed(int fd, size_t count, int* refused)
   pthread_mutex_lock(&lock);
   refresh();
   size_t granted = count;
-  if (fault.active)
+  if (fault.active && !fault.sync_only && file_aimed_at(fd) &&
+      (fault.tripped || aimed_at(fd, count, offset)))
   {
-    if (fault.left <= 0)
+    if (fault.tripped || fault.left <= 0)
     {
       granted = 0;
       *refused = fault.error;
+      fault.tripped = 1;
     }
     else if ((long long)count > fault.left)
     {
@@ -159,10 +252,28 @@ static size_t allowed(int fd, size_t count, int* refused)
   return granted;
 }
 
+static int tracked_fd(int fd)
+{
+  return fd >= 0 && fd < MAX_TRACKED_FD && tracked[fd];
+}
+
+/* Where the next write() to `fd` goes. */
+static off_t position_of(int fd)
+{
+  return lseek(fd, 0, SEEK_CUR);
+}
+
 static void track(int fd, const char* path)
 {
-  if (fd >= 0 && fd < MAX_TRACKED_FD)
-    tracked[fd] = (unsigned char)under_folder(path);
+  if (fd < 0 || fd >= MAX_TRACKED_FD)
+    return;
+  pthread_mutex_lock(&lock);
+  tracked[fd] = (unsigned char)under_folder(path);
+  free(paths[fd]);
+  paths[fd] = tracked[fd] ? strdup(path) : NULL;
+  struct stat st;
+  opened_size[fd] = tracked[fd] && fstat(fd, &st) == 0 ? st.st_size : 0;
+  pthread_mutex_unlock(&lock);
 }
 
 /* The next definition of `name` (libc's), looked up once. */
@@ -283,7 +394,7 @@ ssize_t write(int fd, const void* data, size_t count)
 {
   REAL(write);
   int refused;
-  const size_t granted = allowed(fd, count, &refused);
+  const size_t granted = allowed(fd, count, tracked_fd(fd) ? position_of(fd) : -1, &refused);
   if (refused)
   {
     errno = refused;
@@ -296,7 +407,7 @@ ssize_t pwrite(int fd, const void* data, size_t count, off_t offset)
 {
   REAL(pwrite);
   int refused;
-  const size_t granted = allowed(fd, count, &refused);
+  const size_t granted = allowed(fd, count, offset, &refused);
   if (refused)
   {
     errno = refused;
@@ -309,7 +420,7 @@ ssize_t pwrite64(int fd, const void* data, size_t count, off64_t offset)
 {
   REAL(pwrite64);
   int refused;
-  const size_t granted = allowed(fd, count, &refused);
+  const size_t granted = allowed(fd, count, (off_t)offset, &refused);
   if (refused)
   {
     errno = refused;
@@ -319,13 +430,13 @@ ssize_t pwrite64(int fd, const void* data, size_t count, off64_t offset)
 }
 
 /* Vectored writes: all or nothing, which callers handle as any failed write. */
-static int vector_refused(int fd, const struct iovec* vector, int count)
+static int vector_refused(int fd, const struct iovec* vector, int count, off_t offset)
 {
   size_t total = 0;
   for (int i = 0; i < count; ++i)
     total += vector[i].iov_len;
   int refused;
-  const size_t granted = allowed(fd, total, &refused);
+  const size_t granted = allowed(fd, total, offset, &refused);
   if (!refused && granted < total)
     refused = fault.error;
   return refused;
@@ -334,7 +445,7 @@ static int vector_refused(int fd, const struct iovec* vector, int count)
 ssize_t writev(int fd, const struct iovec* vector, int count)
 {
   REAL(writev);
-  const int refused = vector_refused(fd, vector, count);
+  const int refused = vector_refused(fd, vector, count, tracked_fd(fd) ? position_of(fd) : -1);
   if (refused)
   {
     errno = refused;
@@ -346,7 +457,7 @@ ssize_t writev(int fd, const struct iovec* vector, int count)
 ssize_t pwritev(int fd, const struct iovec* vector, int count, off_t offset)
 {
   REAL(pwritev);
-  const int refused = vector_refused(fd, vector, count);
+  const int refused = vector_refused(fd, vector, count, offset);
   if (refused)
   {
     errno = refused;
@@ -361,7 +472,9 @@ size_t fwrite(const void* data, size_t size, size_t items, FILE* file)
   if (size == 0 || items == 0)
     return real_fwrite(data, size, items, file);
   int refused;
-  const size_t granted = allowed(fileno(file), size * items, &refused);
+  const int fd = fileno(file);
+  const size_t granted =
+      allowed(fd, size * items, tracked_fd(fd) ? (off_t)ftello(file) : -1, &refused);
   if (refused || granted < size * items)
   {
     /* Whole items only, then the stream's error: what a full disk gives. */
@@ -379,7 +492,18 @@ static int sync_refused(int fd)
     return 0;
   pthread_mutex_lock(&lock);
   refresh();
-  const int refused = fault.active && fault.left <= 0 ? fault.error : 0;
+  if (!file_aimed_at(fd))
+  {
+    pthread_mutex_unlock(&lock);
+    return 0;
+  }
+  /* An aimed fault makes fsync fail only once it has tripped (or when fsync is its aim). */
+  const int aimed =
+      fault.only[0] || fault.min > 0 || fault.overwrite || fault.at >= 0 || fault.skip > 0;
+  const int refused =
+      fault.active && (fault.sync_only || fault.tripped || (!aimed && fault.left <= 0))
+          ? fault.error
+          : 0;
   pthread_mutex_unlock(&lock);
   return refused;
 }

@@ -20,9 +20,11 @@
 //   --fill-disk-step S       (for step S, the output's disk looks full: --leave-free
 //                             BYTES (8192) free, then ENOSPC; through the write-fault
 //                             shim the checker preloads, tests/support/write_fault_shim.c)
-//   --write-fault-step S --write-fault "ERRNO BYTES"  (for step S, writes under the
-//                             output fail with ERRNO after BYTES per rank, the free
-//                             space looking ample: errors in the middle of writing)
+//   --write-fault-step S --write-fault "ERRNO BYTES [WORDS]"  (for step S, writes
+//                             under the output fail with ERRNO after BYTES per rank,
+//                             the free space looking ample: errors in the middle of
+//                             writing; WORDS aim at one rank or kind of write, see the
+//                             shim; the pair may be given for several steps)
 //   --obstruct-step S --obstruct NAME  (before step S, a folder NAME in the output
 //                             directory stands where a pipeline writes a file)
 #include "DescriptorForest.h"
@@ -74,9 +76,9 @@ struct Arguments
   std::map<std::string, std::string> renamedFields;
   double timeLimit = 0.0;
   std::string expected;
-  int writeFaultStep = -1;
   long long leaveFree = 8192;
-  std::string writeFault = "ENOSPC 8192 statvfs"; ///< the shim's control line for that step
+  std::map<int, std::string> writeFaults; ///< step -> the shim's control line for it
+  int lastFaultStep = -1;                 ///< the step the next --write-fault is for
   int obstructStep = -1;
   std::string obstruct;
 };
@@ -132,20 +134,24 @@ Arguments parse(int argc, char** argv)
       a.timeLimit = std::stod(value());
     else if (key == "--expected")
       a.expected = value();
-    else if (key == "--fill-disk-step")
+    else if (key == "--fill-disk-step" || key == "--write-fault-step")
     {
-      a.writeFaultStep = std::stoi(value());
-      a.writeFault = "ENOSPC " + std::to_string(a.leaveFree) + " statvfs";
+      a.lastFaultStep = std::stoi(value());
+      a.writeFaults[a.lastFaultStep] = "ENOSPC " + std::to_string(a.leaveFree) + " statvfs";
     }
     else if (key == "--leave-free")
     {
       a.leaveFree = std::stoll(value());
-      a.writeFault = "ENOSPC " + std::to_string(a.leaveFree) + " statvfs";
+      for (auto& [step, control] : a.writeFaults)
+        if (control.rfind("ENOSPC", 0) == 0)
+          control = "ENOSPC " + std::to_string(a.leaveFree) + " statvfs";
     }
-    else if (key == "--write-fault-step")
-      a.writeFaultStep = std::stoi(value());
     else if (key == "--write-fault")
-      a.writeFault = value();
+    {
+      if (a.lastFaultStep < 0)
+        throw std::runtime_error("--write-fault needs a --write-fault-step before it");
+      a.writeFaults[a.lastFaultStep] = value();
+    }
     else if (key == "--obstruct-step")
       a.obstructStep = std::stoi(value());
     else if (key == "--obstruct")
@@ -618,10 +624,11 @@ int main(int argc, char** argv)
         local->trees[0].numberOfNodes -= 1;
       }
       std::string filler;
-      if (step == args.writeFaultStep)
+      const auto fault = args.writeFaults.find(step);
+      if (fault != args.writeFaults.end())
       {
         if (rank == 0)
-          filler = startWriteFaults(args.writeFault);
+          filler = startWriteFaults(fault->second);
         MPI_Barrier(MPI_COMM_WORLD);
       }
       if (step == args.obstructStep)
@@ -633,7 +640,7 @@ int main(int argc, char** argv)
       const auto report = insitu->execute(step, time, *local);
       if (!filler.empty())
         std::remove(filler.c_str());
-      if (step == args.writeFaultStep)
+      if (fault != args.writeFaults.end())
         MPI_Barrier(MPI_COMM_WORLD); // the disk has space again on every rank's next step
       if (rank == 0)
       {

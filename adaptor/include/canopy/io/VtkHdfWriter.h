@@ -1,7 +1,10 @@
 // Writes a run's hypertree grids into one VTKHDF file, every step after the
 // other, as VTK's file-format documentation gives the HyperTreeGrid layout
 // (VTKHDF 2.4, with the temporal "Steps" group); VTK 9.5+ and ParaView 6 read
-// it with vtkHDFReader. Every rank writes its own piece through HDF5's MPI-IO.
+// it with vtkHDFReader. Every rank's piece is one part of the step; rank 0
+// writes the file, the other ranks send it their rows. A step that fails on
+// any rank, at any write, is undone byte for byte: the file is left as it was
+// before the step, and no rank waits on another (docs/insitu.md, "Grid extracts").
 //
 // Usable without Catalyst:
 //
@@ -39,9 +42,7 @@ struct VtkHdfWriterOptions
   /// Continue the file of an earlier run. Off: the first step replaces the file.
   bool append = false;
   /// Refuse a step that will not fit in the free space left, before touching the
-  /// file. Off: the write is attempted and, if it fails, the step's rows are removed
-  /// again; but a failure while the file is created can leave HDF5 1.10 unable to
-  /// close it, which crashes the process at exit (HDFFV-11052, fixed in HDF5 1.14.1).
+  /// file. Off: the write is attempted and, if it fails, the step is undone.
   bool checkFreeSpace = true;
 };
 
@@ -49,9 +50,10 @@ class CANOPYIO_EXPORT VtkHdfWriter
 {
 public:
   /// `communicator`: the ranks writing pieces (MPI_COMM_NULL: one process
-  /// without MPI); used as given, not duplicated, so it must stay valid while
-  /// the writer writes. `fileName`: the .vtkhdf file (its folder must exist).
-  /// Nothing is opened before the first step; the file is closed after each.
+  /// without MPI); it must stay valid while the writer lives (the first step
+  /// duplicates it for the rows sent to rank 0). `fileName`: the .vtkhdf file
+  /// (its folder must exist). Nothing is opened before the first step; the
+  /// file is closed after each.
   VtkHdfWriter(MPI_Comm communicator, std::string fileName, VtkHdfWriterOptions options = {});
   ~VtkHdfWriter();
   VtkHdfWriter(const VtkHdfWriter&) = delete;
@@ -61,9 +63,10 @@ public:
   /// error reported like any other) as the file's next step, at `time`.
   /// Collective. `step` (the simulation's; -1: none) only labels messages (the
   /// argument order is HtgSeriesWriter::writeStep's). Throws WriteError on every
-  /// rank if any rank failed (disk full, unwritable folder, HDF5 error, grids
-  /// that do not match the file): the step is then not in the file, and every
-  /// step written before is still there, readable.
+  /// rank if any rank failed (disk full or failing, unwritable folder, HDF5
+  /// error, grids that do not match the file): the step is then not in the
+  /// file, and the file is byte for byte what it was before the step (if the
+  /// disk refuses even that, the next step tries again before writing).
   void writeStep(vtkHyperTreeGrid* htg, std::int64_t step, double time);
 
   /// Steps in the file after the last successful write.

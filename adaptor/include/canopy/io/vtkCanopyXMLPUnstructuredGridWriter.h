@@ -21,6 +21,10 @@ public:
   static vtkCanopyXMLPUnstructuredGridWriter* New();
   vtkTypeMacro(vtkCanopyXMLPUnstructuredGridWriter, vtkXMLPUnstructuredGridWriter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+  /// The pieces and summary, then the summary read back on the rank that wrote
+  /// it: a summary not written whole is an error (see FailSafeXmlPieceWriters.h).
+  vtkTypeBool ProcessRequest(vtkInformation* request, vtkInformationVector** inputVector,
+                             vtkInformationVector* outputVector) override;
 
 protected:
   vtkCanopyXMLPUnstructuredGridWriter() = default;
