@@ -337,7 +337,7 @@ Physics:  --steps S (40)  --end-time T (instead of --steps; dt shortened to land
 Accuracy: --exact-solution gaussian: a Gaussian (sigma 0.15) translated by a uniform
           velocity (default the diagonal, 1,1[,1]) on the periodic domain, on a fixed
           uniform mesh at --max-level (no objects, no adaptation); prints at the end
-          "exact: gaussian level L cells N h H time T L1 E1 max EMAX" (cell averages
+          "exact: gaussian level L leaves N h H time T L1 E1 max EMAX" (cell averages
           against the exact ones, L1 volume-weighted over all ranks)
 MPI:      --repartition-imbalance R (1.1): repartition when max/mean leaves per rank > R
 In situ:  --output DIR (canopy-output)  --no-insitu

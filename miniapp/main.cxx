@@ -201,7 +201,7 @@ int main(int argc, char** argv)
       double slowestCanopy = 0;
       MPI_Reduce(&canopyStep, &slowestCanopy, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
       if (rank == 0 && !options.quiet)
-        std::printf("step %4d  time %.4f  leaves %8lld  cells %8lld  imbalance %.3f  "
+        std::printf("step %4d  time %.4f  leaves %8lld  nodes %8lld  imbalance %.3f  "
                     "mass change %.2e  canopy %.1f ms%s\n",
                     simulation.step(), simulation.time(),
                     static_cast<long long>(simulation.globalLeaves()),
@@ -219,7 +219,7 @@ int main(int argc, char** argv)
       // One line of key value pairs, the errors to full precision: refinement
       // studies parse it (tests/miniapp/miniapp_check.py).
       if (rank == 0)
-        std::printf("exact: %s level %d cells %lld h %.10g time %.10g L1 %.15e max %.15e\n",
+        std::printf("exact: %s level %d leaves %lld h %.10g time %.10g L1 %.15e max %.15e\n",
                     options.exactSolution.c_str(), options.maxLevel,
                     static_cast<long long>(simulation.globalLeaves()),
                     simulation.forest().cellSize(0, options.maxLevel), simulation.time(), errors.l1,

@@ -22,6 +22,9 @@ launcher=(mpirun -np "$ranks")
 if [ "$(id -u)" -eq 0 ]; then
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
+# OpenMPI's hwloc probes the X display (its "gl" component) and, under a virtual
+# display, prints "Authorization required..." twice per rank; it finds nothing there.
+export HWLOC_COMPONENTS="${HWLOC_COMPONENTS:--gl}"
 # Debian's ParaView renders through X only: use a virtual display if needed.
 # -noreset: by default the server resets when its last client disconnects and
 # refuses connections meanwhile, failing a process that closes a display and

@@ -22,6 +22,9 @@
 #include <vtkHyperTreeGrid.h>
 #include <vtkLogger.h>
 #include <vtkSmartPointer.h>
+#include <vtk_loguru.h>
+
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -124,6 +127,12 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   if (this->Options.verbosity >= vtkLogger::VERBOSITY_TRACE - 18)
   {
     vtkLogger::SetStderrVerbosity(static_cast<vtkLogger::Verbosity>(this->Options.verbosity));
+  }
+  // VTK's log colours its lines whenever the terminal type could show colours,
+  // also into a job's log file: colour only on a terminal.
+  if (!isatty(STDERR_FILENO))
+  {
+    vtkloguru::g_colorlogtostderr = false;
   }
 
   this->Display = std::make_unique<XDisplayConnection>();

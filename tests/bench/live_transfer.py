@@ -41,7 +41,7 @@ for level in levels:
         env=environment, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     viewer.communicate(timeout=600)
     received = json.load(open(result))
-    step = re.search(r"^step +%d .*cells +(\d+).*quads: surface (\d+), zoom (\d+)"
+    step = re.search(r"^step +%d .*nodes +(\d+).*quads: surface (\d+), zoom (\d+)"
                      % received["step"], simulation.stdout, re.M)
     cells, full, zoom = (int(step.group(i)) for i in (1, 2, 3))
     # The surfaces the image drew, found by their quads (the others are overlays).

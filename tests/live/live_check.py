@@ -135,11 +135,11 @@ for name in ("viewer1", "viewer2"):
             slices = step_value(step, r"slices (\d+)")
             expect(record["slices"] == slices, "%s, step %d: slices of %d quads, as the "
                    "simulation drew (%s)" % (name, step, record["slices"], slices))
-        expect(record["grid_cells"] == step_value(step, r" cells +(\d+)") and
+        expect(record["grid_cells"] == step_value(step, r" nodes +(\d+)") and
                record["grid_pieces"] == ranks,
                "%s, step %d: an unpacked grid of %d cells in %d pieces; the simulation had %s "
                "cells on %d ranks" % (name, step, record["grid_cells"], record["grid_pieces"],
-                                      step_value(step, r" cells +(\d+)"), ranks))
+                                      step_value(step, r" nodes +(\d+)"), ranks))
         if record["selection_packed"]:
             # A selection that keeps the topology: the grid with a mask.
             expect(record["selection_cells"] == record["grid_cells"],

@@ -133,6 +133,8 @@ def main():
     expect(code == 0, "the simulation exits normally, no crash, no time limit (exit code %d)"
            % code)
     expect(not re.search(r"munmap_chunk|SIGABRT|SIGSEGV|Segmentation fault", log), "no crash")
+    expect("\x1b[" not in log, "the log, not a terminal, holds no colour codes (%d)"
+           % log.count("\x1b["))
     ran = [int(s) for s in re.findall(r"^step (\d+) executed", log, re.M)]
     expect(ran == list(range(len(steps))), "every step ran (%s)" % ran)
     reported = failures(log)

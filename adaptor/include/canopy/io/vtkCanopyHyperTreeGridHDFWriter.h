@@ -5,11 +5,12 @@
  *
  * The file follows VTK's VTKHDF HyperTreeGrid layout (version 2.4) with a
  * temporal "Steps" group; VTK 9.5+ and ParaView 6 open it with vtkHDFReader.
- * Ranks write through HDF5's MPI-IO on the communicator of Controller (unset:
- * vtkMultiProcessController::GetGlobalController(), which is Catalyst's). The
- * first Write() of a writer replaces the file unless Append is on; each later
- * Write() adds a step (time, errors: vtkCanopyHyperTreeGridStepWriter); a
- * failed Write() leaves the file with its earlier steps.
+ * Each rank of the communicator of Controller (unset:
+ * vtkMultiProcessController::GetGlobalController(), which is Catalyst's) adds its
+ * piece; rank 0 writes the file. The first Write() of a writer replaces the file
+ * unless Append is on; each later Write() adds a step (time, errors:
+ * vtkCanopyHyperTreeGridStepWriter); a failed Write() leaves the file byte for
+ * byte as it was before.
  * See canopy::io::VtkHdfWriter for the C++ API without a pipeline.
  */
 #pragma once
