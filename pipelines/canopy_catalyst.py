@@ -117,8 +117,13 @@ def catalyst_options(values, cinema=None):
         options.GlobalTrigger.StartTimeStep = int(values.start)
     if values.get("live"):
         # Canopy's driver takes Live over from ParaView (adaptor/insitu/LiveConnection.h).
+        # A script with Live on also runs at its Live trigger's steps: the same as its own.
         options.EnableCatalystLive = 1
         options.CatalystLiveURL = str(values.live)
+        options.CatalystLiveTrigger.Frequency = int(values.frequency)
+        if int(values.start) > 0:
+            options.CatalystLiveTrigger.UseStartTimeStep = 1
+            options.CatalystLiveTrigger.StartTimeStep = int(values.start)
     if cinema:
         # A Cinema database is a folder named *.cdb holding the images and data.csv.
         options.ExtractsOutputDirectory = os.path.join(values.output_directory, cinema)

@@ -8,6 +8,8 @@
 #include <vtkCPInputDataDescription.h>
 #include <vtkCPPythonScriptV2Helper.h>
 #include <vtkDataObject.h>
+#include <vtkSMExtractTriggerProxy.h>
+#include <vtkSMExtractsController.h>
 #include <vtkSMPropertyHelper.h>
 #include <vtkSMProxy.h>
 
@@ -99,7 +101,33 @@ ScriptState CatalystScript::requestAfterImport(std::string& error)
             "' failed in RequestDataDescription: " + this->failure(exceeded);
     return ScriptState::Failed;
   }
-  return this->Description->GetIfAnyGridNecessary() ? ScriptState::Due : ScriptState::NotDue;
+  if (this->Description->GetIfAnyGridNecessary())
+  {
+    return ScriptState::Due;
+  }
+  // ParaView counts a script with Live on as due at its Live trigger's steps; its
+  // Live is Canopy's now (takeOverLive), so Canopy asks that trigger itself: a
+  // script whose only consumer is a Live viewer still runs, with every field.
+  if (this->liveTriggered())
+  {
+    input->GenerateMeshOn();
+    input->AllFieldsOn();
+    return ScriptState::Due;
+  }
+  return ScriptState::NotDue;
+}
+
+bool CatalystScript::liveTriggered() const
+{
+  auto* trigger = vtkSMExtractTriggerProxy::SafeDownCast(this->LiveTrigger);
+  if (this->LiveUrl.empty() || trigger == nullptr)
+  {
+    return false;
+  }
+  vtkNew<vtkSMExtractsController> controller;
+  controller->SetTimeStep(static_cast<int>(this->Description->GetTimeStep()));
+  controller->SetTime(this->Description->GetTime());
+  return trigger->IsActivated(controller);
 }
 
 bool CatalystScript::needsAllFields() const
@@ -200,6 +228,7 @@ void CatalystScript::takeOverLive()
   }
   const char* url = vtkSMPropertyHelper(options, "CatalystLiveURL").GetAsString();
   this->LiveUrl = url && *url ? url : "localhost:22222";
+  this->LiveTrigger = vtkSMPropertyHelper(options, "CatalystLiveTrigger").GetAsProxy();
   vtkSMPropertyHelper(options, "EnableCatalystLive").Set(0);
   options->UpdateVTKObjects();
 }

@@ -17,6 +17,7 @@
 class vtkCPDataDescription;
 class vtkCPPythonScriptV2Helper;
 class vtkDataObject;
+class vtkSMProxy;
 
 namespace canopy
 {
@@ -74,7 +75,9 @@ public:
 
   /// After import: the Catalyst Live address the script's options ask for
   /// (options.EnableCatalystLive, CatalystLiveURL), "" for none. Canopy runs Live
-  /// itself (LiveConnection.h), so ParaView's own Live is turned off in the script.
+  /// itself (LiveConnection.h), so ParaView's own Live is turned off in the script;
+  /// the script is still due at the steps of its options.CatalystLiveTrigger, as
+  /// in ParaView (without an extractor, those are the only steps it runs at).
   const std::string& liveUrl() const { return LiveUrl; }
 
   /// The Python traceback of the last failure (empty if it left none).
@@ -92,8 +95,12 @@ private:
   /// Why the call failed: the Python failure's summary (its traceback is kept),
   /// or that it ran past the time limit (also when it caught the interruption).
   std::string failure(bool exceeded);
-  /// Reads the script's Live settings into LiveUrl and turns ParaView's Live off.
+  /// Reads the script's Live settings into LiveUrl and LiveTrigger and turns
+  /// ParaView's Live off.
   void takeOverLive();
+  /// Whether the script asked for Live and its Live trigger fires at the step of
+  /// the last request.
+  bool liveTriggered() const;
 
   std::string Path;
   std::string Channel;
@@ -102,6 +109,7 @@ private:
   vtkNew<vtkCPPythonScriptV2Helper> Helper;
   vtkNew<vtkCPDataDescription> Description;
   std::string LiveUrl;
+  vtkSmartPointer<vtkSMProxy> LiveTrigger; ///< options.CatalystLiveTrigger, with Live on
   bool Imported = false;
   bool FirstRun = false; ///< imported at this step, not run yet
   bool Disabled = false;
