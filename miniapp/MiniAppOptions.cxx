@@ -217,6 +217,10 @@ MiniAppOptions parseOptions(int argc, char** argv)
       o.verifyUntouched = true;
     else if (key == "--dump")
       o.dump = value();
+    else if (key == "--resource-log")
+      o.resourceLog = value();
+    else if (key == "--plant-leak")
+      o.plantLeak = std::stoll(value());
     else
       throw std::invalid_argument("unknown option '" + key + "'");
   }
@@ -348,6 +352,10 @@ In situ:  --output DIR (canopy-output)  --no-insitu
           --live-pause-limit S (300): a viewer's pause holds the run at most S seconds
           --live-stall-limit S (20): a viewer silent that long is disconnected
 Output:   --quiet  --verify-untouched  --dump FILE
+          --resource-log PREFIX: each rank writes PREFIX.<rank>.csv, a line per step:
+          step, resident KiB, heap KiB in use, open file descriptors (soak tests)
+          --plant-leak BYTES: allocate BYTES per step and never free them (to check
+          that a soak test sees a leak)
 )";
 }
 

@@ -64,6 +64,12 @@ struct MiniAppOptions
   bool quiet = false;
   bool verifyUntouched = false;
   std::string dump; ///< write the final leaves (key and value) to this file
+  /// Per rank and step, resident memory and open file descriptors to
+  /// <resourceLog>.<rank>.csv (soak tests, docs/testing.md); empty: none.
+  std::string resourceLog;
+  /// Bytes allocated, written and never freed per step: the soak check's own
+  /// planted leak (tests that it would be seen); 0: none.
+  long long plantLeak = 0;
 };
 
 /// Parses argv; throws std::invalid_argument naming the bad option.

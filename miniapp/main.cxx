@@ -6,6 +6,7 @@
 // --blocks N, per-leaf blocks of N^d cells instead (a block forest).
 // Run with --help for the options (also in docs/miniapp.md).
 #include "MiniAppOptions.h"
+#include "ResourceLog.h"
 #include "Simulation.h"
 #include "ZoomedView.h"
 
@@ -13,6 +14,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +22,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace
 {
@@ -163,6 +166,8 @@ int main(int argc, char** argv)
                   initialMass, blocks.c_str());
     }
 
+    miniamr::ResourceLog resources(options.resourceLog, rank);
+    std::vector<std::unique_ptr<char[]>> planted; // --plant-leak: kept, never freed
     double canopySeconds = 0;
     int pipelineFailures = 0;
     bool untouched = true;
@@ -208,6 +213,12 @@ int main(int argc, char** argv)
                     static_cast<long long>(simulation.globalNodes()), imbalance, change,
                     1e3 * slowestCanopy, drawn.c_str());
       std::fflush(stdout);
+      if (options.plantLeak > 0)
+      {
+        planted.emplace_back(new char[static_cast<std::size_t>(options.plantLeak)]);
+        std::fill_n(planted.back().get(), options.plantLeak, char(step)); // resident
+      }
+      resources.record(simulation.step());
     }
     if (insitu)
       insitu->close();

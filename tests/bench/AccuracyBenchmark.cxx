@@ -20,6 +20,7 @@
 //   cases: front-1.5e6 (512^2), front-5.8e6 (1024^2), miniapp (mini-app 2D, 256^2),
 //          slice (synthetic 3D, 9^3 roots, 7 levels, slice z = 0.013, 256^2); default all
 #include "ExactImage.h"
+#include "ForestFingerprint.h"
 #include "MiniAppForest.h"
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
@@ -395,6 +396,9 @@ int main(int argc, char** argv)
       std::cerr << "canopy_bench_accuracy: unknown case '" << name << "'\n";
       return 2;
     }
+    std::cout << canopy::tools::describeInput(name, synthetic ? synthetic->description()
+                                                              : miniApp->description())
+              << std::endl;
     c.htg =
         canopy::buildHyperTreeGrid(synthetic ? synthetic->description() : miniApp->description());
     c.leaves =

@@ -47,6 +47,7 @@
 #include "BlockForest.h"
 #include "ChildProcess.h"
 #include "CursorBaseline.h"
+#include "ForestFingerprint.h"
 #include "OffscreenRenderer.h"
 
 #include "BlockCells.h"
@@ -1175,7 +1176,8 @@ int main(int argc, char** argv)
     auto forest = std::make_unique<BlockForest>(o);
     std::cerr << "bench: " << forestLabel(*forest) << ", " << gridCells(*forest) << " grid cells, "
               << forest->leafCells() << " interior cells, " << forest->blockBytes() / 1e9
-              << " GB of blocks, made in " << secondsSince(start) << " s\n";
+              << " GB of blocks, made in " << secondsSince(start) << " s\n"
+              << canopy::tools::describeInput(forestLabel(*forest), forest->description()) << "\n";
     return forest;
   };
 

@@ -12,6 +12,7 @@
 // (slowest rank), bytes written per cell, MB/s.
 //
 // Usage: mpirun -np N canopy_bench_grid_write --output DIR [--levels L] [--steps S]
+#include "ForestFingerprint.h"
 #include "SyntheticForest.h"
 
 #include <HtgSeriesWriter.h>
@@ -149,6 +150,11 @@ int main(int argc, char** argv)
   options.maxLevels = levels;
   options.cutaway = false;
   const canopy::tools::SyntheticForest whole(options);
+  if (rank == 0)
+    std::cout << canopy::tools::describeInput("synthetic 3D, 6^3 roots, " + std::to_string(levels) +
+                                                  " levels",
+                                              whole.description())
+              << std::endl;
   const RankPart part(whole, rank, ranks);
   vtkSmartPointer<vtkHyperTreeGrid> htg = canopy::buildHyperTreeGrid(part.description());
   long long cells = htg->GetNumberOfCells();

@@ -33,6 +33,7 @@
 //   CANOPY_PIPELINES_DIR=DIR runs the pipelines (scripts and helper modules) in DIR.
 //   --first-step: the mini-app's own first step (its default forest at step 0
 //   and its three default pipelines), broken down.
+#include "ForestFingerprint.h"
 #include "ForestSlice.h"
 #include "MiniAppForest.h"
 #include "SyntheticForest.h"
@@ -313,6 +314,10 @@ std::unique_ptr<BenchForest> syntheticForest(const std::string& name, int rank, 
   for (auto& field : f->local.fields)
     if (field.name == "pressure")
       field.name = "scalar";
+  if (rank == 0)
+    std::cout << canopy::tools::describeInput(f->label + ", the whole forest",
+                                              f->synthetic->description())
+              << std::endl;
   return f;
 }
 
@@ -327,6 +332,10 @@ std::unique_ptr<BenchForest> miniAppForest(const std::string& spec)
   f->leaves = f->miniApp->globalLeaves();
   f->local = f->miniApp->description();
   f->local.missingTreesAreElsewhere = true;
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0)
+    std::cout << canopy::tools::describeInput(f->label + ", rank 0's part", f->local) << std::endl;
   return f;
 }
 

@@ -13,6 +13,7 @@
 //          [--time-limit SECONDS]   (InSituOptions::stepTimeLimitSeconds)
 //          [--live HOST:PORT]       (InSituOptions::liveUrl; with no viewer there,
 //                                    reports what Catalyst Live costs a step)
+#include "ForestFingerprint.h"
 #include "SyntheticForest.h"
 
 #include "canopy/HtgBuilder.h"
@@ -106,6 +107,10 @@ int main(int argc, char** argv)
     o.depthFirstStorage = false;
     canopy::tools::SyntheticForest simulation(o);
     canopy::ForestDescription forest = simulation.description();
+    if (rank == 0)
+      std::cout << canopy::tools::describeInput(
+                       "synthetic 3D, 6^3 roots, " + std::to_string(maxLevels) + " levels", forest)
+                << std::endl;
     std::vector<canopy::TreeDescription> mine;
     std::size_t firstSlot = 0;
     std::size_t nodesBefore = 0;

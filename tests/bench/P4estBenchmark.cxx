@@ -6,6 +6,7 @@
 //
 // Usage: mpirun -np N canopy_bench_p4est [--repetitions R] [--2d]
 // Prints a Markdown table (rank 0); times are the slowest rank's.
+#include "ForestFingerprint.h"
 #include "canopy/HtgBuilder.h"
 #include "canopy/P4estForest.h"
 
@@ -113,6 +114,11 @@ struct Run<2>
     }
     if (rank == 0)
     {
+      Described described(forest);
+      described.template addUserDataField<double>("density", 0);
+      std::cout << canopy::tools::describeInput(std::string(dimension) + ", rank 0's part",
+                                                described.description())
+                << std::endl;
       std::printf("| %s | %lld | %lld | %.1f | %.1f | %.1f | %.1fx | %.1fx |\n", dimension, before,
                   static_cast<long long>(forest->global_num_quadrants), balance, describe, build,
                   balance / describe, balance / (describe + build));

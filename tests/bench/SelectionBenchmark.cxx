@@ -3,6 +3,7 @@
 // vtkExtractSelection), in one run, on 2D forests of 1e5 to 1e7 cells.
 //
 // Usage: canopy_bench_selection [--max-level L] [--csv FILE]
+#include "ForestFingerprint.h"
 #include "SyntheticForest.h"
 
 #include "canopy/HtgBuilder.h"
@@ -78,6 +79,10 @@ int main(int argc, char** argv)
     o.maxLevels = levels;
     o.cutaway = false;
     canopy::tools::SyntheticForest forest(o);
+    std::cout << canopy::tools::describeInput("synthetic 2D, 16 roots per axis, " +
+                                                  std::to_string(levels) + " levels",
+                                              forest.description())
+              << std::endl;
     auto htg = canopy::buildHyperTreeGrid(forest.description());
     const vtkIdType cells = htg->GetNumberOfCells();
 

@@ -33,6 +33,7 @@
 // cells 4 times smaller on screen; default forests 7,6 (about 1e6 leaves) and 9,7
 // (about 1e7); the region table runs on the first forest only)
 #include "ChildProcess.h"
+#include "ForestFingerprint.h"
 #include "MiniAppForest.h"
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
@@ -117,6 +118,7 @@ Forest makeForest(int roots, int levels)
   std::ostringstream label;
   label << f.simulation->numberOfLeaves() << " (" << roots << "^3 roots, " << levels << " levels)";
   f.label = label.str();
+  std::cout << canopy::tools::describeInput(f.label, f.simulation->description()) << std::endl;
   return f;
 }
 
@@ -397,6 +399,9 @@ void movingCut(std::ofstream& csv, const canopy::tools::MiniAppForestOptions& op
                canopy::testing::OffscreenRenderer& r)
 {
   canopy::tools::MiniAppForest simulation(options, MPI_COMM_SELF);
+  std::cout << canopy::tools::describeInput(simulation.label() + " at its first step",
+                                            simulation.description())
+            << std::endl;
   canopy::GridBuilder builder;
   vtkSmartPointer<vtkHyperTreeGrid> grid = builder.build(simulation.description());
   double b[6];
@@ -546,6 +551,11 @@ int main(int argc, char** argv)
   std::filesystem::create_directories(out);
   canopy::testing::OffscreenRenderer renderer(1024, 1024);
   setView(renderer.camera());
+  // Every table below is seen from this camera: its figures depend on it.
+  const double* eye = renderer.camera()->GetPosition();
+  std::cout << "camera: position " << eye[0] << "," << eye[1] << "," << eye[2]
+            << (Distance > 1 ? " (--far)" : " (default)") << ", view angle "
+            << renderer.camera()->GetViewAngle() << ", 1024x1024 pixels" << std::endl;
 
   std::ofstream slicesCsv(out / "slices.csv");
   slicesCsv << "leaves,canopy_lod_s,canopy_full_s,vtk_axiscut_geometry_s,vtk_planecutter_s,"
@@ -571,7 +581,8 @@ int main(int argc, char** argv)
     }
   }
   std::cout << "\n## Selected region's surface, selection changing every execution (median of "
-            << Repetitions << ")\n\n"
+            << Repetitions << "), " << built.front().label << ", camera "
+            << (Distance > 1 ? "--far" : "default") << "\n\n"
             << "| leaves | selection | Canopy (view) s | Canopy (full) s | VTK s (ratio to "
                "view, full) | Canopy (view) quads | Canopy (full) quads | VTK quads | Canopy "
                "(full) area | VTK area |\n"

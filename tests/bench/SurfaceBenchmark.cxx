@@ -14,6 +14,7 @@
 //          [--miniapp DIM,ROOTS,MAX_LEVEL,STEPS]...
 // (--repetitions: median of N steady-state executions; --canopy-only: skip the
 // upstream filters, to profile Canopy under callgrind)
+#include "ForestFingerprint.h"
 #include "MiniAppForest.h"
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
@@ -105,6 +106,8 @@ std::vector<std::unique_ptr<canopy::tools::MiniAppForest>> MiniAppForests;
 Forest2D miniAppForest(const canopy::tools::MiniAppForest& simulation)
 {
   Forest2D f;
+  std::cout << canopy::tools::describeInput(simulation.label(), simulation.description())
+            << std::endl;
   f.htg = canopy::buildHyperTreeGrid(simulation.description());
   f.leaves = static_cast<std::size_t>(simulation.globalLeaves());
   f.label = " (" + simulation.label() + ")";
@@ -132,6 +135,11 @@ Forest2D makeForest(int dimension, int roots, int levels, bool cutaway = false)
   o.cutaway = cutaway;
   Forest2D f;
   f.simulation = std::make_unique<canopy::tools::SyntheticForest>(o);
+  std::cout << canopy::tools::describeInput("synthetic " + std::to_string(dimension) + "D, " +
+                                                std::to_string(roots) + " roots per axis, " +
+                                                std::to_string(levels) + " levels",
+                                            f.simulation->description())
+            << std::endl;
   f.htg = canopy::buildHyperTreeGrid(f.simulation->description());
   f.leaves = f.simulation->numberOfLeaves();
   return f;

@@ -11,6 +11,7 @@
 // build adds per cell while its grid is alive, and field bytes copied per cell;
 // then GridBuilder's step-to-step table.
 #include "CursorBaseline.h"
+#include "ForestFingerprint.h"
 #include "ForestSlice.h"
 #include "MiniAppForest.h"
 #include "SyntheticForest.h"
@@ -526,7 +527,10 @@ int main(int argc, char** argv)
       miniAppForests.push_back(std::make_unique<canopy::tools::MiniAppForest>(options));
       std::cerr << "bench: " << miniAppForests.back()->label() << ": "
                 << miniAppForests.back()->globalLeaves() << " leaves ("
-                << miniAppForests.back()->commandLine() << ")\n";
+                << miniAppForests.back()->commandLine() << ")\n"
+                << canopy::tools::describeInput(miniAppForests.back()->label(),
+                                                miniAppForests.back()->description())
+                << "\n";
     }
   }
 
@@ -576,6 +580,11 @@ int main(int argc, char** argv)
       options.cutaway = false;
       options.depthFirstStorage = depthFirst;
       SyntheticForest forest(options);
+      std::cerr << canopy::tools::describeInput("synthetic 3D, 6^3 roots, " +
+                                                    std::to_string(levels) + " levels, " +
+                                                    (depthFirst ? "depth-first" : "breadth-first"),
+                                                forest.description())
+                << "\n";
       const int reps = forest.numberOfNodes() > 5'000'000 ? std::min(repetitions, 3) : repetitions;
 
       const auto request = canopy::FieldRequest::only(Fields);
