@@ -269,10 +269,51 @@ struct FaceSide
       {
         return Covered;
       }
-      // Level of detail is checked at n's level (in exposedParts), not on the
-      // coarser nodes of the path: projecting each costs more than it saves.
+      // A topology fact only: level of detail on the way is coarserStopCovers'.
       m = childToward(*neighbour, m, n.level, across);
     }
+  }
+
+  /// Whether the walk of the tree across a face of n stops for level of detail
+  /// (TreeWalk::enter's rule) at an unmasked node coarser than n on the way down
+  /// to n's level, before any masked one: that node is drawn as a solid and the
+  /// face is inside it. What faceState says Whole or Parts is then covered. It
+  /// depends on the view, so it is asked after the (topological) face memo,
+  /// never stored in it.
+  bool coarserStopCovers(const FacePosition& n, int axis, int side) const
+  {
+    if (!options.view || !options.levelOfDetail)
+    {
+      return false;
+    }
+    Index3 across;
+    bool elsewhere = false;
+    const TreeAccess* neighbour = neighbourAcross(n, axis, side, across, elsewhere);
+    if (!neighbour)
+    {
+      return false; // the grid's boundary, or another rank's tree: nothing drawn here
+    }
+    NodeFrame m = descentStart(neighbour, n, axis, across);
+    // In n's own tree the descent starts at an ancestor of n, which the walk
+    // entered without stopping (n was reached): the same rule, not asked again.
+    bool ancestorOfN = neighbour == n.tree;
+    for (; m.level < n.level; ancestorOfN = false)
+    {
+      if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
+      {
+        return false; // a hole (or another rank's part) before any stop
+      }
+      if (neighbour->isLeaf(m.node))
+      {
+        return false; // faceState's Covered: never asked
+      }
+      if (!ancestorOfN && lodStops(*neighbour, m) && !neighbour->hasAbsentDescendant(m.node))
+      {
+        return true;
+      }
+      m = childToward(*neighbour, m, n.level, across);
+    }
+    return false;
   }
 
   /// m: an unmasked node across a face (`axis`, `side` of the node we look
@@ -283,9 +324,13 @@ struct FaceSide
   void exposedParts(const TreeAccess& t, const NodeFrame& m, int axis, int side,
                     const Masked& masked, const Absent& absent) const
   {
-    if (t.isLeaf(m.node) || !t.hasMaskedDescendant(m.node) || lodStops(t, m))
+    // Covered where the walk of t would stop (TreeWalk::enter): a leaf, a node
+    // with nothing masked below, or a node level of detail draws whole (never
+    // one with another rank's parts below it).
+    if (t.isLeaf(m.node) || !t.hasMaskedDescendant(m.node) ||
+        (lodStops(t, m) && !t.hasAbsentDescendant(m.node)))
     {
-      return; // covered
+      return;
     }
     const int f = grid.branchFactor();
     const vtkIdType first = t.firstChild(m.node);
@@ -570,7 +615,12 @@ struct TreeWalk
           state = faces.faceState(position, axis, side, neighbour, m);
           known |= static_cast<std::uint32_t>(state) << shift;
         }
-        else if (state == Parts)
+        // The memo holds the topology; the view may cover what it says shows.
+        if ((state == Whole || state == Parts) && faces.coarserStopCovers(position, axis, side))
+        {
+          state = Covered;
+        }
+        else if (state == Parts && !neighbour)
         {
           faces.faceState(position, axis, side, neighbour, m); // the neighbour itself
         }
@@ -815,6 +865,10 @@ AdaptiveSurfaceBuilder::answerRemoteFaces(const std::vector<RemoteFace>& faces) 
     const TreeAccess* neighbour = nullptr;
     NodeFrame m{0, 0, {{0, 0, 0}}};
     const FaceState state = side.faceState(n, axis, towards, neighbour, m);
+    if ((state == Whole || state == Parts) && side.coarserStopCovers(n, axis, towards))
+    {
+      continue; // this rank draws a coarser node there whole: the face is inside it
+    }
     if (state == Whole)
     {
       pieces.push_back({q, true, {{0, 0, 0}}, {{0, 0, 0}}});

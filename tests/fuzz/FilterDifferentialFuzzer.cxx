@@ -31,10 +31,11 @@
 // leaf touching a plane, a footprint equal to the threshold) both answers are taken,
 // and nowhere else (bounds are exact for binary trees over dyadic coordinates, there
 // the rules are checked to the last bit). Anything else aborts with a message on stderr
-// (libFuzzer saves the input). One known defect is tolerated, only in its own shape
-// (knownInteriorFacesTolerated; docs/testing.md); CANOPY_FUZZ_STRICT=1 reports it too.
-// (Wide perspective views' culling excess, found here, is fixed in ViewVolume:
-// corpus_filters/known_wide_view_culling_excess keeps it fixed.) CANOPY_FUZZ_DESCRIBE=1: one line
+// (libFuzzer saves the input). Nothing is tolerated. (What it found is fixed and kept
+// fixed by its input: wide perspective views' culling excess in ViewVolume,
+// corpus_filters/known_wide_view_culling_excess; faces drawn inside a coarser node
+// where level of detail stops, in AdaptiveSurfaceBuilder's face queries,
+// corpus_filters/regression_lod_interior_face.) CANOPY_FUZZ_DESCRIBE=1: one line
 // per input saying what it decoded to (tests/fuzz/make_filter_corpus.py --check reads it).
 //
 // Input format (tests/fuzz/make_filter_corpus.py writes inputs in it): bytes read front
@@ -213,28 +214,6 @@ const char* triName(Tri t)
 
 /// Decisions taken both ways, for the summary line.
 std::size_t Ambiguous = 0;
-
-/// Known-defect shapes passed over (knownInteriorFacesTolerated), counted for the
-/// run's summary; none with CANOPY_FUZZ_STRICT=1.
-std::size_t Tolerated = 0;
-
-bool strict()
-{
-  static const bool on = std::getenv("CANOPY_FUZZ_STRICT") != nullptr;
-  return on;
-}
-
-/// Known defect, reported and not yet fixed: with level of detail, a 3D node's face
-/// whose other side lies in a coarser node where descent stops (drawn solid) is drawn
-/// when a masked node lies there at or above the drawn node's level:
-/// AdaptiveSurfaceBuilder's FaceSide::faceState descends the neighbour's tree to the
-/// node's level without checking level of detail on the way, so the face is inside
-/// the drawn solid (an interior face; hidden, but extra). Those faces only are
-/// tolerated, and not with CANOPY_FUZZ_STRICT=1.
-bool knownInteriorFacesTolerated()
-{
-  return !strict();
-}
 
 // ---- A grid as VTK's cursors see it: every node, masked subtrees included ----
 
@@ -1478,8 +1457,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
             front[a] += p[a] / 4;
         front[q.axis] += q.sign * 1e-6 * g.extent;
         std::string path;
-        int solidFrom = -1; ///< level of the stop node in front, if any
-        bool maskedBelowStop = false;
+        bool solid = false; ///< a stop node in front
         for (vtkIdType id : chainAt(g, front))
         {
           const NodeTruth& n = g.at(id);
@@ -1489,22 +1467,14 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
                   (n.leaf ? ", leaf" : "") + ")";
           if (n.masked)
           {
-            maskedBelowStop = solidFrom >= 0 && n.level <= drawer.level;
             break;
           }
-          if (solidFrom < 0 && stopped[static_cast<std::size_t>(id)])
-          {
-            solidFrom = n.level;
-          }
+          solid = solid || stopped[static_cast<std::size_t>(id)];
         }
-        if (solidFrom < 0)
+        if (!solid)
         {
           exposed.push_back(q);
           exposedCells.push_back(unculled[i]);
-        }
-        else if (knownInteriorFacesTolerated() && solidFrom < drawer.level && maskedBelowStop)
-        {
-          ++Tolerated;
         }
         else
         {
@@ -2516,9 +2486,9 @@ void describe(const ForestSpec& spec, const RandomForest& forest, const View& vi
   {
     std::fprintf(stderr,
                  "canopy filters fuzz input: %s; %zu node(s), %zu leaves; %s; selection: %s; "
-                 "%zu decision(s) within rounding, %zu known excess(es) tolerated; checked\n",
+                 "%zu decision(s) within rounding; checked\n",
                  spec.describe.c_str(), forest.numberOfNodes(), forest.numberOfLeaves(),
-                 viewStr(view).c_str(), selection.describe.c_str(), Ambiguous, Tolerated);
+                 viewStr(view).c_str(), selection.describe.c_str(), Ambiguous);
   }
 }
 
@@ -2536,7 +2506,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 {
   using namespace canopy::testing;
   Input in(data, size);
-  Ambiguous = Tolerated = 0;
+  Ambiguous = 0;
   Stage = "decoding";
   const ForestSpec spec = decodeForest(in);
   Decoded = spec.describe;
