@@ -89,10 +89,12 @@ std::size_t AdaptiveSliceBuilder::count()
                 slice(Pieces[k], Kept[k], visited[k]);
               });
   Offsets.assign(Pieces.size() + 1, 0);
+  PointOffsets.assign(Pieces.size() + 1, 0);
   Visited = 0;
   for (std::size_t k = 0; k < Pieces.size(); ++k)
   {
     Offsets[k + 1] = Offsets[k] + Kept[k].cellIds.size();
+    PointOffsets[k + 1] = PointOffsets[k] + Kept[k].points.size() / 3;
     Visited += visited[k];
   }
   return Offsets.back();
@@ -210,6 +212,7 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
         {
           cells.points.insert(cells.points.end(), p.begin(), p.end());
         }
+        cells.sizes.push_back(4);
         cells.cellIds.push_back(global);
         cells.levels.push_back(static_cast<unsigned char>(n.level));
         if (Options.colors)
@@ -230,7 +233,7 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
 
 void AdaptiveSliceBuilder::write(const SurfaceArrays& arrays) const
 {
-  copyKeptCells(Kept, Offsets, 4, arrays);
+  copyKeptCells(Kept, Offsets, PointOffsets, arrays);
 }
 
 } // namespace canopy

@@ -57,28 +57,30 @@ Index3 childIndex(const NodeFrame& parent, int child, const HyperTreeAccess& gri
 /// so the output is allocated once and never grown or copied.
 struct CellSink
 {
-  SurfaceArrays arrays{nullptr, nullptr, nullptr};
-  std::size_t next = 0;
+  SurfaceArrays arrays{nullptr, nullptr, nullptr, nullptr};
+  std::size_t next = 0;      ///< cells so far
+  std::size_t nextPoint = 0; ///< points so far
   bool counting = true;
-  std::size_t limit = 0; ///< writing: cells the buffer holds (never written past)
+  std::size_t limit = 0;      ///< writing: cells the buffer holds (never written past)
+  std::size_t pointLimit = 0; ///< writing: points the buffer holds
+  std::size_t pointBase = 0;  ///< writing: the output's index of this buffer's first point
   /// Counting into a tree's own buffer (3D: the output is small next to the
   /// walk, so it is walked once and copied, not walked twice).
   TreeCells* keep = nullptr;
 };
 
-/// A cell of N points (4: a quad; 2: a segment of a 1D grid). One grid's cells
-/// all have the same N, so cell i's points start at 3 N i.
+/// A cell of `count` points (4 or more: a flat piece; 2: a segment of a 1D grid).
 /// `color`: the cell's RGB (nullptr without a colour map).
-template <std::size_t N>
-void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level,
+void emitCell(CellSink& out, const Vec3* points, std::size_t count, vtkIdType cellId, int level,
               const Rgb* color)
 {
   if (out.keep)
   {
-    for (const Vec3& c : corners)
+    for (std::size_t k = 0; k < count; ++k)
     {
-      out.keep->points.insert(out.keep->points.end(), c.begin(), c.end());
+      out.keep->points.insert(out.keep->points.end(), points[k].begin(), points[k].end());
     }
+    out.keep->sizes.push_back(static_cast<std::uint32_t>(count));
     out.keep->cellIds.push_back(cellId);
     out.keep->levels.push_back(static_cast<unsigned char>(level));
     if (color)
@@ -88,15 +90,16 @@ void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellI
           {colorByte((*color)[0]), colorByte((*color)[1]), colorByte((*color)[2])});
     }
   }
-  else if (!out.counting && out.next < out.limit)
+  else if (!out.counting && out.next < out.limit && out.nextPoint + count <= out.pointLimit)
   {
-    double* p = out.arrays.points + 3 * N * out.next;
-    for (const Vec3& c : corners)
+    double* p = out.arrays.points + 3 * out.nextPoint;
+    for (std::size_t k = 0; k < count; ++k)
     {
-      *p++ = c[0];
-      *p++ = c[1];
-      *p++ = c[2];
+      *p++ = points[k][0];
+      *p++ = points[k][1];
+      *p++ = points[k][2];
     }
+    out.arrays.offsets[out.next] = static_cast<vtkIdType>(out.pointBase + out.nextPoint);
     out.arrays.cellIds[out.next] = cellId;
     out.arrays.levels[out.next] = static_cast<unsigned char>(level);
     if (color && out.arrays.colors)
@@ -109,6 +112,14 @@ void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellI
     }
   }
   ++out.next;
+  out.nextPoint += count;
+}
+
+template <std::size_t N>
+void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level,
+              const Rgb* color)
+{
+  emitCell(out, corners.data(), N, cellId, level, color);
 }
 
 /// What lies across a face of a 3D node, a topology fact.
@@ -705,8 +716,8 @@ struct TreeWalk
 
 } // namespace
 
-void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& offsets,
-                   std::size_t pointsPerCell, const SurfaceArrays& arrays)
+void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& cellOffsets,
+                   const std::vector<std::size_t>& pointOffsets, const SurfaceArrays& arrays)
 {
   // A copy: not worth reporting progress or stopping.
   vtkSMPTools::For(
@@ -716,9 +727,15 @@ void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::si
         for (vtkIdType i = begin; i < end; ++i)
         {
           const TreeCells& cells = kept[static_cast<std::size_t>(i)];
-          const std::size_t first = offsets[static_cast<std::size_t>(i)];
-          std::copy(cells.points.begin(), cells.points.end(),
-                    arrays.points + 3 * pointsPerCell * first);
+          const std::size_t first = cellOffsets[static_cast<std::size_t>(i)];
+          std::size_t point = pointOffsets[static_cast<std::size_t>(i)];
+          std::copy(cells.points.begin(), cells.points.end(), arrays.points + 3 * point);
+          vtkIdType* offset = arrays.offsets + first;
+          for (std::uint32_t size : cells.sizes)
+          {
+            *offset++ = static_cast<vtkIdType>(point);
+            point += size;
+          }
           std::copy(cells.cellIds.begin(), cells.cellIds.end(), arrays.cellIds + first);
           std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
           if (arrays.colors)
@@ -727,6 +744,8 @@ void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::si
           }
         }
       });
+  arrays.offsets[cellOffsets.empty() ? 0 : cellOffsets.back()] =
+      static_cast<vtkIdType>(pointOffsets.empty() ? 0 : pointOffsets.back());
 }
 
 AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
@@ -764,6 +783,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
 {
   const auto& trees = Grid.trees();
   std::vector<std::size_t> counts(trees.size(), 0);
+  std::vector<std::size_t> pointCounts(trees.size(), 0);
   // A full 1D/2D surface has one cell per visible leaf: a kept access knows how
   // many per tree, so one walk (the writing one) suffices.
   const bool known = std::all_of(trees.begin(), trees.end(),
@@ -773,6 +793,9 @@ std::size_t AdaptiveSurfaceBuilder::count()
   {
     std::transform(trees.begin(), trees.end(), counts.begin(),
                    [](const TreeAccess& t) { return static_cast<std::size_t>(t.visibleLeaves); });
+    const std::size_t perCell = segments() ? 2 : 4;
+    std::transform(counts.begin(), counts.end(), pointCounts.begin(),
+                   [&](std::size_t cells) { return perCell * cells; });
   }
   else
   {
@@ -783,6 +806,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
       for (TreeCells& cells : Kept)
       {
         cells.points.clear();
+        cells.sizes.clear();
         cells.cellIds.clear();
         cells.levels.clear();
         cells.colors.clear();
@@ -800,6 +824,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
           TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
           walk.walk();
           counts[static_cast<std::size_t>(t)] = sink.next;
+          pointCounts[static_cast<std::size_t>(t)] = sink.nextPoint;
         });
   }
   AskedAt.clear();
@@ -810,18 +835,21 @@ std::size_t AdaptiveSurfaceBuilder::count()
       AskedAt.emplace_back(t, k);
     }
   }
-  computeOffsets(counts);
+  computeOffsets(counts, pointCounts);
   return Offsets.back();
 }
 
-void AdaptiveSurfaceBuilder::computeOffsets(const std::vector<std::size_t>& counts)
+void AdaptiveSurfaceBuilder::computeOffsets(const std::vector<std::size_t>& counts,
+                                            const std::vector<std::size_t>& pointCounts)
 {
   // Trees write at prefix-sum offsets: the output order is the tree order, the
   // same for any number of threads.
   Offsets.assign(counts.size() + 1, 0);
+  PointOffsets.assign(counts.size() + 1, 0);
   for (std::size_t t = 0; t < counts.size(); ++t)
   {
     Offsets[t + 1] = Offsets[t] + counts[t];
+    PointOffsets[t + 1] = PointOffsets[t] + pointCounts[t];
   }
 }
 
@@ -912,20 +940,21 @@ void AdaptiveSurfaceBuilder::addRemotePieces(const std::vector<RemotePiece>& pie
                   asked.inside);
   }
   std::vector<std::size_t> counts(Kept.size());
+  std::vector<std::size_t> pointCounts(Kept.size());
   for (std::size_t t = 0; t < Kept.size(); ++t)
   {
     counts[t] = Kept[t].cellIds.size();
+    pointCounts[t] = Kept[t].points.size() / 3;
   }
-  computeOffsets(counts);
+  computeOffsets(counts, pointCounts);
 }
 
 void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
 {
   const auto& trees = Grid.trees();
-  const std::size_t perCell = pointsPerCell();
   if (!Kept.empty())
   {
-    copyKeptCells(Kept, Offsets, perCell, arrays);
+    copyKeptCells(Kept, Offsets, PointOffsets, arrays);
     return;
   }
   const bool full = fullPlanarSurface();
@@ -936,15 +965,22 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
       [&](vtkIdType t)
       {
         const std::size_t first = Offsets[static_cast<std::size_t>(t)];
+        const std::size_t firstPoint = PointOffsets[static_cast<std::size_t>(t)];
         CellSink sink;
         sink.counting = false;
         sink.limit = Offsets[static_cast<std::size_t>(t) + 1] - first;
-        sink.arrays = {arrays.points + 3 * perCell * first, arrays.cellIds + first,
-                       arrays.levels + first, arrays.colors ? arrays.colors + 3 * first : nullptr};
+        sink.pointLimit = PointOffsets[static_cast<std::size_t>(t) + 1] - firstPoint;
+        sink.pointBase = firstPoint;
+        sink.arrays = {arrays.points + 3 * firstPoint, arrays.offsets + first,
+                       arrays.cellIds + first, arrays.levels + first,
+                       arrays.colors ? arrays.colors + 3 * first : nullptr};
         const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
         if (full)
         {
-          sink.next = writeFullSurface(Grid, tree, sink.arrays, sink.limit);
+          const FullSurfaceCount written =
+              writeFullSurface(Grid, tree, sink.arrays, sink.limit, sink.pointLimit, firstPoint);
+          sink.next = written.cells;
+          sink.nextPoint = written.points;
           // Every cell of a full surface is a leaf: its own colour.
           for (std::size_t i = 0;
                Options.colors && sink.arrays.colors && i < std::min(sink.next, sink.limit); ++i)
@@ -961,7 +997,7 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
           TreeWalk walk{Grid, tree, Options, Region.get(), sink};
           walk.walk();
         }
-        if (sink.next != Offsets[static_cast<std::size_t>(t) + 1] - first)
+        if (sink.next != sink.limit || sink.nextPoint != sink.pointLimit)
         {
           mismatch = true; // never expected: counts come from the same topology
         }
@@ -970,6 +1006,7 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
   {
     throw std::logic_error("the surface's cell count changed between counting and writing");
   }
+  arrays.offsets[cells()] = static_cast<vtkIdType>(points());
 }
 
 } // namespace canopy

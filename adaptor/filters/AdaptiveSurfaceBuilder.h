@@ -84,11 +84,14 @@ struct RemotePiece
   static constexpr std::size_t Values = 8;
 };
 
-/// Output buffers: 3 doubles per point, pointsPerCell() points per cell (4 for a
-/// quad, 2 for a segment), one cell id and one level per cell.
+/// Output buffers: 3 doubles per point; per cell, where its points start
+/// (`offsets`: one more entry than cells, the last the number of points), its
+/// cell id and its level. A segment (1D) has 2 points; a flat piece (a quad) 4,
+/// or more where finer neighbours' corners lie on its edges (EdgeVertices.h).
 struct SurfaceArrays
 {
   double* points;
+  vtkIdType* offsets;
   vtkIdType* cellIds;
   unsigned char* levels;
   unsigned char* colors = nullptr; ///< RGB per cell, with SurfaceOptions::colors
@@ -107,6 +110,7 @@ struct AskedFace
 struct TreeCells
 {
   std::vector<double> points;
+  std::vector<std::uint32_t> sizes; ///< points per cell
   std::vector<vtkIdType> cellIds;
   std::vector<unsigned char> levels;
   std::vector<unsigned char> colors; ///< RGB, with a colour map
@@ -114,9 +118,10 @@ struct TreeCells
 };
 
 /// Copies the cells kept per tree (or per piece) into `arrays`, each list at
-/// its offset (in cells), in parallel.
-void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& offsets,
-                   std::size_t pointsPerCell, const SurfaceArrays& arrays);
+/// its offsets (`cellOffsets` in cells, `pointOffsets` in points: prefix sums
+/// with one more entry than `kept`), in parallel; writes the last offset too.
+void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& cellOffsets,
+                   const std::vector<std::size_t>& pointOffsets, const SurfaceArrays& arrays);
 
 class GridSection;
 
@@ -156,9 +161,11 @@ public:
   /// Cells in all: count() plus the pieces added since.
   std::size_t cells() const { return Offsets.empty() ? 0 : Offsets.back(); }
   ///@}
-  /// Points per output cell: 2 (segments) for 1D grids, 4 (quads) otherwise.
-  std::size_t pointsPerCell() const { return Grid.dimension() == 1 ? 2 : 4; }
-  /// Fills arrays sized for count() cells.
+  /// Points of those cells, all together.
+  std::size_t points() const { return PointOffsets.empty() ? 0 : PointOffsets.back(); }
+  /// Whether the cells are segments (1D grids: VTK_LINE) rather than polygons.
+  bool segments() const { return Grid.dimension() == 1; }
+  /// Fills arrays sized for cells() cells and points() points.
   void write(const SurfaceArrays& arrays) const;
 
 private:
@@ -171,9 +178,11 @@ private:
   ProgressShare Progress;
   bool CountWalked = false;            ///< count() walked the trees: write() has half the progress
   std::unique_ptr<GridSection> Region; ///< 1D/2D culling region, built once for both passes
-  void computeOffsets(const std::vector<std::size_t>& counts);
+  void computeOffsets(const std::vector<std::size_t>& counts,
+                      const std::vector<std::size_t>& pointCounts);
 
-  std::vector<std::size_t> Offsets;
+  std::vector<std::size_t> Offsets;       ///< per tree, its first cell (prefix sums)
+  std::vector<std::size_t> PointOffsets;  ///< per tree, its first point
   std::vector<TreeCells> Kept;            ///< per tree, when the counting pass kept the cells
   std::vector<TreeCells>* Lent = nullptr; ///< where Kept's buffers came from
   /// Where remoteFaces() entries come from: (tree, position in its asked list).

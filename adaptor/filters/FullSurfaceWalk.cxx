@@ -17,17 +17,18 @@ public:
   static constexpr int Corners = V >= 0 ? 4 : 2;
 
   FullWalk(const HyperTreeAccess& grid, const TreeAccess& tree, const SurfaceArrays& arrays,
-           std::size_t limit)
-      : Grid(grid), Tree(tree), Arrays(arrays), Limit(limit), Masked(grid.hasMask())
+           std::size_t limit, std::size_t pointLimit, std::size_t pointBase)
+      : Grid(grid), Tree(tree), Arrays(arrays), Limit(limit), PointLimit(pointLimit),
+        PointBase(pointBase), Masked(grid.hasMask())
   {
   }
 
-  std::size_t run()
+  FullSurfaceCount run()
   {
     const vtkIdType rootCell = Tree.globalIndex(0);
     if (hidden(rootCell))
     {
-      return 0;
+      return {};
     }
     Vec3 lo;
     Vec3 hi;
@@ -44,7 +45,7 @@ public:
     {
       refined(0, 0, 0, 0);
     }
-    return Next;
+    return {Next, NextPoint};
   }
 
 private:
@@ -101,9 +102,9 @@ private:
   /// Corner order as the shared walk's: 2D (lo, +u, +u+v, +v), 1D (lo, +u).
   void emit(vtkIdType cell, int level, double ulo, double uhi, double vlo, double vhi)
   {
-    if (Next < Limit)
+    if (Next < Limit && NextPoint + Corners <= PointLimit)
     {
-      double* p = Arrays.points + 3 * Corners * Next;
+      double* p = Arrays.points + 3 * NextPoint;
       const double us[4] = {ulo, uhi, uhi, ulo};
       const double vs[4] = {vlo, vlo, vhi, vhi};
       // The other axes' coordinates in locals: stores through p could alias a member.
@@ -115,24 +116,30 @@ private:
           p[a] = a == U ? us[k] : (a == V ? vs[k] : base[a]);
         }
       }
+      Arrays.offsets[Next] = static_cast<vtkIdType>(PointBase + NextPoint);
       Arrays.cellIds[Next] = cell;
       Arrays.levels[Next] = static_cast<unsigned char>(level);
     }
     ++Next;
+    NextPoint += Corners;
   }
 
   const HyperTreeAccess& Grid;
   const TreeAccess& Tree;
   const SurfaceArrays& Arrays;
   const std::size_t Limit;
+  const std::size_t PointLimit;
+  const std::size_t PointBase;
   const bool Masked;
   double Base[3] = {0, 0, 0}; ///< the root's lower corner: the other axes' coordinates
   std::size_t Next = 0;
+  std::size_t NextPoint = 0;
 };
 
 template <int F>
-std::size_t writeWith(const HyperTreeAccess& grid, const TreeAccess& tree,
-                      const SurfaceArrays& arrays, std::size_t limit)
+FullSurfaceCount writeWith(const HyperTreeAccess& grid, const TreeAccess& tree,
+                           const SurfaceArrays& arrays, std::size_t limit, std::size_t pointLimit,
+                           std::size_t pointBase)
 {
   const auto& axes = grid.activeAxes();
   if (grid.dimension() == 1)
@@ -140,28 +147,29 @@ std::size_t writeWith(const HyperTreeAccess& grid, const TreeAccess& tree,
     switch (axes[0])
     {
     case 0:
-      return FullWalk<F, 0, -1>(grid, tree, arrays, limit).run();
+      return FullWalk<F, 0, -1>(grid, tree, arrays, limit, pointLimit, pointBase).run();
     case 1:
-      return FullWalk<F, 1, -1>(grid, tree, arrays, limit).run();
+      return FullWalk<F, 1, -1>(grid, tree, arrays, limit, pointLimit, pointBase).run();
     default:
-      return FullWalk<F, 2, -1>(grid, tree, arrays, limit).run();
+      return FullWalk<F, 2, -1>(grid, tree, arrays, limit, pointLimit, pointBase).run();
     }
   }
   if (axes[0] == 0 && axes[1] == 1)
   {
-    return FullWalk<F, 0, 1>(grid, tree, arrays, limit).run();
+    return FullWalk<F, 0, 1>(grid, tree, arrays, limit, pointLimit, pointBase).run();
   }
   if (axes[0] == 0)
   {
-    return FullWalk<F, 0, 2>(grid, tree, arrays, limit).run();
+    return FullWalk<F, 0, 2>(grid, tree, arrays, limit, pointLimit, pointBase).run();
   }
-  return FullWalk<F, 1, 2>(grid, tree, arrays, limit).run();
+  return FullWalk<F, 1, 2>(grid, tree, arrays, limit, pointLimit, pointBase).run();
 }
 
 } // namespace
 
-std::size_t writeFullSurface(const HyperTreeAccess& grid, const TreeAccess& tree,
-                             const SurfaceArrays& arrays, std::size_t limit)
+FullSurfaceCount writeFullSurface(const HyperTreeAccess& grid, const TreeAccess& tree,
+                                  const SurfaceArrays& arrays, std::size_t limit,
+                                  std::size_t pointLimit, std::size_t pointBase)
 {
   if (grid.dimension() < 1 || grid.dimension() > 2)
   {
@@ -170,9 +178,9 @@ std::size_t writeFullSurface(const HyperTreeAccess& grid, const TreeAccess& tree
   switch (grid.branchFactor())
   {
   case 2:
-    return writeWith<2>(grid, tree, arrays, limit);
+    return writeWith<2>(grid, tree, arrays, limit, pointLimit, pointBase);
   case 3:
-    return writeWith<3>(grid, tree, arrays, limit);
+    return writeWith<3>(grid, tree, arrays, limit, pointLimit, pointBase);
   default:
     throw std::logic_error("writeFullSurface: branch factor 2 or 3 only");
   }

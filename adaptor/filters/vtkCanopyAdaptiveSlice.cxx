@@ -112,7 +112,7 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
     {
       return 1; // aborted: the output stays empty
     }
-    builder.write(this->SizeCellArrays(arrays, quads, 4));
+    builder.write(this->SizeCellArrays(arrays, quads, static_cast<vtkIdType>(builder.points())));
   }
   catch (const std::exception& e)
   {
@@ -120,7 +120,7 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
     vtkErrorMacro("cannot build the slices: " << e.what());
     return 0;
   }
-  this->AssembleOutput(input, output, arrays, quads, 4);
+  this->AssembleOutput(input, output, arrays, quads, false);
   return 1;
 }
 

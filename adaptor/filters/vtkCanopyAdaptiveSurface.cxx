@@ -81,8 +81,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   // Release the previous output first: its arrays can then be reused.
   output->Initialize();
   const CellArrays arrays = this->NewCellArrays();
-  vtkIdType quads = 0; // cells: quads, or segments of a 1D grid
-  vtkIdType perCell = 4;
+  vtkIdType quads = 0; // cells: flat pieces, or segments of a 1D grid
   canopy::TreeProgress progress(this);
   try
   {
@@ -103,8 +102,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
       return 1; // aborted: the output stays empty
     }
     quads = static_cast<vtkIdType>(builder.cells());
-    perCell = static_cast<vtkIdType>(builder.pointsPerCell());
-    builder.write(this->SizeCellArrays(arrays, quads, perCell));
+    builder.write(this->SizeCellArrays(arrays, quads, static_cast<vtkIdType>(builder.points())));
     if (progress.stopped())
     {
       return 1; // aborted: the arrays are partly written, the output stays empty
@@ -116,7 +114,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     vtkErrorMacro("cannot build the surface: " << e.what());
     return 0;
   }
-  this->AssembleOutput(input, output, arrays, quads, perCell);
+  this->AssembleOutput(input, output, arrays, quads, input->GetDimension() == 1);
   if (input->GetDimension() == 3)
   {
     this->AddAxisNormals(output);
