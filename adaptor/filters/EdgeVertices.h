@@ -1,0 +1,259 @@
+// The vertices that finer neighbours put on a drawn flat piece's edges.
+//
+// Where a coarse piece (a slice's cut, a 2D grid's quad, a 3D node's face) meets
+// finer ones along an edge (a T-junction), the finer pieces' corners lie inside
+// its edge. A rasterizer fills the seam between two triangles without a gap only
+// when both have the same edge; the coarse piece's one long edge next to the
+// fine pieces' short ones leaves pixels that neither covers (seen: single
+// background pixels in slices and surfaces). So a drawn piece is a polygon that
+// carries those corners, in order along each edge: neighbours' edges then
+// coincide exactly, point for point, whatever the rasterizer (docs/filters.md,
+// "Output").
+//
+// The corners come from the trees, not from the output: from the cell at the
+// piece's level on the other side of the edge (an integer position, in this
+// tree or the next), the nodes below it that touch the edge, down to where the
+// walk that draws them stops. The caller gives that walk's rule (classify) and
+// which children touch the edge (a digit per axis), so that the two agree by
+// construction. Their bounds along the edge, strictly inside it, are the
+// vertices. On the way down to the piece's level only the topology is asked
+// (a masked node, a leaf): were level of detail to stop there, it would stop at
+// the cell at the piece's level too (a node's footprint is at most its
+// parent's), which has no corner inside the edge either way.
+//
+// Another rank's part met on the way (an absent node, a tree elsewhere) is
+// reported: the caller then asks the other ranks (EdgeVertexExchange.h).
+#pragma once
+
+#include "HyperTreeAccess.h"
+#include "TreeTraversal.h"
+#include "Vec3.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace canopy
+{
+
+using Index3 = std::array<std::int64_t, 3>;
+
+/// What the walk that draws a grid does at a node it reaches.
+enum class EdgeRole
+{
+  Descend, ///< enters its children
+  Drawn,   ///< stops and draws it (a leaf, or a node level of detail draws whole)
+  Hidden,  ///< a masked node: not drawn, nor anything below it
+  Remote   ///< another rank's part: what is drawn there, that rank knows
+};
+
+/// Which descendants of a cell touch one of its edges: the edge runs along
+/// `along`; on every other axis `digit` gives the child digit on the edge's side
+/// (0 or f - 1), or Any on an axis the grid does not have (2D), or Cut on a
+/// slice's axis, whose digit at each level `cutDigits` gives (indexed by the
+/// child's level).
+struct EdgeCells
+{
+  static constexpr int Any = -1;
+  static constexpr int Cut = -2;
+  int along = 0;
+  std::array<int, 3> digit{{Any, Any, Any}};
+  const std::vector<int>* cutDigits = nullptr;
+};
+
+/// The tree holding the cell at `ijk` + `offset` (each -1, 0 or +1) at `level`
+/// below root cell `root`, and that cell's position in it (`at`, `atRoot`).
+/// nullptr when there is no tree here; `elsewhere` then says whether the root
+/// cell's tree is on another rank (rather than outside the grid, or a hole).
+inline const TreeAccess* treeOfCell(const HyperTreeAccess& grid, const std::array<long, 3>& root,
+                                    int level, const Index3& ijk, const std::array<int, 3>& offset,
+                                    Index3& at, std::array<long, 3>& atRoot, bool& elsewhere)
+{
+  const std::int64_t cells = grid.cellsPerRootAt(level);
+  at = ijk;
+  atRoot = root;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (offset[a] == 0)
+    {
+      continue;
+    }
+    at[a] += offset[a];
+    if (at[a] < 0)
+    {
+      at[a] = cells - 1;
+      atRoot[a] -= 1;
+    }
+    else if (at[a] >= cells)
+    {
+      at[a] = 0;
+      atRoot[a] += 1;
+    }
+  }
+  const TreeAccess* tree = grid.treeAt(atRoot[0], atRoot[1], atRoot[2]);
+  elsewhere = !tree && grid.treeElsewhere(atRoot[0], atRoot[1], atRoot[2]);
+  return tree;
+}
+
+/// The deepest common ancestor of the cells at `from` and `to` (same level,
+/// same tree), given `from`'s ancestors (path[l]: its ancestor at level l).
+inline WalkNode commonAncestor(const HyperTreeAccess& grid, const vtkIdType* path, int level,
+                               const Index3& from, const Index3& to)
+{
+  for (int up = 1; up <= level; ++up)
+  {
+    const std::int64_t scale = grid.cellsPerRootAt(up);
+    bool same = true;
+    for (int a = 0; a < 3 && same; ++a)
+    {
+      same = from[a] / scale == to[a] / scale;
+    }
+    if (same)
+    {
+      return {path[level - up], level - up, {{from[0] / scale, from[1] / scale, from[2] / scale}}};
+    }
+  }
+  return {0, 0, {{0, 0, 0}}};
+}
+
+/// Appends to `out`, ascending and without repeats, the bounds along
+/// `cells.along` strictly inside (lo, hi) of the nodes where the drawing walk
+/// stops (Drawn, and Hidden when `hiddenBound`: in 3D a masked node bounds the
+/// faces it exposes) among the descendants of the cell at `level`, `target`
+/// that touch the edge `cells` describes; the descent to that cell starts at
+/// `start` (one of its ancestors in `tree`, or itself). `classify(tree, node)`
+/// is the drawing walk's rule. Returns false when another rank's part was met
+/// on the way (what lies there, only that rank knows).
+template <typename Classify>
+bool edgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, WalkNode start, int level,
+                  const Index3& target, const EdgeCells& cells, double lo, double hi,
+                  Classify&& classify, bool hiddenBound, std::vector<double>& out)
+{
+  // Down to the cell: a masked node or a leaf above it holds the whole edge.
+  WalkNode m = start;
+  while (m.level < level)
+  {
+    const vtkIdType global = tree.globalIndex(m.node);
+    if (grid.hasMask() && grid.isMasked(global))
+    {
+      return !grid.isAbsent(global);
+    }
+    if (tree.isLeaf(m.node))
+    {
+      return true;
+    }
+    const int child = grid.childToward(m.level, level, target);
+    m = {tree.firstChild(m.node) + child, m.level + 1, grid.childPosition(m.ijk, child)};
+  }
+  // The cell itself first: most often it is drawn whole (no corner inside the
+  // edge), and a walk below it costs a stack.
+  switch (classify(tree, m))
+  {
+  case EdgeRole::Remote:
+    return false;
+  case EdgeRole::Descend:
+    break;
+  default:
+    return true;
+  }
+  bool local = true;
+  const std::size_t first = out.size();
+  auto add = [&](double x)
+  {
+    if (x > lo && x < hi && (out.size() == first || out.back() != x))
+    {
+      out.push_back(x);
+    }
+  };
+  // Depth first, children in order: the bounds come ascending along the edge.
+  walkSubtree(
+      grid, tree, m,
+      [&](WalkNode& n)
+      {
+        switch (n.level == level ? EdgeRole::Descend : classify(tree, n))
+        {
+        case EdgeRole::Remote:
+          local = false;
+          return WalkStep::Skip;
+        case EdgeRole::Hidden:
+          if (!hiddenBound)
+          {
+            return WalkStep::Skip;
+          }
+          [[fallthrough]];
+        case EdgeRole::Drawn:
+          if (n.level > level)
+          {
+            add(grid.nodeLower(tree, n.level, cells.along, n.ijk[cells.along]));
+            add(grid.nodeLower(tree, n.level, cells.along, n.ijk[cells.along] + 1));
+          }
+          return WalkStep::Skip;
+        default:
+          return WalkStep::Descend;
+        }
+      },
+      [&](const WalkNode& parent, int c)
+      {
+        const auto& digits = grid.childDigits(c);
+        for (int a = 0; a < 3; ++a)
+        {
+          const int want = cells.digit[a];
+          if (a == cells.along || want == EdgeCells::Any || digits[a] < 0)
+          {
+            continue;
+          }
+          const int need = want == EdgeCells::Cut
+                               ? (*cells.cutDigits)[static_cast<std::size_t>(parent.level) + 1]
+                               : want;
+          if (digits[a] != need)
+          {
+            return false;
+          }
+        }
+        return true;
+      });
+  return local;
+}
+
+/// The points of a flat piece's polygon: its rectangle's corners in the order
+/// given (corner k to corner k + 1 is an edge), each followed by the vertices on
+/// the edge it starts. The rectangle lies in the plane of axes u and v and spans
+/// lo to hi on them; values[0] and values[1] are the vertices on its edges along
+/// u at v = lo and v = hi, values[2] and values[3] along v at u = lo and u = hi,
+/// each ascending.
+inline void polygonAround(const std::array<Vec3, 4>& corners, int u, int v, const Vec3& hi,
+                          const std::array<const std::vector<double>*, 4>& values,
+                          std::vector<Vec3>& out)
+{
+  out.clear();
+  for (std::size_t k = 0; k < 4; ++k)
+  {
+    const Vec3& a = corners[k];
+    const Vec3& b = corners[(k + 1) % 4];
+    out.push_back(a);
+    const int d = a[static_cast<std::size_t>(u)] != b[static_cast<std::size_t>(u)] ? u : v;
+    const int w = d == u ? v : u;
+    const std::vector<double>& on =
+        *values[(d == v ? 2 : 0) +
+                (a[static_cast<std::size_t>(w)] == hi[static_cast<std::size_t>(w)] ? 1 : 0)];
+    Vec3 p = a;
+    if (b[static_cast<std::size_t>(d)] > a[static_cast<std::size_t>(d)])
+    {
+      for (double x : on)
+      {
+        p[static_cast<std::size_t>(d)] = x;
+        out.push_back(p);
+      }
+    }
+    else
+    {
+      for (auto x = on.rbegin(); x != on.rend(); ++x)
+      {
+        p[static_cast<std::size_t>(d)] = *x;
+        out.push_back(p);
+      }
+    }
+  }
+}
+
+} // namespace canopy
