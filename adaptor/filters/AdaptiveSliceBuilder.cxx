@@ -189,44 +189,10 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
     nlo[axis] = nhi[axis] = position;
     return lodStops(t, n, nlo, nhi, ignored) ? EdgeRole::Drawn : EdgeRole::Descend;
   };
-  // The vertices on a drawn quad's four edges (polygonAround's order: along b
-  // at c = lo and hi, along c at b = lo and hi), found across each edge.
+  // The vertices on a drawn quad's four edges (EdgeVertices.h).
   std::array<std::vector<double>, 4> onEdge;
   std::vector<Vec3> polygon;
   std::vector<vtkIdType> path(static_cast<std::size_t>(Grid.maxLevel()) + 1, 0);
-  const std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
-                                  static_cast<long>(tree.rootIJK[1]),
-                                  static_cast<long>(tree.rootIJK[2])}};
-  auto findEdgeVertices = [&](const WalkNode& n, const Vec3& lo, const Vec3& hi)
-  {
-    for (int e = 0; e < 4; ++e)
-    {
-      const int across = e < 2 ? c : b; // the axis the edge is crossed along
-      const int along = e < 2 ? b : c;
-      const int side = e % 2; // 1: the edge at the node's upper bound
-      std::array<int, 3> offset{{0, 0, 0}};
-      offset[across] = side ? 1 : -1;
-      EdgeCells cells;
-      cells.along = along;
-      cells.digit[across] = side ? 0 : f - 1;
-      cells.digit[axis] = EdgeCells::Cut;
-      cells.cutDigits = &digit;
-      onEdge[static_cast<std::size_t>(e)].clear();
-      Index3 at;
-      std::array<long, 3> atRoot;
-      bool elsewhere = false;
-      const TreeAccess* other =
-          treeOfCell(Grid, root, n.level, n.ijk, offset, at, atRoot, elsewhere);
-      if (!other)
-      {
-        continue;
-      }
-      const WalkNode from =
-          other == &tree ? commonAncestor(Grid, path.data(), n.level, n.ijk, at) : WalkNode{};
-      edgeVertices(Grid, *other, from, n.level, at, cells, lo[along], hi[along], role, false,
-                   onEdge[static_cast<std::size_t>(e)]);
-    }
-  };
 
   Vec3 lo{{0, 0, 0}};
   Vec3 hi{{0, 0, 0}};
@@ -273,7 +239,7 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
           global = tree.globalIndex(n.node);
         }
         // Counter-clockwise seen from +axis: the polygon's normal is +axis.
-        findEdgeVertices(n, lo, hi);
+        rectangleEdgeVertices(Grid, tree, path.data(), n, b, c, lo, hi, axis, &digit, role, onEdge);
         polygonAround(rectangleCorners(lo, hi, b, c), b, c, hi,
                       {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
         for (const Vec3& p : polygon)

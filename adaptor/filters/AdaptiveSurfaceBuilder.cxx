@@ -5,6 +5,7 @@
 // would have to become a header of their own for no other user.
 #include "AdaptiveSurfaceBuilder.h"
 
+#include "EdgeVertices.h"
 #include "FullSurfaceWalk.h"
 #include "GridSection.h"
 #include "TreeProgress.h"
@@ -23,8 +24,6 @@ namespace canopy
 
 namespace
 {
-
-using Index3 = std::array<std::int64_t, 3>;
 
 /// A node of the walk; its inherited bit: strictly inside the view volume (3D),
 /// and so are its descendants and faces.
@@ -495,7 +494,7 @@ struct TreeWalk
       else if (grid.dimension() == 2)
       {
         const Rgb color = colorOf(n, global, leaf);
-        emitPlaneQuad(lo, hi, global, n.level, options.colors ? &color : nullptr);
+        emitPlaneQuad(n, lo, hi, global, options.colors ? &color : nullptr);
       }
       else
       {
@@ -525,11 +524,45 @@ struct TreeWalk
     return known == 2;
   }
 
-  void emitPlaneQuad(const Vec3& lo, const Vec3& hi, vtkIdType global, int level, const Rgb* color)
+  /// A 2D node's quad, with the corners of finer neighbours on its edges.
+  void emitPlaneQuad(const NodeFrame& n, const Vec3& lo, const Vec3& hi, vtkIdType global,
+                     const Rgb* color)
   {
-    emitCell(out, rectangleCorners(lo, hi, grid.activeAxes()[0], grid.activeAxes()[1]), global,
-             level, color);
+    const int u = grid.activeAxes()[0];
+    const int v = grid.activeAxes()[1];
+    rectangleEdgeVertices(
+        grid, tree, path.data(), n, u, v, lo, hi, -1, nullptr,
+        [this](const TreeAccess& t, const NodeFrame& m) { return planarRole(t, m); }, onEdge);
+    polygonAround(rectangleCorners(lo, hi, u, v), u, v, hi,
+                  {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
+    emitCell(out, polygon.data(), polygon.size(), global, n.level, color);
   }
+
+  /// What this walk does at a node of a 1D or 2D tree (enter's rule, culling
+  /// aside: a culled neighbour draws nothing to meet), for EdgeVertices.h.
+  EdgeRole planarRole(const TreeAccess& t, const NodeFrame& m) const
+  {
+    const vtkIdType global = t.globalIndex(m.node);
+    if (grid.hasMask() && grid.isMasked(global))
+    {
+      return grid.isAbsent(global) ? EdgeRole::Remote : EdgeRole::Hidden;
+    }
+    if (t.isLeaf(m.node))
+    {
+      return EdgeRole::Drawn;
+    }
+    if (!options.view || !options.levelOfDetail || t.hasAbsentDescendant(m.node))
+    {
+      return EdgeRole::Descend;
+    }
+    Vec3 mlo;
+    Vec3 mhi;
+    nodeBox(grid, t, m, mlo, mhi);
+    return lodStops(mlo, mhi) ? EdgeRole::Drawn : EdgeRole::Descend;
+  }
+
+  std::array<std::vector<double>, 4> onEdge{}; ///< emitPlaneQuad's scratch
+  std::vector<Vec3> polygon{};                 ///< the same
 
   /// A drawn 1D or 2D node's colour: a leaf's own, a coarser node's the average
   /// of its leaves' (only when it is written: counting needs none).
@@ -561,10 +594,15 @@ struct TreeWalk
     return facing >= 0;
   }
 
-  /// Face of [lo, hi] normal to `axis` on side `side` (0 low, 1 high), restricted
-  /// on the two other axes to [plo, phi], outward-oriented.
-  void emitFace(int axis, int side, const Vec3& lo, const Vec3& hi, const Vec3& plo,
-                const Vec3& phi, vtkIdType global, int level, bool inside)
+  /// Face of [lo, hi] (the box of node n, drawn) normal to `axis` on side
+  /// `side` (0 low, 1 high), restricted on the two other axes to [plo, phi] (the
+  /// face of n's cell at `pieceLevel`, `pieceIJK`: n's own, or a finer one
+  /// inside it facing a finer hole), outward-oriented, with the corners of the
+  /// pieces meeting its edges (EdgeVertices.h). `ancestors`: n's (path[l] at
+  /// level l), or nullptr.
+  void emitFace(int axis, int side, const NodeFrame& n, const Vec3& lo, const Vec3& hi,
+                const Vec3& plo, const Vec3& phi, int pieceLevel, const Index3& pieceIJK,
+                vtkIdType global, bool inside, const vtkIdType* ancestors)
   {
     const int b = (axis + 1) % 3;
     const int c = (axis + 2) % 3;
@@ -589,10 +627,32 @@ struct TreeWalk
     {
       std::swap(q[1], q[3]);
     }
+    faceEdgeVertices(
+        grid, tree, ancestors, n.level, n.ijk, pieceLevel, pieceIJK, axis, side, flo, fhi,
+        [this](const TreeAccess& t, const NodeFrame& m) { return solidRole(t, m); }, onEdge);
+    polygonAround(q, b, c, fhi, {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
     const Rgb color = options.colors && (!out.counting || out.keep)
                           ? options.colors->mapCell(global)
                           : Rgb{{0, 0, 0}};
-    emitCell(out, q, global, level, options.colors ? &color : nullptr);
+    emitCell(out, polygon.data(), polygon.size(), global, n.level,
+             options.colors ? &color : nullptr);
+  }
+
+  /// What this walk does at a node of a 3D tree (enter's rule; culling aside,
+  /// and a subtree with nothing to expose is walked like any), for EdgeVertices.h.
+  EdgeRole solidRole(const TreeAccess& t, const NodeFrame& m) const
+  {
+    const vtkIdType global = t.globalIndex(m.node);
+    if (grid.hasMask() && grid.isMasked(global))
+    {
+      return grid.isAbsent(global) ? EdgeRole::Remote : EdgeRole::Hidden;
+    }
+    if (t.isLeaf(m.node))
+    {
+      return EdgeRole::Drawn;
+    }
+    return !t.hasAbsentDescendant(m.node) && faces.lodStops(t, m) ? EdgeRole::Drawn
+                                                                  : EdgeRole::Descend;
   }
 
   /// For each of the six faces of a node where descent stopped: the parts not
@@ -638,7 +698,7 @@ struct TreeWalk
         bool ask = state == Remote;
         if (state == Whole)
         {
-          emitFace(axis, side, lo, hi, lo, hi, global, n.level, n.inherited);
+          emitFace(axis, side, n, lo, hi, lo, hi, n.level, n.ijk, global, n.inherited, path.data());
         }
         else if (state == Parts)
         {
@@ -651,7 +711,12 @@ struct TreeWalk
                 Vec3 clo;
                 Vec3 chi;
                 nodeBox(grid, *neighbour, child, clo, chi);
-                emitFace(axis, side, lo, hi, clo, chi, global, n.level, n.inherited);
+                // The piece is the face of n's cell facing the hole, at the hole's level.
+                Index3 cell = child.ijk;
+                const std::int64_t scale = grid.cellsPerRootAt(child.level - n.level);
+                cell[axis] = side ? (n.ijk[axis] + 1) * scale - 1 : n.ijk[axis] * scale;
+                emitFace(axis, side, n, lo, hi, clo, chi, child.level, cell, global, n.inherited,
+                         path.data());
               },
               [&](const NodeFrame&) { ask = ask || options.remoteFaces; });
         }
@@ -793,9 +858,23 @@ std::size_t AdaptiveSurfaceBuilder::count()
   {
     std::transform(trees.begin(), trees.end(), counts.begin(),
                    [](const TreeAccess& t) { return static_cast<std::size_t>(t.visibleLeaves); });
-    const std::size_t perCell = segments() ? 2 : 4;
-    std::transform(counts.begin(), counts.end(), pointCounts.begin(),
-                   [&](std::size_t cells) { return perCell * cells; });
+    // Their points, once per topology: a walk that writes nothing.
+    CountWalked = std::any_of(trees.begin(), trees.end(),
+                              [](const TreeAccess& t) { return t.fullSurfacePoints < 0; });
+    forEachTree(CountWalked ? Progress.part(0, 0.5) : ProgressShare{},
+                static_cast<vtkIdType>(trees.size()),
+                [&](vtkIdType t)
+                {
+                  const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
+                  if (tree.fullSurfacePoints < 0)
+                  {
+                    const SurfaceArrays none{nullptr, nullptr, nullptr, nullptr};
+                    tree.fullSurfacePoints =
+                        static_cast<vtkIdType>(writeFullSurface(Grid, tree, none, 0, 0, 0).points);
+                  }
+                  pointCounts[static_cast<std::size_t>(t)] =
+                      static_cast<std::size_t>(tree.fullSurfacePoints);
+                });
   }
   else
   {
@@ -907,7 +986,7 @@ AdaptiveSurfaceBuilder::answerRemoteFaces(const std::vector<RemoteFace>& faces) 
           *neighbour, m, axis, towards,
           [&](const NodeFrame& child)
           {
-            RemotePiece piece{q, false, {{0, 0, 0}}, {{0, 0, 0}}};
+            RemotePiece piece{q, false, {{0, 0, 0}}, {{0, 0, 0}}, child.level, child.ijk};
             nodeBox(Grid, *neighbour, child, piece.lo, piece.hi);
             pieces.push_back(piece);
           },
@@ -932,12 +1011,27 @@ void AdaptiveSurfaceBuilder::addRemotePieces(const std::vector<RemotePiece>& pie
     sink.keep = &Kept[t];
     TreeWalk walk{Grid, trees[t], Options, Region.get(), sink};
     const NodeFrame n{0, static_cast<int>(asked.face.level), asked.face.ijk};
+    const int axis = static_cast<int>(asked.face.axis);
+    const int side = static_cast<int>(asked.face.side);
     Vec3 lo;
     Vec3 hi;
     nodeBox(Grid, trees[t], n, lo, hi);
-    walk.emitFace(static_cast<int>(asked.face.axis), static_cast<int>(asked.face.side), lo, hi,
-                  piece.whole ? lo : piece.lo, piece.whole ? hi : piece.hi, asked.global, n.level,
-                  asked.inside);
+    // The piece's cell on this side: n, or the cell of n facing the owner's hole.
+    Index3 cell = n.ijk;
+    int level = n.level;
+    if (!piece.whole)
+    {
+      if (piece.level < n.level || piece.level > Grid.maxLevel())
+      {
+        throw std::invalid_argument("a remote piece is coarser than its face, or too deep");
+      }
+      level = static_cast<int>(piece.level);
+      const std::int64_t scale = Grid.cellsPerRootAt(level - n.level);
+      cell = piece.ijk;
+      cell[axis] = side ? (n.ijk[axis] + 1) * scale - 1 : n.ijk[axis] * scale;
+    }
+    walk.emitFace(axis, side, n, lo, hi, piece.whole ? lo : piece.lo, piece.whole ? hi : piece.hi,
+                  level, cell, asked.global, asked.inside, nullptr);
   }
   std::vector<std::size_t> counts(Kept.size());
   std::vector<std::size_t> pointCounts(Kept.size());

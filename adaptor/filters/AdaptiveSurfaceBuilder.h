@@ -73,15 +73,19 @@ struct RemoteFace
 
 /// An owner's answer: a piece of a remote face to draw, because the owner masks
 /// the cells there. `whole`: the asking node's whole face (the owner's masked
-/// node is as large or larger); else the owner's masked node's box on the face.
+/// node is as large or larger); else the owner's masked node's box on the face,
+/// and that node's level and integer position (the asking rank looks for the
+/// pieces meeting its edges there: EdgeVertices.h).
 struct RemotePiece
 {
   std::size_t face; ///< index in the asking rank's remoteFaces()
   bool whole;
   Vec3 lo;
   Vec3 hi;
+  std::int64_t level = 0;
+  std::array<std::int64_t, 3> ijk{{0, 0, 0}};
   /// Values per piece on the wire (RemotePiece <-> double).
-  static constexpr std::size_t Values = 8;
+  static constexpr std::size_t Values = 12;
 };
 
 /// Output buffers: 3 doubles per point; per cell, where its points start

@@ -29,6 +29,7 @@
 #include "TreeTraversal.h"
 #include "Vec3.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -100,6 +101,25 @@ inline const TreeAccess* treeOfCell(const HyperTreeAccess& grid, const std::arra
 inline WalkNode commonAncestor(const HyperTreeAccess& grid, const vtkIdType* path, int level,
                                const Index3& from, const Index3& to)
 {
+  if (grid.branchFactor() == 2)
+  {
+    // The positions agree above their highest differing bit.
+    std::uint64_t differing = 0;
+    for (int a = 0; a < 3; ++a)
+    {
+      differing |= static_cast<std::uint64_t>(from[a] ^ to[a]);
+    }
+    int up = 0;
+    for (; differing; differing >>= 1)
+    {
+      ++up;
+    }
+    if (up > level)
+    {
+      return {0, 0, {{0, 0, 0}}};
+    }
+    return {path[level - up], level - up, {{from[0] >> up, from[1] >> up, from[2] >> up}}};
+  }
   for (int up = 1; up <= level; ++up)
   {
     const std::int64_t scale = grid.cellsPerRootAt(up);
@@ -212,6 +232,138 @@ bool edgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, WalkNode 
         }
         return true;
       });
+  return local;
+}
+
+/// The vertices on the four edges of a node's flat piece, a rectangle in the
+/// plane of axes u and v (a 2D grid's node, or a slice's cut of a 3D node, then
+/// with `cutAxis` >= 0 and its digits per level), found across each edge:
+/// onEdge[0], [1] along u at v = lo and hi, [2], [3] along v at u = lo and hi
+/// (polygonAround's order), each ascending. `path`: the node's ancestors
+/// (path[l] at level l). Returns false when another rank's part was met.
+template <typename Classify>
+bool rectangleEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
+                           const vtkIdType* path, const WalkNode& n, int u, int v, const Vec3& lo,
+                           const Vec3& hi, int cutAxis, const std::vector<int>* cutDigits,
+                           Classify&& classify, std::array<std::vector<double>, 4>& onEdge)
+{
+  const int f = grid.branchFactor();
+  const std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
+                                  static_cast<long>(tree.rootIJK[1]),
+                                  static_cast<long>(tree.rootIJK[2])}};
+  bool local = true;
+  for (int e = 0; e < 4; ++e)
+  {
+    const int across = e < 2 ? v : u; // the axis the edge is crossed along
+    const int along = e < 2 ? u : v;
+    const int side = e % 2; // 1: the edge at the node's upper bound
+    std::array<int, 3> offset{{0, 0, 0}};
+    offset[static_cast<std::size_t>(across)] = side ? 1 : -1;
+    EdgeCells cells;
+    cells.along = along;
+    cells.digit[static_cast<std::size_t>(across)] = side ? 0 : f - 1;
+    if (cutAxis >= 0)
+    {
+      cells.digit[static_cast<std::size_t>(cutAxis)] = EdgeCells::Cut;
+      cells.cutDigits = cutDigits;
+    }
+    std::vector<double>& out = onEdge[static_cast<std::size_t>(e)];
+    out.clear();
+    Index3 at;
+    std::array<long, 3> atRoot;
+    bool elsewhere = false;
+    const TreeAccess* other = treeOfCell(grid, root, n.level, n.ijk, offset, at, atRoot, elsewhere);
+    if (!other)
+    {
+      local = local && !elsewhere;
+      continue;
+    }
+    const WalkNode from =
+        other == &tree ? commonAncestor(grid, path, n.level, n.ijk, at) : WalkNode{};
+    local =
+        edgeVertices(grid, *other, from, n.level, at, cells, lo[static_cast<std::size_t>(along)],
+                     hi[static_cast<std::size_t>(along)], classify, false, out) &&
+        local;
+  }
+  return local;
+}
+
+/// The vertices on the four edges of a 3D face piece, found around each edge.
+/// The piece is the face normal to `axis`, on side `side` (1: the upper one), of
+/// the cell at `level`, `ijk` on the solid's side (in `tree`): the drawn node
+/// at `nodeLevel`, `nodeIJK` itself, or a finer cell inside it facing a finer
+/// hole. It spans lo to hi on the other axes u = axis + 1 and v = axis + 2
+/// (mod 3); onEdge as rectangleEdgeVertices gives it. Four cells meet along an
+/// edge: the piece's own (inside the drawn node), the hole across the face,
+/// and the two others, beside the piece's cell and diagonally across, where the
+/// pieces meeting it come from: their drawn nodes' and holes' bounds (a masked
+/// node bounds the faces it exposes). `path`: the drawn node's ancestors, or
+/// nullptr (descents then start at the roots). Returns false when another
+/// rank's part was met.
+template <typename Classify>
+bool faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, const vtkIdType* path,
+                      int nodeLevel, const Index3& nodeIJK, int level, const Index3& ijk, int axis,
+                      int side, const Vec3& lo, const Vec3& hi, Classify&& classify,
+                      std::array<std::vector<double>, 4>& onEdge)
+{
+  const int f = grid.branchFactor();
+  const int u = (axis + 1) % 3;
+  const int v = (axis + 2) % 3;
+  const std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
+                                  static_cast<long>(tree.rootIJK[1]),
+                                  static_cast<long>(tree.rootIJK[2])}};
+  const std::int64_t scale = grid.cellsPerRootAt(level - nodeLevel);
+  std::vector<double> found;
+  bool local = true;
+  for (int e = 0; e < 4; ++e)
+  {
+    const int across = e < 2 ? v : u; // the axis the edge is crossed along, in the face
+    const int along = e < 2 ? u : v;
+    const int edgeSide = e % 2;
+    std::vector<double>& out = onEdge[static_cast<std::size_t>(e)];
+    out.clear();
+    for (const bool diagonal : {false, true})
+    {
+      std::array<int, 3> offset{{0, 0, 0}};
+      offset[static_cast<std::size_t>(across)] = edgeSide ? 1 : -1;
+      EdgeCells cells;
+      cells.along = along;
+      cells.digit[static_cast<std::size_t>(across)] = edgeSide ? 0 : f - 1;
+      // The children touching the face's plane: on the face's side of a cell
+      // beside the piece's, on the opposite side of one across the plane.
+      cells.digit[static_cast<std::size_t>(axis)] = (side == 1) != diagonal ? f - 1 : 0;
+      if (diagonal)
+      {
+        offset[static_cast<std::size_t>(axis)] = side ? 1 : -1;
+      }
+      Index3 at;
+      std::array<long, 3> atRoot;
+      bool elsewhere = false;
+      const TreeAccess* other = treeOfCell(grid, root, level, ijk, offset, at, atRoot, elsewhere);
+      if (!other)
+      {
+        local = local && !elsewhere;
+        continue;
+      }
+      if (other == &tree && at[0] / scale == nodeIJK[0] && at[1] / scale == nodeIJK[1] &&
+          at[2] / scale == nodeIJK[2])
+      {
+        continue; // inside the drawn node: drawn whole, no corner inside the edge
+      }
+      const WalkNode from =
+          other == &tree && path ? commonAncestor(grid, path, level, ijk, at) : WalkNode{};
+      found.clear();
+      local =
+          edgeVertices(grid, *other, from, level, at, cells, lo[static_cast<std::size_t>(along)],
+                       hi[static_cast<std::size_t>(along)], classify, true, found) &&
+          local;
+      // Both cells' bounds, merged in order.
+      const std::size_t before = out.size();
+      out.insert(out.end(), found.begin(), found.end());
+      std::inplace_merge(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(before), out.end());
+      out.erase(std::unique(out.begin(), out.end()), out.end());
+    }
+  }
   return local;
 }
 

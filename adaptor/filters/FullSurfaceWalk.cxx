@@ -1,5 +1,7 @@
 #include "FullSurfaceWalk.h"
 
+#include "EdgeVertices.h"
+
 #include <stdexcept>
 
 namespace canopy
@@ -19,7 +21,8 @@ public:
   FullWalk(const HyperTreeAccess& grid, const TreeAccess& tree, const SurfaceArrays& arrays,
            std::size_t limit, std::size_t pointLimit, std::size_t pointBase)
       : Grid(grid), Tree(tree), Arrays(arrays), Limit(limit), PointLimit(pointLimit),
-        PointBase(pointBase), Masked(grid.hasMask())
+        PointBase(pointBase), Masked(grid.hasMask()),
+        Path(static_cast<std::size_t>(grid.maxLevel()) + 1, 0)
   {
   }
 
@@ -39,7 +42,7 @@ public:
     }
     if (Tree.isLeaf(0))
     {
-      emit(rootCell, 0, lo[U], hi[U], V >= 0 ? lo[V] : 0.0, V >= 0 ? hi[V] : 0.0);
+      emit(0, rootCell, 0, 0, 0, lo[U], hi[U], V >= 0 ? lo[V] : 0.0, V >= 0 ? hi[V] : 0.0);
     }
     else
     {
@@ -69,6 +72,7 @@ private:
   /// A refined, visible node at integer position (i, j) (along U, V) and `level`.
   void refined(vtkIdType node, int level, std::int64_t i, std::int64_t j)
   {
+    Path[static_cast<std::size_t>(level)] = node;
     double ub[F + 1];
     double vb[F + 1] = {};
     boundaries(level + 1, U, i * F, ub);
@@ -90,7 +94,8 @@ private:
       const int dv = c / F; // 0 in 1D
       if (Tree.isLeaf(child))
       {
-        emit(cell, level + 1, ub[du], ub[du + 1], vb[dv], vb[dv + 1]);
+        emit(child, cell, level + 1, i * F + du, j * F + dv, ub[du], ub[du + 1], vb[dv],
+             vb[dv + 1]);
       }
       else
       {
@@ -99,29 +104,73 @@ private:
     }
   }
 
-  /// Corner order as the shared walk's: 2D (lo, +u, +u+v, +v), 1D (lo, +u).
-  void emit(vtkIdType cell, int level, double ulo, double uhi, double vlo, double vhi)
+  /// Corner order as the shared walk's: 2D (lo, +u, +u+v, +v), 1D (lo, +u); in
+  /// 2D with the corners of finer neighbours on the edges (EdgeVertices.h).
+  void emit(vtkIdType node, vtkIdType cell, int level, std::int64_t i, std::int64_t j, double ulo,
+            double uhi, double vlo, double vhi)
   {
-    if (Next < Limit && NextPoint + Corners <= PointLimit)
+    std::size_t count = Corners;
+    if constexpr (V >= 0)
+    {
+      Vec3 lo{{Base[0], Base[1], Base[2]}};
+      Vec3 hi = lo;
+      lo[U] = ulo;
+      hi[U] = uhi;
+      lo[V] = vlo;
+      hi[V] = vhi;
+      Index3 ijk{{0, 0, 0}};
+      ijk[U] = i;
+      ijk[V] = j;
+      rectangleEdgeVertices(
+          Grid, Tree, Path.data(), WalkNode{node, level, ijk}, U, V, lo, hi, -1, nullptr,
+          [this](const TreeAccess& t, const WalkNode& m) { return role(t, m); }, OnEdge);
+      count += OnEdge[0].size() + OnEdge[1].size() + OnEdge[2].size() + OnEdge[3].size();
+      if (Next < Limit && NextPoint + count <= PointLimit)
+      {
+        polygonAround(rectangleCorners(lo, hi, U, V), U, V, hi,
+                      {{&OnEdge[0], &OnEdge[1], &OnEdge[2], &OnEdge[3]}}, Polygon);
+        double* p = Arrays.points + 3 * NextPoint;
+        for (const Vec3& q : Polygon)
+        {
+          *p++ = q[0];
+          *p++ = q[1];
+          *p++ = q[2];
+        }
+      }
+    }
+    else if (Next < Limit && NextPoint + count <= PointLimit)
     {
       double* p = Arrays.points + 3 * NextPoint;
-      const double us[4] = {ulo, uhi, uhi, ulo};
-      const double vs[4] = {vlo, vlo, vhi, vhi};
+      const double us[2] = {ulo, uhi};
       // The other axes' coordinates in locals: stores through p could alias a member.
       const double base[3] = {Base[0], Base[1], Base[2]};
       for (int k = 0; k < Corners; ++k, p += 3)
       {
         for (int a = 0; a < 3; ++a)
         {
-          p[a] = a == U ? us[k] : (a == V ? vs[k] : base[a]);
+          p[a] = a == U ? us[k] : base[a];
         }
       }
+    }
+    if (Next < Limit && NextPoint + count <= PointLimit)
+    {
       Arrays.offsets[Next] = static_cast<vtkIdType>(PointBase + NextPoint);
       Arrays.cellIds[Next] = cell;
       Arrays.levels[Next] = static_cast<unsigned char>(level);
     }
     ++Next;
-    NextPoint += Corners;
+    NextPoint += count;
+  }
+
+  /// What this walk does at a node (EdgeVertices.h): leaves drawn, masked nodes hidden.
+  EdgeRole role(const TreeAccess& t, const WalkNode& m) const
+  {
+    const vtkIdType global = t.globalIndex(m.node);
+    if (Masked && Grid.isMasked(global))
+    {
+      return Grid.isAbsent(global) ? EdgeRole::Remote : EdgeRole::Hidden;
+    }
+    return t.isLeaf(m.node) ? EdgeRole::Drawn : EdgeRole::Descend;
   }
 
   const HyperTreeAccess& Grid;
@@ -134,6 +183,9 @@ private:
   double Base[3] = {0, 0, 0}; ///< the root's lower corner: the other axes' coordinates
   std::size_t Next = 0;
   std::size_t NextPoint = 0;
+  std::vector<vtkIdType> Path;               ///< the refined nodes above the current one
+  std::array<std::vector<double>, 4> OnEdge; ///< emit's scratch
+  std::vector<Vec3> Polygon;                 ///< the same
 };
 
 template <int F>

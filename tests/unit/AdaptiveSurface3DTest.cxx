@@ -5,6 +5,7 @@
 // and culling must only ever remove pieces of that surface.
 #include "CameraPlanes.h"
 #include "ChangingForest.h"
+#include "FlatPolygons.h"
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
@@ -491,6 +492,60 @@ TEST(AdaptiveSurface3D, LevelOfDetailDrawsNoFaceInsideACoarserStopNode)
     // every face on it, facing out.
     expectExactBoundary(Voxels(forest.build(prunedRefinement, prunedMask)), quads, label);
   }
+}
+
+TEST(AdaptiveSurface3D, FacesCarryTheCornersOfThePiecesMeetingTheirEdges)
+{
+  // Where a face meets smaller ones along an edge (in its plane, or across a
+  // concave or convex edge of the solid), their corners lie on its edge and the
+  // face is drawn as a polygon through them: every corner of another face
+  // strictly inside one of its edges is one of its points. (A face may carry a
+  // few more: the bounds of every cell around the edge are taken, also where
+  // they bound no face.) Full surfaces and views with level of detail, culled
+  // or not, back faces skipped or not, on random masked forests with holes.
+  std::size_t vertices = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed)
+  {
+    RandomForestOptions o;
+    o.dimension = 3;
+    o.branchFactor = seed % 4 == 3 ? 3 : 2;
+    o.rootCells = {{3, 2, 2}};
+    o.maxLevels = o.branchFactor == 2 ? 5 : 3;
+    o.refineProbability = 0.45;
+    o.maskProbability = seed % 2 ? 0.15 : 0.0;
+    o.skipEveryOtherRoot = seed % 3 == 2;
+    o.seed = seed;
+    RandomForest forest(o);
+    auto htg = buildHyperTreeGrid(forest.description());
+    const std::string label = "seed " + std::to_string(seed);
+    vertices += expectEdgeVerticesAreNeighboursCorners(fullSurface(htg), label + ", full", false);
+    double b[6];
+    htg->GetBounds(b);
+    vtkNew<vtkCamera> camera;
+    camera->SetFocalPoint((b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2);
+    camera->SetPosition(b[1] + 2, b[2] - 3, b[5] + 2.5);
+    camera->SetViewUp(0, 0, 1);
+    camera->SetViewAngle(30);
+    for (double threshold : {1.0, 6.0, 20.0})
+      for (bool cull : {false, true})
+        for (bool backFaces : {false, true})
+        {
+          vtkNew<vtkCanopyAdaptiveSurface> filter;
+          filter->SetInputData(htg);
+          filter->SetCamera(camera);
+          filter->SetViewportSize(320, 240);
+          filter->SetPixelThreshold(threshold);
+          filter->SetViewCulling(cull);
+          filter->SetSkipBackFaces(backFaces);
+          filter->Update();
+          vertices += expectEdgeVerticesAreNeighboursCorners(
+              filter->GetPolyDataOutput(),
+              label + ", threshold " + std::to_string(threshold) + (cull ? ", culled" : "") +
+                  (backFaces ? ", back faces skipped" : ""),
+              false);
+        }
+  }
+  EXPECT_GT(vertices, 1000u) << "these forests should have many T-junctions";
 }
 
 TEST(AdaptiveSurfaceStress3D, Depth16TreeHasExactlyTheOuterBoxAsSurface)
