@@ -66,6 +66,7 @@
 //                   random planes), near, far, aspect, then 6 or 18 bytes of planes
 #include "CameraPlanes.h"
 #include "ConvexClip.h"
+#include "FlatPolygons.h"
 #include "HtgWalk.h"
 #include "PartitionedForest.h"
 #include "RandomForest.h"
@@ -785,7 +786,8 @@ struct SurfaceCell
 {
   vtkIdType id;
   int level;
-  std::vector<Point> points;
+  std::vector<Point> points;  ///< a segment's ends, a flat piece's four corners in order
+  std::vector<Point> polygon; ///< a flat piece's points: its corners, and those on its edges
 };
 
 std::vector<SurfaceCell> surfaceCells(vtkHyperTreeGrid* input, vtkPolyData* surface, int dimension,
@@ -800,23 +802,39 @@ std::vector<SurfaceCell> surfaceCells(vtkHyperTreeGrid* input, vtkPolyData* surf
     fail(what + ": OriginalCellId or Level missing or not one per cell");
   }
   std::vector<SurfaceCell> out;
-  const vtkIdType perCell = dimension == 1 ? 2 : 4;
   for (vtkIdType c = 0; c < cells; ++c)
   {
     vtkIdType n = 0;
     const vtkIdType* points = nullptr;
     surface->GetCellPoints(c, n, points);
-    if (n != perCell || surface->GetCellType(c) != (dimension == 1 ? VTK_LINE : VTK_QUAD))
+    const int type = surface->GetCellType(c);
+    if (dimension == 1 ? n != 2 || type != VTK_LINE
+                       : n < 4 || type != (n == 4 ? VTK_QUAD : VTK_POLYGON))
     {
       fail(what + ": cell " + std::to_string(c) + " is not a " +
-           (dimension == 1 ? "line" : "quad"));
+           (dimension == 1 ? "line" : "quad or polygon"));
     }
-    SurfaceCell cell{ids->GetValue(c), levels->GetValue(c), {}};
+    SurfaceCell cell{ids->GetValue(c), levels->GetValue(c), {}, {}};
     for (vtkIdType k = 0; k < n; ++k)
     {
       Point p;
       surface->GetPoint(points[k], p.data());
-      cell.points.push_back(p);
+      cell.polygon.push_back(p);
+    }
+    if (dimension == 1)
+    {
+      cell.points = cell.polygon;
+    }
+    else
+    {
+      // A rectangle, with the corners of the pieces meeting its edges on them.
+      std::array<Point, 4> corners;
+      const std::string problem = rectangleProblem(cell.polygon, corners);
+      if (!problem.empty())
+      {
+        fail(what + ": cell " + std::to_string(c) + ": " + problem);
+      }
+      cell.points.assign(corners.begin(), corners.end());
     }
     out.push_back(cell);
   }
@@ -1249,17 +1267,37 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
   vtkNew<vtkCanopyAdaptiveSurface> filter;
   ErrorWatch errors(filter);
   filter->SetInputData(g.htg);
-  auto run = [&](const std::string& what)
+  // `exact`: the vertices on each flat piece's edges must be exactly the other
+  // pieces' corners there (a 1D or 2D surface with every neighbour drawn), else
+  // at least those (culling leaves a piece the corners of neighbours culled
+  // away; 3D faces take the bounds of every cell around an edge). Split grids:
+  // another rank's pieces are not here, so the check is on the whole grid only.
+  auto run = [&](const std::string& what, bool exact)
   {
     Stage = label + ", " + what;
     filter->Update();
     errors.check(Stage);
-    return surfaceCells(g.htg, filter->GetPolyDataOutput(), g.dimension, Stage);
+    auto cells = surfaceCells(g.htg, filter->GetPolyDataOutput(), g.dimension, Stage);
+    if (wholeGrid && g.dimension >= 2)
+    {
+      std::vector<std::vector<Point>> pieces;
+      for (const SurfaceCell& c : cells)
+      {
+        pieces.push_back(c.polygon);
+      }
+      std::size_t found = 0;
+      const std::string problem = edgeVertexProblem(pieces, exact, found);
+      if (!problem.empty())
+      {
+        fail(Stage + ": the corners of the pieces meeting an edge: " + problem);
+      }
+    }
+    return cells;
   };
 
   // The full surface.
   filter->ViewDependentOff();
-  const auto full = run("surface without a view");
+  const auto full = run("surface without a view", g.dimension == 2);
   runs.full = resultOf(g, full);
   std::vector<Quad> fullQuads;
   if (g.dimension == 3)
@@ -1290,7 +1328,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
   view.configure(filter);
   filter->LevelOfDetailOff();
   filter->ViewCullingOn();
-  const auto culled = run("culled surface");
+  const auto culled = run("culled surface", false);
   runs.culled = resultOf(g, culled);
   if (g.dimension == 3)
   {
@@ -1336,7 +1374,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
     }
     // Back faces skipped: the faces turned towards the camera, no others.
     filter->SkipBackFacesOn();
-    const auto front = run("culled surface without back faces");
+    const auto front = run("culled surface without back faces", false);
     filter->SkipBackFacesOff();
     const double* position = view.camera->GetPosition();
     double dop[3];
@@ -1381,7 +1419,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
 
   // With level of detail.
   filter->LevelOfDetailOn();
-  const auto lod = run("surface with level of detail");
+  const auto lod = run("surface with level of detail", false);
   if (g.dimension < 3)
   {
     checkPlanarSurface(g, filter->GetPolyDataOutput(), &view, true, true, Stage);
@@ -1424,7 +1462,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
 
   // Level of detail without culling: 3D, exactly the boundary of the stop nodes.
   filter->ViewCullingOff();
-  const auto unculled = run("surface with level of detail, without culling");
+  const auto unculled = run("surface with level of detail, without culling", false);
   if (g.dimension < 3)
   {
     checkPlanarSurface(g, filter->GetPolyDataOutput(), &view, false, true, Stage);
