@@ -239,7 +239,20 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
           global = tree.globalIndex(n.node);
         }
         // Counter-clockwise seen from +axis: the polygon's normal is +axis.
-        rectangleEdgeVertices(Grid, tree, path.data(), n, b, c, lo, hi, axis, &digit, role, onEdge);
+        const unsigned remote = rectangleEdgeVertices(Grid, tree, path.data(), n, b, c, lo, hi,
+                                                      axis, &digit, role, onEdge);
+        if (remote)
+        {
+          // Along another rank's part: that rank's cuts put their corners there.
+          for (int e = 0; e < 4; ++e)
+          {
+            if (remote & (1u << e))
+            {
+              cells.shared.push_back(sharedEdgeOf(e, b, c, lo, hi));
+            }
+          }
+          cells.sharedCells.push_back(static_cast<std::uint32_t>(cells.cellIds.size()));
+        }
         polygonAround(rectangleCorners(lo, hi, b, c), b, c, hi,
                       {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
         for (const Vec3& p : polygon)
@@ -263,6 +276,25 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
         return WalkStep::Skip;
       },
       cutChildren);
+}
+
+std::vector<SharedEdge> AdaptiveSliceBuilder::sharedEdges() const
+{
+  std::vector<SharedEdge> edges;
+  for (const TreeCells& cells : Kept)
+  {
+    edges.insert(edges.end(), cells.shared.begin(), cells.shared.end());
+  }
+  return edges;
+}
+
+void AdaptiveSliceBuilder::addSharedVertices(const SharedVertices& shared)
+{
+  for (std::size_t k = 0; k < Kept.size(); ++k)
+  {
+    insertSharedVertices(Kept[k], Kept[k].sharedCells, shared);
+    PointOffsets[k + 1] = PointOffsets[k] + Kept[k].points.size() / 3;
+  }
 }
 
 void AdaptiveSliceBuilder::write(const SurfaceArrays& arrays) const

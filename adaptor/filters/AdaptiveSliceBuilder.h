@@ -78,6 +78,11 @@ public:
   std::size_t points() const { return PointOffsets.empty() ? 0 : PointOffsets.back(); }
   /// Fills arrays sized for count() cells and points() points.
   void write(const SurfaceArrays& arrays) const;
+  /// Grids split between ranks, after count(): the quads' edges along another
+  /// rank's part, and then the vertices every rank's such edges put on them
+  /// (EdgeVertexExchange.h); points() counts them.
+  std::vector<SharedEdge> sharedEdges() const;
+  void addSharedVertices(const SharedVertices& shared);
   /// Nodes the last count() examined: what the slices cost.
   std::size_t visited() const { return Visited; }
 

@@ -530,12 +530,31 @@ struct TreeWalk
   {
     const int u = grid.activeAxes()[0];
     const int v = grid.activeAxes()[1];
-    rectangleEdgeVertices(
+    const unsigned remote = rectangleEdgeVertices(
         grid, tree, path.data(), n, u, v, lo, hi, -1, nullptr,
         [this](const TreeAccess& t, const NodeFrame& m) { return planarRole(t, m); }, onEdge);
+    recordShared(remote, u, v, lo, hi);
     polygonAround(rectangleCorners(lo, hi, u, v), u, v, hi,
                   {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
     emitCell(out, polygon.data(), polygon.size(), global, n.level, color);
+  }
+
+  /// Keeps the edges (bits of `remote`) of the piece about to be emitted along
+  /// which another rank's part was met, and the piece, for the ranks' exchange.
+  void recordShared(unsigned remote, int u, int v, const Vec3& lo, const Vec3& hi)
+  {
+    if (!remote || !out.keep)
+    {
+      return;
+    }
+    for (int e = 0; e < 4; ++e)
+    {
+      if (remote & (1u << e))
+      {
+        out.keep->shared.push_back(sharedEdgeOf(e, u, v, lo, hi));
+      }
+    }
+    out.keep->sharedCells.push_back(static_cast<std::uint32_t>(out.keep->cellIds.size()));
   }
 
   /// What this walk does at a node of a 1D or 2D tree (enter's rule, culling
@@ -627,9 +646,10 @@ struct TreeWalk
     {
       std::swap(q[1], q[3]);
     }
-    faceEdgeVertices(
+    const unsigned remote = faceEdgeVertices(
         grid, tree, ancestors, n.level, n.ijk, pieceLevel, pieceIJK, axis, side, flo, fhi,
         [this](const TreeAccess& t, const NodeFrame& m) { return solidRole(t, m); }, onEdge);
+    recordShared(remote, b, c, flo, fhi);
     polygonAround(q, b, c, fhi, {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
     const Rgb color = options.colors && (!out.counting || out.keep)
                           ? options.colors->mapCell(global)
@@ -854,7 +874,14 @@ std::size_t AdaptiveSurfaceBuilder::count()
   const bool known = std::all_of(trees.begin(), trees.end(),
                                  [](const TreeAccess& t) { return t.visibleLeaves >= 0; });
   CountWalked = false;
-  if (fullPlanarSurface() && known)
+  // Cells are kept to be copied (3D: the output is small next to the walk), or
+  // to take the vertices other ranks put on their edges (2D, split grids).
+  const bool keep = Grid.dimension() == 3 || (Grid.dimension() == 2 && Options.sharedVertices);
+  if (!keep)
+  {
+    Kept.clear(); // buffers lent from an execution that kept its cells: not used here
+  }
+  if (fullPlanarSurface() && known && !keep)
   {
     std::transform(trees.begin(), trees.end(), counts.begin(),
                    [](const TreeAccess& t) { return static_cast<std::size_t>(t.visibleLeaves); });
@@ -878,7 +905,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
   }
   else
   {
-    if (Grid.dimension() == 3)
+    if (keep)
     {
       // Cleared, not freed: lent buffers keep their capacity.
       Kept.resize(trees.size());
@@ -890,6 +917,8 @@ std::size_t AdaptiveSurfaceBuilder::count()
         cells.levels.clear();
         cells.colors.clear();
         cells.asked.clear();
+        cells.shared.clear();
+        cells.sharedCells.clear();
       }
     }
     // Kept cells (3D) are only copied afterwards: then this walk is all the work.
@@ -1040,6 +1069,34 @@ void AdaptiveSurfaceBuilder::addRemotePieces(const std::vector<RemotePiece>& pie
     counts[t] = Kept[t].cellIds.size();
     pointCounts[t] = Kept[t].points.size() / 3;
   }
+  computeOffsets(counts, pointCounts);
+}
+
+std::vector<SharedEdge> AdaptiveSurfaceBuilder::sharedEdges() const
+{
+  std::vector<SharedEdge> edges;
+  for (const TreeCells& cells : Kept)
+  {
+    edges.insert(edges.end(), cells.shared.begin(), cells.shared.end());
+  }
+  return edges;
+}
+
+void AdaptiveSurfaceBuilder::addSharedVertices(const SharedVertices& shared)
+{
+  std::vector<std::size_t> counts(Kept.size());
+  std::vector<std::size_t> pointCounts(Kept.size());
+  vtkSMPTools::For(0, static_cast<vtkIdType>(Kept.size()),
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType t = begin; t < end; ++t)
+                     {
+                       TreeCells& cells = Kept[static_cast<std::size_t>(t)];
+                       insertSharedVertices(cells, cells.sharedCells, shared);
+                       counts[static_cast<std::size_t>(t)] = cells.cellIds.size();
+                       pointCounts[static_cast<std::size_t>(t)] = cells.points.size() / 3;
+                     }
+                   });
   computeOffsets(counts, pointCounts);
 }
 

@@ -22,6 +22,7 @@
 // across the screen; AdaptiveSurface1D.LevelOfDetailMatchesTheClosedForm).
 #pragma once
 
+#include "EdgeVertexExchange.h"
 #include "HyperTreeAccess.h"
 #include "LeafColorAverage.h"
 #include "TreeProgress.h"
@@ -50,6 +51,11 @@ struct SurfaceOptions : ViewOptions
   /// soon as any rank has a mask, since only the owner knows what it masks.
   /// Off: another rank's part is solid (exact when no rank masks anything).
   bool remoteFaces = false;
+  /// 2D and 3D, grids split between ranks: the edges of drawn pieces along
+  /// another rank's part are collected (sharedEdges()) so that the ranks can
+  /// put their pieces' corners there (EdgeVertexExchange.h). 3D collects them
+  /// always; 2D then keeps its cells to add them before writing.
+  bool sharedVertices = false;
   /// 3D: keep what each node's faces see (a topology and mask fact) in the
   /// access, for the next execution on the same access (a camera move). Off for
   /// an access used once (a new mask each step): the memos would cost more
@@ -119,6 +125,8 @@ struct TreeCells
   std::vector<unsigned char> levels;
   std::vector<unsigned char> colors; ///< RGB, with a colour map
   std::vector<AskedFace> asked;
+  std::vector<SharedEdge> shared;         ///< edges along another rank's part
+  std::vector<std::uint32_t> sharedCells; ///< the cells with such an edge, ascending
 };
 
 /// Copies the cells kept per tree (or per piece) into `arrays`, each list at
@@ -162,6 +170,11 @@ public:
   std::vector<RemoteFace> remoteFaces() const;
   std::vector<RemotePiece> answerRemoteFaces(const std::vector<RemoteFace>& faces) const;
   void addRemotePieces(const std::vector<RemotePiece>& pieces);
+  /// The pieces' edges along another rank's part (after count() and the remote
+  /// pieces), and then the vertices every rank's such edges put on them
+  /// (EdgeVertexExchange.h); cells() and points() count them.
+  std::vector<SharedEdge> sharedEdges() const;
+  void addSharedVertices(const SharedVertices& shared);
   /// Cells in all: count() plus the pieces added since.
   std::size_t cells() const { return Offsets.empty() ? 0 : Offsets.back(); }
   ///@}

@@ -240,18 +240,20 @@ bool edgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, WalkNode 
 /// with `cutAxis` >= 0 and its digits per level), found across each edge:
 /// onEdge[0], [1] along u at v = lo and hi, [2], [3] along v at u = lo and hi
 /// (polygonAround's order), each ascending. `path`: the node's ancestors
-/// (path[l] at level l). Returns false when another rank's part was met.
+/// (path[l] at level l). Returns the edges (bit e for onEdge[e]) across which
+/// another rank's part was met: what lies there, that rank knows.
 template <typename Classify>
-bool rectangleEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
-                           const vtkIdType* path, const WalkNode& n, int u, int v, const Vec3& lo,
-                           const Vec3& hi, int cutAxis, const std::vector<int>* cutDigits,
-                           Classify&& classify, std::array<std::vector<double>, 4>& onEdge)
+unsigned rectangleEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
+                               const vtkIdType* path, const WalkNode& n, int u, int v,
+                               const Vec3& lo, const Vec3& hi, int cutAxis,
+                               const std::vector<int>* cutDigits, Classify&& classify,
+                               std::array<std::vector<double>, 4>& onEdge)
 {
   const int f = grid.branchFactor();
   const std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
                                   static_cast<long>(tree.rootIJK[1]),
                                   static_cast<long>(tree.rootIJK[2])}};
-  bool local = true;
+  unsigned remote = 0;
   for (int e = 0; e < 4; ++e)
   {
     const int across = e < 2 ? v : u; // the axis the edge is crossed along
@@ -275,17 +277,18 @@ bool rectangleEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
     const TreeAccess* other = treeOfCell(grid, root, n.level, n.ijk, offset, at, atRoot, elsewhere);
     if (!other)
     {
-      local = local && !elsewhere;
+      remote |= elsewhere ? 1u << e : 0u;
       continue;
     }
     const WalkNode from =
         other == &tree ? commonAncestor(grid, path, n.level, n.ijk, at) : WalkNode{};
-    local =
-        edgeVertices(grid, *other, from, n.level, at, cells, lo[static_cast<std::size_t>(along)],
-                     hi[static_cast<std::size_t>(along)], classify, false, out) &&
-        local;
+    if (!edgeVertices(grid, *other, from, n.level, at, cells, lo[static_cast<std::size_t>(along)],
+                      hi[static_cast<std::size_t>(along)], classify, false, out))
+    {
+      remote |= 1u << e;
+    }
   }
-  return local;
+  return remote;
 }
 
 /// The vertices on the four edges of a 3D face piece, found around each edge.
@@ -298,13 +301,13 @@ bool rectangleEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
 /// and the two others, beside the piece's cell and diagonally across, where the
 /// pieces meeting it come from: their drawn nodes' and holes' bounds (a masked
 /// node bounds the faces it exposes). `path`: the drawn node's ancestors, or
-/// nullptr (descents then start at the roots). Returns false when another
-/// rank's part was met.
+/// nullptr (descents then start at the roots). Returns the edges (bit e for
+/// onEdge[e]) around which another rank's part was met.
 template <typename Classify>
-bool faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, const vtkIdType* path,
-                      int nodeLevel, const Index3& nodeIJK, int level, const Index3& ijk, int axis,
-                      int side, const Vec3& lo, const Vec3& hi, Classify&& classify,
-                      std::array<std::vector<double>, 4>& onEdge)
+unsigned faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
+                          const vtkIdType* path, int nodeLevel, const Index3& nodeIJK, int level,
+                          const Index3& ijk, int axis, int side, const Vec3& lo, const Vec3& hi,
+                          Classify&& classify, std::array<std::vector<double>, 4>& onEdge)
 {
   const int f = grid.branchFactor();
   const int u = (axis + 1) % 3;
@@ -314,7 +317,7 @@ bool faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, const
                                   static_cast<long>(tree.rootIJK[2])}};
   const std::int64_t scale = grid.cellsPerRootAt(level - nodeLevel);
   std::vector<double> found;
-  bool local = true;
+  unsigned remote = 0;
   for (int e = 0; e < 4; ++e)
   {
     const int across = e < 2 ? v : u; // the axis the edge is crossed along, in the face
@@ -342,7 +345,7 @@ bool faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, const
       const TreeAccess* other = treeOfCell(grid, root, level, ijk, offset, at, atRoot, elsewhere);
       if (!other)
       {
-        local = local && !elsewhere;
+        remote |= elsewhere ? 1u << e : 0u;
         continue;
       }
       if (other == &tree && at[0] / scale == nodeIJK[0] && at[1] / scale == nodeIJK[1] &&
@@ -353,10 +356,11 @@ bool faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, const
       const WalkNode from =
           other == &tree && path ? commonAncestor(grid, path, level, ijk, at) : WalkNode{};
       found.clear();
-      local =
-          edgeVertices(grid, *other, from, level, at, cells, lo[static_cast<std::size_t>(along)],
-                       hi[static_cast<std::size_t>(along)], classify, true, found) &&
-          local;
+      if (!edgeVertices(grid, *other, from, level, at, cells, lo[static_cast<std::size_t>(along)],
+                        hi[static_cast<std::size_t>(along)], classify, true, found))
+      {
+        remote |= 1u << e;
+      }
       // Both cells' bounds, merged in order.
       const std::size_t before = out.size();
       out.insert(out.end(), found.begin(), found.end());
@@ -364,7 +368,7 @@ bool faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, const
       out.erase(std::unique(out.begin(), out.end()), out.end());
     }
   }
-  return local;
+  return remote;
 }
 
 /// The points of a flat piece's polygon: its rectangle's corners in the order

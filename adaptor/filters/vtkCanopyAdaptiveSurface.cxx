@@ -1,6 +1,7 @@
 #include "vtkCanopyAdaptiveSurface.h"
 
 #include "AdaptiveSurfaceBuilder.h"
+#include "EdgeVertexExchange.h"
 #include "HyperTreeAccess.h"
 #include "HyperTreeAccessCache.h"
 #include "RemoteFaceExchange.h"
@@ -42,11 +43,13 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   }
   canopy::CameraParameters camera;
   const bool viewUsable = this->CurrentView(camera);
-  // Split 3D grids: every rank agrees whether to go on and whether faces
-  // between ranks must be asked about, before anything collective.
+  // Split 2D and 3D grids: every rank agrees whether to go on, whether faces
+  // between ranks must be asked about (3D, masks) and whether the ranks put
+  // the corners of their pieces on each other's edges (EdgeVertexExchange.h),
+  // before anything collective.
   vtkMultiProcessController* controller = this->Controller;
   const bool collective =
-      input->GetDimension() == 3 && controller && controller->GetNumberOfProcesses() > 1;
+      input->GetDimension() >= 2 && controller && controller->GetNumberOfProcesses() > 1;
   std::shared_ptr<const canopy::HyperTreeAccess> access;
   std::string problem;
   try
@@ -88,7 +91,8 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     canopy::SurfaceOptions options;
     const ViewResources resources = this->ViewOptionsFor(camera, input, options);
     options.skipBackFaces = this->SkipBackFaces;
-    options.remoteFaces = collective && agreed[1] && agreed[2];
+    options.remoteFaces = collective && input->GetDimension() == 3 && agreed[1] && agreed[2];
+    options.sharedVertices = collective && agreed[2];
     options.memoize = this->Topology->lastWasKept();
     canopy::AdaptiveSurfaceBuilder builder(*access, options, &this->CellBuffers, {&progress});
     builder.count();
@@ -96,6 +100,11 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     {
       // Collective: an aborted rank still answers the others.
       canopy::exchangeRemoteFaces(builder, controller);
+    }
+    if (options.sharedVertices)
+    {
+      // The same; after the remote faces, whose pieces have edges too.
+      canopy::exchangeSharedVertices(builder, controller);
     }
     if (progress.stopped())
     {
