@@ -165,8 +165,9 @@ public:
 
   ///@{
   /// The ranks that exchange what their quads add to pixels at the edges of
-  /// their parts (the box filter on pixels) and, for 3D surfaces of grids split
-  /// between processes, the faces between their parts. Default: VTK's global
+  /// their parts (the box filter on pixels) and, for grids split between
+  /// processes, the faces between their parts (3D surfaces) and the corners of
+  /// the pieces along them (2D and 3D surfaces, slices). Default: VTK's global
   /// controller (ParaView and Catalyst set it); none, or one process: no exchange.
   void SetController(vtkMultiProcessController* controller);
   vtkGetObjectMacro(Controller, vtkMultiProcessController);
