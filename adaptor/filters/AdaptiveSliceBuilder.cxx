@@ -192,7 +192,8 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
   // The vertices on a drawn quad's four edges (EdgeVertices.h).
   std::array<std::vector<double>, 4> onEdge;
   std::vector<Vec3> polygon;
-  std::vector<vtkIdType> path(static_cast<std::size_t>(Grid.maxLevel()) + 1, 0);
+  PlaneNeighbours plane(Grid, tree, b, c);
+  EdgeScratch scratch;
 
   Vec3 lo{{0, 0, 0}};
   Vec3 hi{{0, 0, 0}};
@@ -201,7 +202,7 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
       [&](WalkNode& n)
       {
         ++visited;
-        path[static_cast<std::size_t>(n.level)] = n.node;
+        plane.enter(n);
         vtkIdType global = -1;
         if (Grid.hasMask())
         {
@@ -239,8 +240,8 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
           global = tree.globalIndex(n.node);
         }
         // Counter-clockwise seen from +axis: the polygon's normal is +axis.
-        const unsigned remote = rectangleEdgeVertices(Grid, tree, path.data(), n, b, c, lo, hi,
-                                                      axis, &digit, role, onEdge);
+        const unsigned remote = rectangleEdgeVertices(Grid, n, plane.at(n.level), b, c, lo, hi,
+                                                      axis, &digit, role, onEdge, scratch);
         if (remote)
         {
           // Along another rank's part: that rank's cuts put their corners there.

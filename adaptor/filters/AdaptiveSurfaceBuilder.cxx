@@ -8,6 +8,7 @@
 #include "EdgeVertices.h"
 #include "FullSurfaceWalk.h"
 #include "GridSection.h"
+#include "SiblingDecisions.h"
 #include "TreeProgress.h"
 #include "TreeTraversal.h"
 
@@ -158,7 +159,14 @@ struct FaceSide
     {
       return false;
     }
-    return options.view->footprintInPixels(boxCorners(lo, hi)) <= options.pixelThreshold;
+    // The box's distinct corners only: a flat box has 4 (2D), a segment 2 (1D).
+    const auto& axes = grid.activeAxes();
+    const double pixels =
+        grid.dimension() == 3 ? options.view->footprintInPixels(boxCorners(lo, hi))
+        : grid.dimension() == 2
+            ? options.view->footprintInPixels(rectangleCorners(lo, hi, axes[0], axes[1]))
+            : options.view->footprintInPixels(segmentEnds(lo, hi, axes[0]));
+    return pixels <= options.pixelThreshold;
   }
 
   bool lodStops(const TreeAccess& t, const NodeFrame& m) const
@@ -434,12 +442,21 @@ struct TreeWalk
       tree.faceMemo.clear();
       tree.memoRemote = static_cast<int>(options.remoteFaces);
     }
+    if (grid.dimension() == 2)
+    {
+      plane =
+          std::make_unique<PlaneNeighbours>(grid, tree, grid.activeAxes()[0], grid.activeAxes()[1]);
+    }
     walkTree(grid, tree, [&](NodeFrame& n) { return enter(n, solid3D, lo, hi); });
   }
 
   WalkStep enter(NodeFrame& n, bool solid3D, Vec3& lo, Vec3& hi)
   {
     path[static_cast<std::size_t>(n.level)] = n.node;
+    if (plane)
+    {
+      plane->enter(n);
+    }
     // The global index costs a virtual call for explicit indices: only when needed.
     vtkIdType global = -1;
     if (grid.hasMask())
@@ -471,7 +488,7 @@ struct TreeWalk
     }
     // A node with absent descendants is never drawn whole: other ranks draw
     // their parts of it, so every pixel keeps exactly one owner.
-    const bool stop = leaf || (haveBox && lodStops(lo, hi) && !tree.hasAbsentDescendant(n.node));
+    const bool stop = leaf || (haveBox && lodStopsHere(tree, n));
     if (stop)
     {
       if (!out.counting || out.keep)
@@ -531,8 +548,9 @@ struct TreeWalk
     const int u = grid.activeAxes()[0];
     const int v = grid.activeAxes()[1];
     const unsigned remote = rectangleEdgeVertices(
-        grid, tree, path.data(), n, u, v, lo, hi, -1, nullptr,
-        [this](const TreeAccess& t, const NodeFrame& m) { return planarRole(t, m); }, onEdge);
+        grid, n, plane->at(n.level), u, v, lo, hi, -1, nullptr,
+        [this](const TreeAccess& t, const NodeFrame& m) { return planarRole(t, m); }, onEdge,
+        scratch);
     recordShared(remote, u, v, lo, hi);
     polygonAround(rectangleCorners(lo, hi, u, v), u, v, hi,
                   {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
@@ -559,7 +577,7 @@ struct TreeWalk
 
   /// What this walk does at a node of a 1D or 2D tree (enter's rule, culling
   /// aside: a culled neighbour draws nothing to meet), for EdgeVertices.h.
-  EdgeRole planarRole(const TreeAccess& t, const NodeFrame& m) const
+  EdgeRole planarRole(const TreeAccess& t, const NodeFrame& m)
   {
     const vtkIdType global = t.globalIndex(m.node);
     if (grid.hasMask() && grid.isMasked(global))
@@ -570,16 +588,26 @@ struct TreeWalk
     {
       return EdgeRole::Drawn;
     }
-    if (!options.view || !options.levelOfDetail || t.hasAbsentDescendant(m.node))
-    {
-      return EdgeRole::Descend;
-    }
-    Vec3 mlo;
-    Vec3 mhi;
-    nodeBox(grid, t, m, mlo, mhi);
-    return lodStops(mlo, mhi) ? EdgeRole::Drawn : EdgeRole::Descend;
+    return lodStopsHere(t, m) ? EdgeRole::Drawn : EdgeRole::Descend;
   }
 
+  /// Whether level of detail stops at the refined, unmasked node m of tree t:
+  /// it spans at most the threshold and has no absent descendant (other ranks
+  /// draw their parts of it). Kept for the walk's own tree (SiblingDecisions.h).
+  bool lodStopsHere(const TreeAccess& t, const NodeFrame& m)
+  {
+    if (!options.view || !options.levelOfDetail)
+    {
+      return false;
+    }
+    auto rule = [&](const NodeFrame& x)
+    { return !t.hasAbsentDescendant(x.node) && faces.lodStops(t, x); };
+    return &t == &tree ? decisions.get(grid, m, rule) : rule(m);
+  }
+
+  SiblingDecisions decisions{grid.maxLevel()}; ///< level of detail's, kept (lodStopsHere)
+  std::unique_ptr<PlaneNeighbours> plane{};    ///< 2D: the nodes across each node's edges
+  EdgeScratch scratch{};                       ///< the edge searches' memory
   std::array<std::vector<double>, 4> onEdge{}; ///< emitPlaneQuad's scratch
   std::vector<Vec3> polygon{};                 ///< the same
 
@@ -648,7 +676,8 @@ struct TreeWalk
     }
     const unsigned remote = faceEdgeVertices(
         grid, tree, ancestors, n.level, n.ijk, pieceLevel, pieceIJK, axis, side, flo, fhi,
-        [this](const TreeAccess& t, const NodeFrame& m) { return solidRole(t, m); }, onEdge);
+        [this](const TreeAccess& t, const NodeFrame& m) { return solidRole(t, m); }, onEdge,
+        scratch);
     recordShared(remote, b, c, flo, fhi);
     polygonAround(q, b, c, fhi, {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
     const Rgb color = options.colors && (!out.counting || out.keep)
@@ -660,7 +689,7 @@ struct TreeWalk
 
   /// What this walk does at a node of a 3D tree (enter's rule; culling aside,
   /// and a subtree with nothing to expose is walked like any), for EdgeVertices.h.
-  EdgeRole solidRole(const TreeAccess& t, const NodeFrame& m) const
+  EdgeRole solidRole(const TreeAccess& t, const NodeFrame& m)
   {
     const vtkIdType global = t.globalIndex(m.node);
     if (grid.hasMask() && grid.isMasked(global))
@@ -671,8 +700,7 @@ struct TreeWalk
     {
       return EdgeRole::Drawn;
     }
-    return !t.hasAbsentDescendant(m.node) && faces.lodStops(t, m) ? EdgeRole::Drawn
-                                                                  : EdgeRole::Descend;
+    return lodStopsHere(t, m) ? EdgeRole::Drawn : EdgeRole::Descend;
   }
 
   /// For each of the six faces of a node where descent stopped: the parts not

@@ -4,11 +4,11 @@
 // finer ones along an edge (a T-junction), the finer pieces' corners lie inside
 // its edge. A rasterizer fills the seam between two triangles without a gap only
 // when both have the same edge; the coarse piece's one long edge next to the
-// fine pieces' short ones leaves pixels that neither covers (seen: single
-// background pixels in slices and surfaces). So a drawn piece is a polygon that
-// carries those corners, in order along each edge: neighbours' edges then
-// coincide exactly, point for point, whatever the rasterizer (docs/filters.md,
-// "Output").
+// fine pieces' short ones leaves pixels that neither covers (single background
+// pixels in slices and surfaces). So a drawn piece is a polygon that carries
+// those corners, in order along each edge: neighbours' edges then coincide
+// exactly, point for point, whatever the rasterizer (docs/filters.md, "Flat
+// pieces meet edge to edge").
 //
 // The corners come from the trees, not from the output: from the cell at the
 // piece's level on the other side of the edge (an integer position, in this
@@ -19,7 +19,9 @@
 // vertices. On the way down to the piece's level only the topology is asked
 // (a masked node, a leaf): were level of detail to stop there, it would stop at
 // the cell at the piece's level too (a node's footprint is at most its
-// parent's), which has no corner inside the edge either way.
+// parent's), which has no corner inside the edge either way. A flat walk (2D,
+// slices) carries each node's neighbours across its edges down the tree
+// (PlaneNeighbours) rather than looking for them from a common ancestor.
 //
 // Another rank's part met on the way (an absent node, a tree elsewhere) is
 // reported: the caller then asks the other ranks (EdgeVertexExchange.h).
@@ -32,6 +34,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <iterator>
 #include <vector>
 
 namespace canopy
@@ -60,6 +63,14 @@ struct EdgeCells
   int along = 0;
   std::array<int, 3> digit{{Any, Any, Any}};
   const std::vector<int>* cutDigits = nullptr;
+};
+
+/// Memory the searches reuse, one per walk (not per call: they are many).
+struct EdgeScratch
+{
+  std::vector<WalkNode> stack;
+  std::vector<double> found;
+  std::vector<double> merged;
 };
 
 /// The tree holding the cell at `ijk` + `offset` (each -1, 0 or +1) at `level`
@@ -147,7 +158,8 @@ inline WalkNode commonAncestor(const HyperTreeAccess& grid, const vtkIdType* pat
 template <typename Classify>
 bool edgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, WalkNode start, int level,
                   const Index3& target, const EdgeCells& cells, double lo, double hi,
-                  Classify&& classify, bool hiddenBound, std::vector<double>& out)
+                  Classify&& classify, bool hiddenBound, std::vector<double>& out,
+                  std::vector<WalkNode>& stack)
 {
   // Down to the cell: a masked node or a leaf above it holds the whole edge.
   WalkNode m = start;
@@ -231,59 +243,172 @@ bool edgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree, WalkNode 
           }
         }
         return true;
-      });
+      },
+      stack);
   return local;
 }
 
-/// The vertices on the four edges of a node's flat piece, a rectangle in the
-/// plane of axes u and v (a 2D grid's node, or a slice's cut of a 3D node, then
-/// with `cutAxis` >= 0 and its digits per level), found across each edge:
-/// onEdge[0], [1] along u at v = lo and hi, [2], [3] along v at u = lo and hi
-/// (polygonAround's order), each ascending. `path`: the node's ancestors
-/// (path[l] at level l). Returns the edges (bit e for onEdge[e]) across which
-/// another rank's part was met: what lies there, that rank knows.
+/// The neighbours at a node's own level across its four edges in a plane (the
+/// axes u and v of a 2D grid, or of a slice's cut through a 3D grid), kept per
+/// level during a depth-first walk that enters each node after its parent: a
+/// node's are its siblings or the children of its parent's, so finding them
+/// costs a few steps per node, not a descent per edge. Edges are numbered as
+/// polygonAround numbers them: across v below and above, across u below and
+/// above.
+class PlaneNeighbours
+{
+public:
+  /// A neighbour: a node of `tree`, or none at this level (the grid's border, a
+  /// coarser leaf, a masked node); `remote`: none because another rank has
+  /// that part (a tree elsewhere, an absent node).
+  struct Neighbour
+  {
+    const TreeAccess* tree = nullptr;
+    vtkIdType node = 0;
+    bool remote = false;
+  };
+  using Around = std::array<Neighbour, 4>;
+
+  PlaneNeighbours(const HyperTreeAccess& grid, const TreeAccess& tree, int u, int v)
+      : Grid(grid), Tree(tree), U(u), V(v), Levels(static_cast<std::size_t>(grid.maxLevel()) + 1)
+  {
+    int weight = 1;
+    for (int a : grid.activeAxes())
+    {
+      Weight[static_cast<std::size_t>(a)] = weight;
+      weight *= grid.branchFactor();
+    }
+  }
+
+  /// Call on entering node n, a child of the node entered last one level up
+  /// (or the root).
+  void enter(const WalkNode& n)
+  {
+    Around& here = Levels[static_cast<std::size_t>(n.level)];
+    const int f = Grid.branchFactor();
+    for (int e = 0; e < 4; ++e)
+    {
+      const int across = e < 2 ? V : U;
+      const int side = e % 2;
+      Neighbour& out = here[static_cast<std::size_t>(e)];
+      out = Neighbour{};
+      if (n.level == 0)
+      {
+        const std::array<long, 3> root{{static_cast<long>(Tree.rootIJK[0]),
+                                        static_cast<long>(Tree.rootIJK[1]),
+                                        static_cast<long>(Tree.rootIJK[2])}};
+        std::array<int, 3> offset{{0, 0, 0}};
+        offset[static_cast<std::size_t>(across)] = side ? 1 : -1;
+        Index3 at;
+        std::array<long, 3> atRoot;
+        bool elsewhere = false;
+        out.tree = treeOfCell(Grid, root, 0, n.ijk, offset, at, atRoot, elsewhere);
+        out.remote = !out.tree && elsewhere;
+        continue;
+      }
+      const std::int64_t position = n.ijk[static_cast<std::size_t>(across)];
+      const int digit = static_cast<int>(f == 2 ? position & 1 : position % f);
+      const vtkIdType step = Weight[static_cast<std::size_t>(across)];
+      if (side ? digit < f - 1 : digit > 0)
+      {
+        out = {&Tree, side ? n.node + step : n.node - step, false}; // a sibling
+        continue;
+      }
+      // The child of the parent's neighbour facing this node.
+      const Neighbour& parent =
+          Levels[static_cast<std::size_t>(n.level) - 1][static_cast<std::size_t>(e)];
+      if (!parent.tree)
+      {
+        out.remote = parent.remote;
+        continue;
+      }
+      const vtkIdType global = parent.tree->globalIndex(parent.node);
+      if (Grid.hasMask() && Grid.isMasked(global))
+      {
+        out.remote = Grid.isAbsent(global);
+        continue;
+      }
+      if (parent.tree->isLeaf(parent.node))
+      {
+        continue; // a coarser leaf: nothing of it inside this node's edge
+      }
+      // This node's child index, with the digit across the edge mirrored.
+      vtkIdType child = 0;
+      for (int a : Grid.activeAxes())
+      {
+        const std::int64_t p = n.ijk[static_cast<std::size_t>(a)];
+        child += (f == 2 ? p & 1 : p % f) * Weight[static_cast<std::size_t>(a)];
+      }
+      child += (side ? -digit : f - 1 - digit) * step;
+      out = {parent.tree, parent.tree->firstChild(parent.node) + child, false};
+    }
+  }
+
+  const Around& at(int level) const { return Levels[static_cast<std::size_t>(level)]; }
+
+private:
+  const HyperTreeAccess& Grid;
+  const TreeAccess& Tree;
+  const int U;
+  const int V;
+  std::array<vtkIdType, 3> Weight{{0, 0, 0}}; ///< a child digit's weight in the child index
+  std::vector<Around> Levels;
+};
+
+/// The vertices on the four edges of node n's flat piece, a rectangle in the
+/// plane of axes u and v spanning lo to hi (a 2D grid's node, or a slice's cut
+/// of a 3D node, then with `cutAxis` >= 0 and its digits per level), found
+/// below n's neighbours `around` (PlaneNeighbours): onEdge[0], [1] along u at v
+/// = lo and hi, [2], [3] along v at u = lo and hi (polygonAround's order), each
+/// ascending. Returns the edges (bit e for onEdge[e]) across which another
+/// rank's part was met: what lies there, that rank knows.
 template <typename Classify>
-unsigned rectangleEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
-                               const vtkIdType* path, const WalkNode& n, int u, int v,
-                               const Vec3& lo, const Vec3& hi, int cutAxis,
-                               const std::vector<int>* cutDigits, Classify&& classify,
-                               std::array<std::vector<double>, 4>& onEdge)
+unsigned rectangleEdgeVertices(const HyperTreeAccess& grid, const WalkNode& n,
+                               const PlaneNeighbours::Around& around, int u, int v, const Vec3& lo,
+                               const Vec3& hi, int cutAxis, const std::vector<int>* cutDigits,
+                               Classify&& classify, std::array<std::vector<double>, 4>& onEdge,
+                               EdgeScratch& scratch)
 {
   const int f = grid.branchFactor();
-  const std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
-                                  static_cast<long>(tree.rootIJK[1]),
-                                  static_cast<long>(tree.rootIJK[2])}};
+  const std::int64_t cells = grid.cellsPerRootAt(n.level);
   unsigned remote = 0;
   for (int e = 0; e < 4; ++e)
   {
+    std::vector<double>& out = onEdge[static_cast<std::size_t>(e)];
+    out.clear();
+    const PlaneNeighbours::Neighbour& next = around[static_cast<std::size_t>(e)];
+    if (!next.tree)
+    {
+      remote |= next.remote ? 1u << e : 0u;
+      continue;
+    }
+    if (next.tree->isLeaf(next.node))
+    {
+      // No finer cell there; but a leaf may be another rank's part.
+      if (grid.hasMask())
+      {
+        const vtkIdType global = next.tree->globalIndex(next.node);
+        remote |= grid.isMasked(global) && grid.isAbsent(global) ? 1u << e : 0u;
+      }
+      continue;
+    }
     const int across = e < 2 ? v : u; // the axis the edge is crossed along
     const int along = e < 2 ? u : v;
     const int side = e % 2; // 1: the edge at the node's upper bound
-    std::array<int, 3> offset{{0, 0, 0}};
-    offset[static_cast<std::size_t>(across)] = side ? 1 : -1;
-    EdgeCells cells;
-    cells.along = along;
-    cells.digit[static_cast<std::size_t>(across)] = side ? 0 : f - 1;
+    EdgeCells edge;
+    edge.along = along;
+    edge.digit[static_cast<std::size_t>(across)] = side ? 0 : f - 1;
     if (cutAxis >= 0)
     {
-      cells.digit[static_cast<std::size_t>(cutAxis)] = EdgeCells::Cut;
-      cells.cutDigits = cutDigits;
+      edge.digit[static_cast<std::size_t>(cutAxis)] = EdgeCells::Cut;
+      edge.cutDigits = cutDigits;
     }
-    std::vector<double>& out = onEdge[static_cast<std::size_t>(e)];
-    out.clear();
-    Index3 at;
-    std::array<long, 3> atRoot;
-    bool elsewhere = false;
-    const TreeAccess* other = treeOfCell(grid, root, n.level, n.ijk, offset, at, atRoot, elsewhere);
-    if (!other)
-    {
-      remote |= elsewhere ? 1u << e : 0u;
-      continue;
-    }
-    const WalkNode from =
-        other == &tree ? commonAncestor(grid, path, n.level, n.ijk, at) : WalkNode{};
-    if (!edgeVertices(grid, *other, from, n.level, at, cells, lo[static_cast<std::size_t>(along)],
-                      hi[static_cast<std::size_t>(along)], classify, false, out))
+    Index3 at = n.ijk;
+    at[static_cast<std::size_t>(across)] =
+        (at[static_cast<std::size_t>(across)] + (side ? 1 : -1) + cells) % cells;
+    if (!edgeVertices(grid, *next.tree, WalkNode{next.node, n.level, at}, n.level, at, edge,
+                      lo[static_cast<std::size_t>(along)], hi[static_cast<std::size_t>(along)],
+                      classify, false, out, scratch.stack))
     {
       remote |= 1u << e;
     }
@@ -307,7 +432,8 @@ template <typename Classify>
 unsigned faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
                           const vtkIdType* path, int nodeLevel, const Index3& nodeIJK, int level,
                           const Index3& ijk, int axis, int side, const Vec3& lo, const Vec3& hi,
-                          Classify&& classify, std::array<std::vector<double>, 4>& onEdge)
+                          Classify&& classify, std::array<std::vector<double>, 4>& onEdge,
+                          EdgeScratch& scratch)
 {
   const int f = grid.branchFactor();
   const int u = (axis + 1) % 3;
@@ -316,7 +442,9 @@ unsigned faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
                                   static_cast<long>(tree.rootIJK[1]),
                                   static_cast<long>(tree.rootIJK[2])}};
   const std::int64_t scale = grid.cellsPerRootAt(level - nodeLevel);
-  std::vector<double> found;
+  const std::int64_t perRoot = grid.cellsPerRootAt(level);
+  std::vector<double>& found = scratch.found;
+  std::vector<double>& merged = scratch.merged;
   unsigned remote = 0;
   for (int e = 0; e < 4; ++e)
   {
@@ -339,17 +467,27 @@ unsigned faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
       {
         offset[static_cast<std::size_t>(axis)] = side ? 1 : -1;
       }
-      Index3 at;
-      std::array<long, 3> atRoot;
-      bool elsewhere = false;
-      const TreeAccess* other = treeOfCell(grid, root, level, ijk, offset, at, atRoot, elsewhere);
-      if (!other)
+      Index3 at = ijk;
+      const TreeAccess* other = &tree;
+      bool inside = true; // in this tree
+      for (int a = 0; a < 3; ++a)
       {
-        remote |= elsewhere ? 1u << e : 0u;
-        continue;
+        at[a] += offset[static_cast<std::size_t>(a)];
+        inside = inside && at[a] >= 0 && at[a] < perRoot;
       }
-      if (other == &tree && at[0] / scale == nodeIJK[0] && at[1] / scale == nodeIJK[1] &&
-          at[2] / scale == nodeIJK[2])
+      if (!inside)
+      {
+        std::array<long, 3> atRoot;
+        bool elsewhere = false;
+        other = treeOfCell(grid, root, level, ijk, offset, at, atRoot, elsewhere);
+        if (!other)
+        {
+          remote |= elsewhere ? 1u << e : 0u;
+          continue;
+        }
+      }
+      else if (level > nodeLevel && at[0] / scale == nodeIJK[0] && at[1] / scale == nodeIJK[1] &&
+               at[2] / scale == nodeIJK[2])
       {
         continue; // inside the drawn node: drawn whole, no corner inside the edge
       }
@@ -357,15 +495,22 @@ unsigned faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
           other == &tree && path ? commonAncestor(grid, path, level, ijk, at) : WalkNode{};
       found.clear();
       if (!edgeVertices(grid, *other, from, level, at, cells, lo[static_cast<std::size_t>(along)],
-                        hi[static_cast<std::size_t>(along)], classify, true, found))
+                        hi[static_cast<std::size_t>(along)], classify, true, found, scratch.stack))
       {
         remote |= 1u << e;
       }
       // Both cells' bounds, merged in order.
-      const std::size_t before = out.size();
-      out.insert(out.end(), found.begin(), found.end());
-      std::inplace_merge(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(before), out.end());
-      out.erase(std::unique(out.begin(), out.end()), out.end());
+      if (out.empty())
+      {
+        out.swap(found);
+      }
+      else if (!found.empty())
+      {
+        merged.clear();
+        std::merge(out.begin(), out.end(), found.begin(), found.end(), std::back_inserter(merged));
+        merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
+        out.swap(merged);
+      }
     }
   }
   return remote;
