@@ -29,9 +29,8 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   cut_away          '' (none), 'octant' (the octant of the domain towards the camera,
                     to look inside) or 'xmin,xmax,ymin,ymax,zmin,zmax': cells overlapping
                     that box are not drawn
-  skip_back_faces   3D: leave out the faces turned away from the camera (false: where faces
-                    meet at T-junctions, sub-pixel cracks then show the background; the
-                    faces behind fill them)
+  skip_back_faces   3D: leave out the faces turned away from the camera, about half of
+                    them (false: a camera inside the domain sees only back faces)
   surface_extract   also write the surface the camera saw (.pvtp and pieces) (false)
   cinema            write into a Cinema database instead: surface.cdb/ in the output
                     directory, indexed by data.csv at the end (false)

@@ -1,5 +1,6 @@
 #include "AdaptiveSliceBuilder.h"
 
+#include "EdgeVertices.h"
 #include "TreeProgress.h"
 #include "TreeTraversal.h"
 
@@ -89,10 +90,12 @@ std::size_t AdaptiveSliceBuilder::count()
                 slice(Pieces[k], Kept[k], visited[k]);
               });
   Offsets.assign(Pieces.size() + 1, 0);
+  PointOffsets.assign(Pieces.size() + 1, 0);
   Visited = 0;
   for (std::size_t k = 0; k < Pieces.size(); ++k)
   {
     Offsets[k + 1] = Offsets[k] + Kept[k].cellIds.size();
+    PointOffsets[k + 1] = PointOffsets[k] + Kept[k].points.size() / 3;
     Visited += visited[k];
   }
   return Offsets.back();
@@ -107,40 +110,40 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
   const ViewVolume* view = Options.view;
   const bool cull = view && Options.cullOutsideView;
   const bool lod = view && Options.levelOfDetail;
+  const int b = (axis + 1) % 3;
+  const int c = (axis + 2) % 3;
   // Child digit along the axis at each level (the children the plane cuts):
   // the number of inner boundaries between the node's children at or below the
   // plane. Every node the walk enters at a level has the same index along the
-  // axis, so one digit per level, found on first need.
-  std::vector<int> digit{0};
-  auto digitAt = [&](const WalkNode& parent)
+  // axis, and so has every tree of the plane's layer of roots (the same
+  // coordinates along the axis): one digit per level, for all of them.
+  std::vector<int> digit(static_cast<std::size_t>(Grid.maxLevel()) + 1, 0);
+  std::int64_t index = 0;
+  for (int level = 1; level <= Grid.maxLevel(); ++level)
   {
-    const auto level = static_cast<std::size_t>(parent.level) + 1;
-    if (digit.size() <= level)
+    const std::int64_t first = index * f;
+    int d = 0;
+    while (d + 1 < f && Grid.nodeLower(tree, level, axis, first + d + 1) <= position)
     {
-      const std::int64_t first = parent.ijk[axis] * f;
-      int d = 0;
-      while (d + 1 < f && Grid.nodeLower(tree, parent.level + 1, axis, first + d + 1) <= position)
-      {
-        ++d;
-      }
-      digit.push_back(d);
+      ++d;
     }
-    return digit[level];
-  };
+    digit[static_cast<std::size_t>(level)] = d;
+    index = first + d;
+  }
 
   // The children the plane cuts.
   auto cutChildren = [&](const WalkNode& parent, int child)
-  { return Grid.childDigits(child)[axis] == digitAt(parent); };
-  // Whether a cell the plane cuts below `start` is masked.
-  auto cutCellMaskedBelow = [&](const WalkNode& start)
+  { return Grid.childDigits(child)[axis] == digit[static_cast<std::size_t>(parent.level) + 1]; };
+  // Whether a cell the plane cuts below `start` (in tree t) is masked.
+  auto cutCellMaskedBelow = [&](const TreeAccess& t, const WalkNode& start, std::size_t& count)
   {
     bool masked = false;
     walkSubtree(
-        Grid, tree, start,
+        Grid, t, start,
         [&](WalkNode& m)
         {
-          ++visited;
-          if (m.node != start.node && Grid.isMasked(tree.globalIndex(m.node)))
+          ++count;
+          if (m.node != start.node && Grid.isMasked(t.globalIndex(m.node)))
           {
             masked = true;
             return WalkStep::Stop;
@@ -150,15 +153,56 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
         cutChildren);
     return masked;
   };
+  // Level of detail stops at an unmasked node (of tree t, its cross-section
+  // [lo, hi]) with neither another rank's parts nor masked cells on the plane
+  // below it: either would draw what is not this rank's or not there. Masks are
+  // looked for only under a node it would stop at, only among the cells the
+  // plane cuts (no pass over the grid).
+  auto lodStops = [&](const TreeAccess& t, const WalkNode& n, const Vec3& lo, const Vec3& hi,
+                      std::size_t& count)
+  {
+    return lod && !t.hasAbsentDescendant(n.node) &&
+           view->footprintInPixels(rectangleCorners(lo, hi, b, c)) <= Options.pixelThreshold &&
+           !(Grid.hasMask() && cutCellMaskedBelow(t, n, count));
+  };
+  // The same rule for the nodes across a drawn quad's edges (EdgeVertices.h),
+  // culling aside: a culled neighbour draws nothing to meet.
+  std::size_t ignored = 0;
+  auto role = [&](const TreeAccess& t, const WalkNode& n)
+  {
+    const vtkIdType global = t.globalIndex(n.node);
+    if (Grid.hasMask() && Grid.isMasked(global))
+    {
+      return Grid.isAbsent(global) ? EdgeRole::Remote : EdgeRole::Hidden;
+    }
+    if (t.isLeaf(n.node))
+    {
+      return EdgeRole::Drawn;
+    }
+    if (!lod)
+    {
+      return EdgeRole::Descend;
+    }
+    Vec3 nlo;
+    Vec3 nhi;
+    Grid.nodeBounds(t, n.level, n.ijk, nlo, nhi);
+    nlo[axis] = nhi[axis] = position;
+    return lodStops(t, n, nlo, nhi, ignored) ? EdgeRole::Drawn : EdgeRole::Descend;
+  };
+  // The vertices on a drawn quad's four edges (EdgeVertices.h).
+  std::array<std::vector<double>, 4> onEdge;
+  std::vector<Vec3> polygon;
+  PlaneNeighbours plane(Grid, tree, b, c);
+  EdgeScratch scratch;
+
   Vec3 lo{{0, 0, 0}};
   Vec3 hi{{0, 0, 0}};
-  const int b = (axis + 1) % 3;
-  const int c = (axis + 2) % 3;
   walkTree(
       Grid, tree,
       [&](WalkNode& n)
       {
         ++visited;
+        plane.enter(n);
         vtkIdType global = -1;
         if (Grid.hasMask())
         {
@@ -186,17 +230,7 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
             }
           }
         }
-        bool stop = tree.isLeaf(n.node);
-        // A node with another rank's parts or masked cells on the plane below it
-        // is never drawn whole: either would draw what is not this rank's or not
-        // there. Masks are looked for only under a node level of detail would
-        // stop at, only among the cells the plane cuts (no pass over the grid).
-        if (!stop && lod && !tree.hasAbsentDescendant(n.node))
-        {
-          stop =
-              view->footprintInPixels(rectangleCorners(lo, hi, b, c)) <= Options.pixelThreshold &&
-              !(Grid.hasMask() && cutCellMaskedBelow(n));
-        }
+        const bool stop = tree.isLeaf(n.node) || lodStops(tree, n, lo, hi, visited);
         if (!stop)
         {
           return WalkStep::Descend;
@@ -205,11 +239,28 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
         {
           global = tree.globalIndex(n.node);
         }
-        // Counter-clockwise seen from +axis: the quad's normal is +axis.
-        for (const Vec3& p : rectangleCorners(lo, hi, b, c))
+        // Counter-clockwise seen from +axis: the polygon's normal is +axis.
+        const unsigned remote = rectangleEdgeVertices(Grid, n, plane.at(n.level), b, c, lo, hi,
+                                                      axis, &digit, role, onEdge, scratch);
+        if (remote)
+        {
+          // Along another rank's part: that rank's cuts put their corners there.
+          for (int e = 0; e < 4; ++e)
+          {
+            if (remote & (1u << e))
+            {
+              cells.shared.push_back(sharedEdgeOf(e, b, c, lo, hi));
+            }
+          }
+          cells.sharedCells.push_back(static_cast<std::uint32_t>(cells.cellIds.size()));
+        }
+        polygonAround(rectangleCorners(lo, hi, b, c), b, c, hi,
+                      {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
+        for (const Vec3& p : polygon)
         {
           cells.points.insert(cells.points.end(), p.begin(), p.end());
         }
+        cells.sizes.push_back(static_cast<std::uint32_t>(polygon.size()));
         cells.cellIds.push_back(global);
         cells.levels.push_back(static_cast<unsigned char>(n.level));
         if (Options.colors)
@@ -228,9 +279,28 @@ void AdaptiveSliceBuilder::slice(const Piece& piece, TreeCells& cells, std::size
       cutChildren);
 }
 
+std::vector<SharedEdge> AdaptiveSliceBuilder::sharedEdges() const
+{
+  std::vector<SharedEdge> edges;
+  for (const TreeCells& cells : Kept)
+  {
+    edges.insert(edges.end(), cells.shared.begin(), cells.shared.end());
+  }
+  return edges;
+}
+
+void AdaptiveSliceBuilder::addSharedVertices(const SharedVertices& shared)
+{
+  for (std::size_t k = 0; k < Kept.size(); ++k)
+  {
+    insertSharedVertices(Kept[k], Kept[k].sharedCells, shared);
+    PointOffsets[k + 1] = PointOffsets[k] + Kept[k].points.size() / 3;
+  }
+}
+
 void AdaptiveSliceBuilder::write(const SurfaceArrays& arrays) const
 {
-  copyKeptCells(Kept, Offsets, 4, arrays);
+  copyKeptCells(Kept, Offsets, PointOffsets, arrays);
 }
 
 } // namespace canopy

@@ -73,8 +73,16 @@ public:
   /// quads; returns their number. The order is plane by plane, and within a
   /// plane tree by tree, for any number of threads.
   std::size_t count();
-  /// Fills arrays sized for count() quads (4 points each).
+  /// Points of those quads (4 each, more where finer neighbours' corners lie on
+  /// their edges).
+  std::size_t points() const { return PointOffsets.empty() ? 0 : PointOffsets.back(); }
+  /// Fills arrays sized for count() cells and points() points.
   void write(const SurfaceArrays& arrays) const;
+  /// Grids split between ranks, after count(): the quads' edges along another
+  /// rank's part, and then the vertices every rank's such edges put on them
+  /// (EdgeVertexExchange.h); points() counts them.
+  std::vector<SharedEdge> sharedEdges() const;
+  void addSharedVertices(const SharedVertices& shared);
   /// Nodes the last count() examined: what the slices cost.
   std::size_t visited() const { return Visited; }
 
@@ -93,7 +101,8 @@ private:
   ProgressShare Progress;
   std::vector<Piece> Pieces;
   std::vector<TreeCells> Kept;
-  std::vector<std::size_t> Offsets;
+  std::vector<std::size_t> Offsets;      ///< per piece, its first cell (prefix sums)
+  std::vector<std::size_t> PointOffsets; ///< per piece, its first point
   std::size_t Visited = 0;
 };
 

@@ -5,8 +5,10 @@
 // would have to become a header of their own for no other user.
 #include "AdaptiveSurfaceBuilder.h"
 
+#include "EdgeVertices.h"
 #include "FullSurfaceWalk.h"
 #include "GridSection.h"
+#include "SiblingDecisions.h"
 #include "TreeProgress.h"
 #include "TreeTraversal.h"
 
@@ -23,8 +25,6 @@ namespace canopy
 
 namespace
 {
-
-using Index3 = std::array<std::int64_t, 3>;
 
 /// A node of the walk; its inherited bit: strictly inside the view volume (3D),
 /// and so are its descendants and faces.
@@ -57,28 +57,30 @@ Index3 childIndex(const NodeFrame& parent, int child, const HyperTreeAccess& gri
 /// so the output is allocated once and never grown or copied.
 struct CellSink
 {
-  SurfaceArrays arrays{nullptr, nullptr, nullptr};
-  std::size_t next = 0;
+  SurfaceArrays arrays{nullptr, nullptr, nullptr, nullptr};
+  std::size_t next = 0;      ///< cells so far
+  std::size_t nextPoint = 0; ///< points so far
   bool counting = true;
-  std::size_t limit = 0; ///< writing: cells the buffer holds (never written past)
+  std::size_t limit = 0;      ///< writing: cells the buffer holds (never written past)
+  std::size_t pointLimit = 0; ///< writing: points the buffer holds
+  std::size_t pointBase = 0;  ///< writing: the output's index of this buffer's first point
   /// Counting into a tree's own buffer (3D: the output is small next to the
   /// walk, so it is walked once and copied, not walked twice).
   TreeCells* keep = nullptr;
 };
 
-/// A cell of N points (4: a quad; 2: a segment of a 1D grid). One grid's cells
-/// all have the same N, so cell i's points start at 3 N i.
+/// A cell of `count` points (4 or more: a flat piece; 2: a segment of a 1D grid).
 /// `color`: the cell's RGB (nullptr without a colour map).
-template <std::size_t N>
-void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level,
+void emitCell(CellSink& out, const Vec3* points, std::size_t count, vtkIdType cellId, int level,
               const Rgb* color)
 {
   if (out.keep)
   {
-    for (const Vec3& c : corners)
+    for (std::size_t k = 0; k < count; ++k)
     {
-      out.keep->points.insert(out.keep->points.end(), c.begin(), c.end());
+      out.keep->points.insert(out.keep->points.end(), points[k].begin(), points[k].end());
     }
+    out.keep->sizes.push_back(static_cast<std::uint32_t>(count));
     out.keep->cellIds.push_back(cellId);
     out.keep->levels.push_back(static_cast<unsigned char>(level));
     if (color)
@@ -88,15 +90,16 @@ void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellI
           {colorByte((*color)[0]), colorByte((*color)[1]), colorByte((*color)[2])});
     }
   }
-  else if (!out.counting && out.next < out.limit)
+  else if (!out.counting && out.next < out.limit && out.nextPoint + count <= out.pointLimit)
   {
-    double* p = out.arrays.points + 3 * N * out.next;
-    for (const Vec3& c : corners)
+    double* p = out.arrays.points + 3 * out.nextPoint;
+    for (std::size_t k = 0; k < count; ++k)
     {
-      *p++ = c[0];
-      *p++ = c[1];
-      *p++ = c[2];
+      *p++ = points[k][0];
+      *p++ = points[k][1];
+      *p++ = points[k][2];
     }
+    out.arrays.offsets[out.next] = static_cast<vtkIdType>(out.pointBase + out.nextPoint);
     out.arrays.cellIds[out.next] = cellId;
     out.arrays.levels[out.next] = static_cast<unsigned char>(level);
     if (color && out.arrays.colors)
@@ -109,6 +112,14 @@ void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellI
     }
   }
   ++out.next;
+  out.nextPoint += count;
+}
+
+template <std::size_t N>
+void emitCell(CellSink& out, const std::array<Vec3, N>& corners, vtkIdType cellId, int level,
+              const Rgb* color)
+{
+  emitCell(out, corners.data(), N, cellId, level, color);
 }
 
 /// What lies across a face of a 3D node, a topology fact.
@@ -148,7 +159,14 @@ struct FaceSide
     {
       return false;
     }
-    return options.view->footprintInPixels(boxCorners(lo, hi)) <= options.pixelThreshold;
+    // The box's distinct corners only: a flat box has 4 (2D), a segment 2 (1D).
+    const auto& axes = grid.activeAxes();
+    const double pixels =
+        grid.dimension() == 3 ? options.view->footprintInPixels(boxCorners(lo, hi))
+        : grid.dimension() == 2
+            ? options.view->footprintInPixels(rectangleCorners(lo, hi, axes[0], axes[1]))
+            : options.view->footprintInPixels(segmentEnds(lo, hi, axes[0]));
+    return pixels <= options.pixelThreshold;
   }
 
   bool lodStops(const TreeAccess& t, const NodeFrame& m) const
@@ -269,10 +287,51 @@ struct FaceSide
       {
         return Covered;
       }
-      // Level of detail is checked at n's level (in exposedParts), not on the
-      // coarser nodes of the path: projecting each costs more than it saves.
+      // A topology fact only: level of detail on the way is coarserStopCovers'.
       m = childToward(*neighbour, m, n.level, across);
     }
+  }
+
+  /// Whether the walk of the tree across a face of n stops for level of detail
+  /// (TreeWalk::enter's rule) at an unmasked node coarser than n on the way down
+  /// to n's level, before any masked one: that node is drawn as a solid and the
+  /// face is inside it. What faceState says Whole or Parts is then covered. It
+  /// depends on the view, so it is asked after the (topological) face memo,
+  /// never stored in it.
+  bool coarserStopCovers(const FacePosition& n, int axis, int side) const
+  {
+    if (!options.view || !options.levelOfDetail)
+    {
+      return false;
+    }
+    Index3 across;
+    bool elsewhere = false;
+    const TreeAccess* neighbour = neighbourAcross(n, axis, side, across, elsewhere);
+    if (!neighbour)
+    {
+      return false; // the grid's boundary, or another rank's tree: nothing drawn here
+    }
+    NodeFrame m = descentStart(neighbour, n, axis, across);
+    // In n's own tree the descent starts at an ancestor of n, which the walk
+    // entered without stopping (n was reached): the same rule, not asked again.
+    bool ancestorOfN = neighbour == n.tree;
+    for (; m.level < n.level; ancestorOfN = false)
+    {
+      if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
+      {
+        return false; // a hole (or another rank's part) before any stop
+      }
+      if (neighbour->isLeaf(m.node))
+      {
+        return false; // faceState's Covered: never asked
+      }
+      if (!ancestorOfN && lodStops(*neighbour, m) && !neighbour->hasAbsentDescendant(m.node))
+      {
+        return true;
+      }
+      m = childToward(*neighbour, m, n.level, across);
+    }
+    return false;
   }
 
   /// m: an unmasked node across a face (`axis`, `side` of the node we look
@@ -283,9 +342,13 @@ struct FaceSide
   void exposedParts(const TreeAccess& t, const NodeFrame& m, int axis, int side,
                     const Masked& masked, const Absent& absent) const
   {
-    if (t.isLeaf(m.node) || !t.hasMaskedDescendant(m.node) || lodStops(t, m))
+    // Covered where the walk of t would stop (TreeWalk::enter): a leaf, a node
+    // with nothing masked below, or a node level of detail draws whole (never
+    // one with another rank's parts below it).
+    if (t.isLeaf(m.node) || !t.hasMaskedDescendant(m.node) ||
+        (lodStops(t, m) && !t.hasAbsentDescendant(m.node)))
     {
-      return; // covered
+      return;
     }
     const int f = grid.branchFactor();
     const vtkIdType first = t.firstChild(m.node);
@@ -379,12 +442,21 @@ struct TreeWalk
       tree.faceMemo.clear();
       tree.memoRemote = static_cast<int>(options.remoteFaces);
     }
+    if (grid.dimension() == 2)
+    {
+      plane =
+          std::make_unique<PlaneNeighbours>(grid, tree, grid.activeAxes()[0], grid.activeAxes()[1]);
+    }
     walkTree(grid, tree, [&](NodeFrame& n) { return enter(n, solid3D, lo, hi); });
   }
 
   WalkStep enter(NodeFrame& n, bool solid3D, Vec3& lo, Vec3& hi)
   {
     path[static_cast<std::size_t>(n.level)] = n.node;
+    if (plane)
+    {
+      plane->enter(n);
+    }
     // The global index costs a virtual call for explicit indices: only when needed.
     vtkIdType global = -1;
     if (grid.hasMask())
@@ -416,7 +488,7 @@ struct TreeWalk
     }
     // A node with absent descendants is never drawn whole: other ranks draw
     // their parts of it, so every pixel keeps exactly one owner.
-    const bool stop = leaf || (haveBox && lodStops(lo, hi) && !tree.hasAbsentDescendant(n.node));
+    const bool stop = leaf || (haveBox && lodStopsHere(tree, n));
     if (stop)
     {
       if (!out.counting || out.keep)
@@ -439,7 +511,7 @@ struct TreeWalk
       else if (grid.dimension() == 2)
       {
         const Rgb color = colorOf(n, global, leaf);
-        emitPlaneQuad(lo, hi, global, n.level, options.colors ? &color : nullptr);
+        emitPlaneQuad(n, lo, hi, global, options.colors ? &color : nullptr);
       }
       else
       {
@@ -469,11 +541,75 @@ struct TreeWalk
     return known == 2;
   }
 
-  void emitPlaneQuad(const Vec3& lo, const Vec3& hi, vtkIdType global, int level, const Rgb* color)
+  /// A 2D node's quad, with the corners of finer neighbours on its edges.
+  void emitPlaneQuad(const NodeFrame& n, const Vec3& lo, const Vec3& hi, vtkIdType global,
+                     const Rgb* color)
   {
-    emitCell(out, rectangleCorners(lo, hi, grid.activeAxes()[0], grid.activeAxes()[1]), global,
-             level, color);
+    const int u = grid.activeAxes()[0];
+    const int v = grid.activeAxes()[1];
+    const unsigned remote = rectangleEdgeVertices(
+        grid, n, plane->at(n.level), u, v, lo, hi, -1, nullptr,
+        [this](const TreeAccess& t, const NodeFrame& m) { return planarRole(t, m); }, onEdge,
+        scratch);
+    recordShared(remote, u, v, lo, hi);
+    polygonAround(rectangleCorners(lo, hi, u, v), u, v, hi,
+                  {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
+    emitCell(out, polygon.data(), polygon.size(), global, n.level, color);
   }
+
+  /// Keeps the edges (bits of `remote`) of the piece about to be emitted along
+  /// which another rank's part was met, and the piece, for the ranks' exchange.
+  void recordShared(unsigned remote, int u, int v, const Vec3& lo, const Vec3& hi)
+  {
+    if (!remote || !out.keep)
+    {
+      return;
+    }
+    for (int e = 0; e < 4; ++e)
+    {
+      if (remote & (1u << e))
+      {
+        out.keep->shared.push_back(sharedEdgeOf(e, u, v, lo, hi));
+      }
+    }
+    out.keep->sharedCells.push_back(static_cast<std::uint32_t>(out.keep->cellIds.size()));
+  }
+
+  /// What this walk does at a node of a 1D or 2D tree (enter's rule, culling
+  /// aside: a culled neighbour draws nothing to meet), for EdgeVertices.h.
+  EdgeRole planarRole(const TreeAccess& t, const NodeFrame& m)
+  {
+    const vtkIdType global = t.globalIndex(m.node);
+    if (grid.hasMask() && grid.isMasked(global))
+    {
+      return grid.isAbsent(global) ? EdgeRole::Remote : EdgeRole::Hidden;
+    }
+    if (t.isLeaf(m.node))
+    {
+      return EdgeRole::Drawn;
+    }
+    return lodStopsHere(t, m) ? EdgeRole::Drawn : EdgeRole::Descend;
+  }
+
+  /// Whether level of detail stops at the refined, unmasked node m of tree t:
+  /// it spans at most the threshold and has no absent descendant (other ranks
+  /// draw their parts of it). Kept for the walk's own tree (SiblingDecisions.h).
+  bool lodStopsHere(const TreeAccess& t, const NodeFrame& m)
+  {
+    if (!options.view || !options.levelOfDetail)
+    {
+      return false;
+    }
+    auto rule = [&](const NodeFrame& x)
+    { return !t.hasAbsentDescendant(x.node) && faces.lodStops(t, x); };
+    return &t == &tree ? decisions.get(grid, m, rule) : rule(m);
+  }
+
+  SiblingDecisions decisions{grid.maxLevel()}; ///< level of detail's, kept (lodStopsHere)
+  std::unique_ptr<PlaneNeighbours> plane{};    ///< 2D: the nodes across each node's edges
+  EdgeScratch scratch{};                       ///< the edge searches' memory
+  std::array<std::vector<double>, 4> onEdge{}; ///< emitPlaneQuad's scratch
+  std::vector<Vec3> polygon{};                 ///< the same
 
   /// A drawn 1D or 2D node's colour: a leaf's own, a coarser node's the average
   /// of its leaves' (only when it is written: counting needs none).
@@ -505,10 +641,15 @@ struct TreeWalk
     return facing >= 0;
   }
 
-  /// Face of [lo, hi] normal to `axis` on side `side` (0 low, 1 high), restricted
-  /// on the two other axes to [plo, phi], outward-oriented.
-  void emitFace(int axis, int side, const Vec3& lo, const Vec3& hi, const Vec3& plo,
-                const Vec3& phi, vtkIdType global, int level, bool inside)
+  /// Face of [lo, hi] (the box of node n, drawn) normal to `axis` on side
+  /// `side` (0 low, 1 high), restricted on the two other axes to [plo, phi] (the
+  /// face of n's cell at `pieceLevel`, `pieceIJK`: n's own, or a finer one
+  /// inside it facing a finer hole), outward-oriented, with the corners of the
+  /// pieces meeting its edges (EdgeVertices.h). `ancestors`: n's (path[l] at
+  /// level l), or nullptr.
+  void emitFace(int axis, int side, const NodeFrame& n, const Vec3& lo, const Vec3& hi,
+                const Vec3& plo, const Vec3& phi, int pieceLevel, const Index3& pieceIJK,
+                vtkIdType global, bool inside, const vtkIdType* ancestors)
   {
     const int b = (axis + 1) % 3;
     const int c = (axis + 2) % 3;
@@ -533,10 +674,33 @@ struct TreeWalk
     {
       std::swap(q[1], q[3]);
     }
+    const unsigned remote = faceEdgeVertices(
+        grid, tree, ancestors, n.level, n.ijk, pieceLevel, pieceIJK, axis, side, flo, fhi,
+        [this](const TreeAccess& t, const NodeFrame& m) { return solidRole(t, m); }, onEdge,
+        scratch);
+    recordShared(remote, b, c, flo, fhi);
+    polygonAround(q, b, c, fhi, {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
     const Rgb color = options.colors && (!out.counting || out.keep)
                           ? options.colors->mapCell(global)
                           : Rgb{{0, 0, 0}};
-    emitCell(out, q, global, level, options.colors ? &color : nullptr);
+    emitCell(out, polygon.data(), polygon.size(), global, n.level,
+             options.colors ? &color : nullptr);
+  }
+
+  /// What this walk does at a node of a 3D tree (enter's rule; culling aside,
+  /// and a subtree with nothing to expose is walked like any), for EdgeVertices.h.
+  EdgeRole solidRole(const TreeAccess& t, const NodeFrame& m)
+  {
+    const vtkIdType global = t.globalIndex(m.node);
+    if (grid.hasMask() && grid.isMasked(global))
+    {
+      return grid.isAbsent(global) ? EdgeRole::Remote : EdgeRole::Hidden;
+    }
+    if (t.isLeaf(m.node))
+    {
+      return EdgeRole::Drawn;
+    }
+    return lodStopsHere(t, m) ? EdgeRole::Drawn : EdgeRole::Descend;
   }
 
   /// For each of the six faces of a node where descent stopped: the parts not
@@ -570,14 +734,19 @@ struct TreeWalk
           state = faces.faceState(position, axis, side, neighbour, m);
           known |= static_cast<std::uint32_t>(state) << shift;
         }
-        else if (state == Parts)
+        // The memo holds the topology; the view may cover what it says shows.
+        if ((state == Whole || state == Parts) && faces.coarserStopCovers(position, axis, side))
+        {
+          state = Covered;
+        }
+        else if (state == Parts && !neighbour)
         {
           faces.faceState(position, axis, side, neighbour, m); // the neighbour itself
         }
         bool ask = state == Remote;
         if (state == Whole)
         {
-          emitFace(axis, side, lo, hi, lo, hi, global, n.level, n.inherited);
+          emitFace(axis, side, n, lo, hi, lo, hi, n.level, n.ijk, global, n.inherited, path.data());
         }
         else if (state == Parts)
         {
@@ -590,7 +759,12 @@ struct TreeWalk
                 Vec3 clo;
                 Vec3 chi;
                 nodeBox(grid, *neighbour, child, clo, chi);
-                emitFace(axis, side, lo, hi, clo, chi, global, n.level, n.inherited);
+                // The piece is the face of n's cell facing the hole, at the hole's level.
+                Index3 cell = child.ijk;
+                const std::int64_t scale = grid.cellsPerRootAt(child.level - n.level);
+                cell[axis] = side ? (n.ijk[axis] + 1) * scale - 1 : n.ijk[axis] * scale;
+                emitFace(axis, side, n, lo, hi, clo, chi, child.level, cell, global, n.inherited,
+                         path.data());
               },
               [&](const NodeFrame&) { ask = ask || options.remoteFaces; });
         }
@@ -655,8 +829,8 @@ struct TreeWalk
 
 } // namespace
 
-void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& offsets,
-                   std::size_t pointsPerCell, const SurfaceArrays& arrays)
+void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& cellOffsets,
+                   const std::vector<std::size_t>& pointOffsets, const SurfaceArrays& arrays)
 {
   // A copy: not worth reporting progress or stopping.
   vtkSMPTools::For(
@@ -666,9 +840,15 @@ void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::si
         for (vtkIdType i = begin; i < end; ++i)
         {
           const TreeCells& cells = kept[static_cast<std::size_t>(i)];
-          const std::size_t first = offsets[static_cast<std::size_t>(i)];
-          std::copy(cells.points.begin(), cells.points.end(),
-                    arrays.points + 3 * pointsPerCell * first);
+          const std::size_t first = cellOffsets[static_cast<std::size_t>(i)];
+          std::size_t point = pointOffsets[static_cast<std::size_t>(i)];
+          std::copy(cells.points.begin(), cells.points.end(), arrays.points + 3 * point);
+          vtkIdType* offset = arrays.offsets + first;
+          for (std::uint32_t size : cells.sizes)
+          {
+            *offset++ = static_cast<vtkIdType>(point);
+            point += size;
+          }
           std::copy(cells.cellIds.begin(), cells.cellIds.end(), arrays.cellIds + first);
           std::copy(cells.levels.begin(), cells.levels.end(), arrays.levels + first);
           if (arrays.colors)
@@ -677,6 +857,8 @@ void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::si
           }
         }
       });
+  arrays.offsets[cellOffsets.empty() ? 0 : cellOffsets.back()] =
+      static_cast<vtkIdType>(pointOffsets.empty() ? 0 : pointOffsets.back());
 }
 
 AdaptiveSurfaceBuilder::AdaptiveSurfaceBuilder(const HyperTreeAccess& grid,
@@ -714,29 +896,57 @@ std::size_t AdaptiveSurfaceBuilder::count()
 {
   const auto& trees = Grid.trees();
   std::vector<std::size_t> counts(trees.size(), 0);
+  std::vector<std::size_t> pointCounts(trees.size(), 0);
   // A full 1D/2D surface has one cell per visible leaf: a kept access knows how
   // many per tree, so one walk (the writing one) suffices.
   const bool known = std::all_of(trees.begin(), trees.end(),
                                  [](const TreeAccess& t) { return t.visibleLeaves >= 0; });
   CountWalked = false;
-  if (fullPlanarSurface() && known)
+  // Cells are kept to be copied (3D: the output is small next to the walk), or
+  // to take the vertices other ranks put on their edges (2D, split grids).
+  const bool keep = Grid.dimension() == 3 || (Grid.dimension() == 2 && Options.sharedVertices);
+  if (!keep)
+  {
+    Kept.clear(); // buffers lent from an execution that kept its cells: not used here
+  }
+  if (fullPlanarSurface() && known && !keep)
   {
     std::transform(trees.begin(), trees.end(), counts.begin(),
                    [](const TreeAccess& t) { return static_cast<std::size_t>(t.visibleLeaves); });
+    // Their points, once per topology: a walk that writes nothing.
+    CountWalked = std::any_of(trees.begin(), trees.end(),
+                              [](const TreeAccess& t) { return t.fullSurfacePoints < 0; });
+    forEachTree(CountWalked ? Progress.part(0, 0.5) : ProgressShare{},
+                static_cast<vtkIdType>(trees.size()),
+                [&](vtkIdType t)
+                {
+                  const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
+                  if (tree.fullSurfacePoints < 0)
+                  {
+                    const SurfaceArrays none{nullptr, nullptr, nullptr, nullptr};
+                    tree.fullSurfacePoints =
+                        static_cast<vtkIdType>(writeFullSurface(Grid, tree, none, 0, 0, 0).points);
+                  }
+                  pointCounts[static_cast<std::size_t>(t)] =
+                      static_cast<std::size_t>(tree.fullSurfacePoints);
+                });
   }
   else
   {
-    if (Grid.dimension() == 3)
+    if (keep)
     {
       // Cleared, not freed: lent buffers keep their capacity.
       Kept.resize(trees.size());
       for (TreeCells& cells : Kept)
       {
         cells.points.clear();
+        cells.sizes.clear();
         cells.cellIds.clear();
         cells.levels.clear();
         cells.colors.clear();
         cells.asked.clear();
+        cells.shared.clear();
+        cells.sharedCells.clear();
       }
     }
     // Kept cells (3D) are only copied afterwards: then this walk is all the work.
@@ -750,6 +960,7 @@ std::size_t AdaptiveSurfaceBuilder::count()
           TreeWalk walk{Grid, trees[static_cast<std::size_t>(t)], Options, Region.get(), sink};
           walk.walk();
           counts[static_cast<std::size_t>(t)] = sink.next;
+          pointCounts[static_cast<std::size_t>(t)] = sink.nextPoint;
         });
   }
   AskedAt.clear();
@@ -760,18 +971,21 @@ std::size_t AdaptiveSurfaceBuilder::count()
       AskedAt.emplace_back(t, k);
     }
   }
-  computeOffsets(counts);
+  computeOffsets(counts, pointCounts);
   return Offsets.back();
 }
 
-void AdaptiveSurfaceBuilder::computeOffsets(const std::vector<std::size_t>& counts)
+void AdaptiveSurfaceBuilder::computeOffsets(const std::vector<std::size_t>& counts,
+                                            const std::vector<std::size_t>& pointCounts)
 {
   // Trees write at prefix-sum offsets: the output order is the tree order, the
   // same for any number of threads.
   Offsets.assign(counts.size() + 1, 0);
+  PointOffsets.assign(counts.size() + 1, 0);
   for (std::size_t t = 0; t < counts.size(); ++t)
   {
     Offsets[t + 1] = Offsets[t] + counts[t];
+    PointOffsets[t + 1] = PointOffsets[t] + pointCounts[t];
   }
 }
 
@@ -815,6 +1029,10 @@ AdaptiveSurfaceBuilder::answerRemoteFaces(const std::vector<RemoteFace>& faces) 
     const TreeAccess* neighbour = nullptr;
     NodeFrame m{0, 0, {{0, 0, 0}}};
     const FaceState state = side.faceState(n, axis, towards, neighbour, m);
+    if ((state == Whole || state == Parts) && side.coarserStopCovers(n, axis, towards))
+    {
+      continue; // this rank draws a coarser node there whole: the face is inside it
+    }
     if (state == Whole)
     {
       pieces.push_back({q, true, {{0, 0, 0}}, {{0, 0, 0}}});
@@ -825,7 +1043,7 @@ AdaptiveSurfaceBuilder::answerRemoteFaces(const std::vector<RemoteFace>& faces) 
           *neighbour, m, axis, towards,
           [&](const NodeFrame& child)
           {
-            RemotePiece piece{q, false, {{0, 0, 0}}, {{0, 0, 0}}};
+            RemotePiece piece{q, false, {{0, 0, 0}}, {{0, 0, 0}}, child.level, child.ijk};
             nodeBox(Grid, *neighbour, child, piece.lo, piece.hi);
             pieces.push_back(piece);
           },
@@ -850,28 +1068,72 @@ void AdaptiveSurfaceBuilder::addRemotePieces(const std::vector<RemotePiece>& pie
     sink.keep = &Kept[t];
     TreeWalk walk{Grid, trees[t], Options, Region.get(), sink};
     const NodeFrame n{0, static_cast<int>(asked.face.level), asked.face.ijk};
+    const int axis = static_cast<int>(asked.face.axis);
+    const int side = static_cast<int>(asked.face.side);
     Vec3 lo;
     Vec3 hi;
     nodeBox(Grid, trees[t], n, lo, hi);
-    walk.emitFace(static_cast<int>(asked.face.axis), static_cast<int>(asked.face.side), lo, hi,
-                  piece.whole ? lo : piece.lo, piece.whole ? hi : piece.hi, asked.global, n.level,
-                  asked.inside);
+    // The piece's cell on this side: n, or the cell of n facing the owner's hole.
+    Index3 cell = n.ijk;
+    int level = n.level;
+    if (!piece.whole)
+    {
+      if (piece.level < n.level || piece.level > Grid.maxLevel())
+      {
+        throw std::invalid_argument("a remote piece is coarser than its face, or too deep");
+      }
+      level = static_cast<int>(piece.level);
+      const std::int64_t scale = Grid.cellsPerRootAt(level - n.level);
+      cell = piece.ijk;
+      cell[axis] = side ? (n.ijk[axis] + 1) * scale - 1 : n.ijk[axis] * scale;
+    }
+    walk.emitFace(axis, side, n, lo, hi, piece.whole ? lo : piece.lo, piece.whole ? hi : piece.hi,
+                  level, cell, asked.global, asked.inside, nullptr);
   }
   std::vector<std::size_t> counts(Kept.size());
+  std::vector<std::size_t> pointCounts(Kept.size());
   for (std::size_t t = 0; t < Kept.size(); ++t)
   {
     counts[t] = Kept[t].cellIds.size();
+    pointCounts[t] = Kept[t].points.size() / 3;
   }
-  computeOffsets(counts);
+  computeOffsets(counts, pointCounts);
+}
+
+std::vector<SharedEdge> AdaptiveSurfaceBuilder::sharedEdges() const
+{
+  std::vector<SharedEdge> edges;
+  for (const TreeCells& cells : Kept)
+  {
+    edges.insert(edges.end(), cells.shared.begin(), cells.shared.end());
+  }
+  return edges;
+}
+
+void AdaptiveSurfaceBuilder::addSharedVertices(const SharedVertices& shared)
+{
+  std::vector<std::size_t> counts(Kept.size());
+  std::vector<std::size_t> pointCounts(Kept.size());
+  vtkSMPTools::For(0, static_cast<vtkIdType>(Kept.size()),
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType t = begin; t < end; ++t)
+                     {
+                       TreeCells& cells = Kept[static_cast<std::size_t>(t)];
+                       insertSharedVertices(cells, cells.sharedCells, shared);
+                       counts[static_cast<std::size_t>(t)] = cells.cellIds.size();
+                       pointCounts[static_cast<std::size_t>(t)] = cells.points.size() / 3;
+                     }
+                   });
+  computeOffsets(counts, pointCounts);
 }
 
 void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
 {
   const auto& trees = Grid.trees();
-  const std::size_t perCell = pointsPerCell();
   if (!Kept.empty())
   {
-    copyKeptCells(Kept, Offsets, perCell, arrays);
+    copyKeptCells(Kept, Offsets, PointOffsets, arrays);
     return;
   }
   const bool full = fullPlanarSurface();
@@ -882,15 +1144,22 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
       [&](vtkIdType t)
       {
         const std::size_t first = Offsets[static_cast<std::size_t>(t)];
+        const std::size_t firstPoint = PointOffsets[static_cast<std::size_t>(t)];
         CellSink sink;
         sink.counting = false;
         sink.limit = Offsets[static_cast<std::size_t>(t) + 1] - first;
-        sink.arrays = {arrays.points + 3 * perCell * first, arrays.cellIds + first,
-                       arrays.levels + first, arrays.colors ? arrays.colors + 3 * first : nullptr};
+        sink.pointLimit = PointOffsets[static_cast<std::size_t>(t) + 1] - firstPoint;
+        sink.pointBase = firstPoint;
+        sink.arrays = {arrays.points + 3 * firstPoint, arrays.offsets + first,
+                       arrays.cellIds + first, arrays.levels + first,
+                       arrays.colors ? arrays.colors + 3 * first : nullptr};
         const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
         if (full)
         {
-          sink.next = writeFullSurface(Grid, tree, sink.arrays, sink.limit);
+          const FullSurfaceCount written =
+              writeFullSurface(Grid, tree, sink.arrays, sink.limit, sink.pointLimit, firstPoint);
+          sink.next = written.cells;
+          sink.nextPoint = written.points;
           // Every cell of a full surface is a leaf: its own colour.
           for (std::size_t i = 0;
                Options.colors && sink.arrays.colors && i < std::min(sink.next, sink.limit); ++i)
@@ -907,7 +1176,7 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
           TreeWalk walk{Grid, tree, Options, Region.get(), sink};
           walk.walk();
         }
-        if (sink.next != Offsets[static_cast<std::size_t>(t) + 1] - first)
+        if (sink.next != sink.limit || sink.nextPoint != sink.pointLimit)
         {
           mismatch = true; // never expected: counts come from the same topology
         }
@@ -916,6 +1185,7 @@ void AdaptiveSurfaceBuilder::write(const SurfaceArrays& arrays) const
   {
     throw std::logic_error("the surface's cell count changed between counting and writing");
   }
+  arrays.offsets[cells()] = static_cast<vtkIdType>(points());
 }
 
 } // namespace canopy

@@ -22,6 +22,7 @@
 // across the screen; AdaptiveSurface1D.LevelOfDetailMatchesTheClosedForm).
 #pragma once
 
+#include "EdgeVertexExchange.h"
 #include "HyperTreeAccess.h"
 #include "LeafColorAverage.h"
 #include "TreeProgress.h"
@@ -50,6 +51,11 @@ struct SurfaceOptions : ViewOptions
   /// soon as any rank has a mask, since only the owner knows what it masks.
   /// Off: another rank's part is solid (exact when no rank masks anything).
   bool remoteFaces = false;
+  /// 2D and 3D, grids split between ranks: the edges of drawn pieces along
+  /// another rank's part are collected (sharedEdges()) so that the ranks can
+  /// put their pieces' corners there (EdgeVertexExchange.h). 3D collects them
+  /// always; 2D then keeps its cells to add them before writing.
+  bool sharedVertices = false;
   /// 3D: keep what each node's faces see (a topology and mask fact) in the
   /// access, for the next execution on the same access (a camera move). Off for
   /// an access used once (a new mask each step): the memos would cost more
@@ -73,22 +79,29 @@ struct RemoteFace
 
 /// An owner's answer: a piece of a remote face to draw, because the owner masks
 /// the cells there. `whole`: the asking node's whole face (the owner's masked
-/// node is as large or larger); else the owner's masked node's box on the face.
+/// node is as large or larger); else the owner's masked node's box on the face,
+/// and that node's level and integer position (the asking rank looks for the
+/// pieces meeting its edges there: EdgeVertices.h).
 struct RemotePiece
 {
   std::size_t face; ///< index in the asking rank's remoteFaces()
   bool whole;
   Vec3 lo;
   Vec3 hi;
+  std::int64_t level = 0;
+  std::array<std::int64_t, 3> ijk{{0, 0, 0}};
   /// Values per piece on the wire (RemotePiece <-> double).
-  static constexpr std::size_t Values = 8;
+  static constexpr std::size_t Values = 12;
 };
 
-/// Output buffers: 3 doubles per point, pointsPerCell() points per cell (4 for a
-/// quad, 2 for a segment), one cell id and one level per cell.
+/// Output buffers: 3 doubles per point; per cell, where its points start
+/// (`offsets`: one more entry than cells, the last the number of points), its
+/// cell id and its level. A segment (1D) has 2 points; a flat piece (a quad) 4,
+/// or more where finer neighbours' corners lie on its edges (EdgeVertices.h).
 struct SurfaceArrays
 {
   double* points;
+  vtkIdType* offsets;
   vtkIdType* cellIds;
   unsigned char* levels;
   unsigned char* colors = nullptr; ///< RGB per cell, with SurfaceOptions::colors
@@ -107,16 +120,20 @@ struct AskedFace
 struct TreeCells
 {
   std::vector<double> points;
+  std::vector<std::uint32_t> sizes; ///< points per cell
   std::vector<vtkIdType> cellIds;
   std::vector<unsigned char> levels;
   std::vector<unsigned char> colors; ///< RGB, with a colour map
   std::vector<AskedFace> asked;
+  std::vector<SharedEdge> shared;         ///< edges along another rank's part
+  std::vector<std::uint32_t> sharedCells; ///< the cells with such an edge, ascending
 };
 
 /// Copies the cells kept per tree (or per piece) into `arrays`, each list at
-/// its offset (in cells), in parallel.
-void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& offsets,
-                   std::size_t pointsPerCell, const SurfaceArrays& arrays);
+/// its offsets (`cellOffsets` in cells, `pointOffsets` in points: prefix sums
+/// with one more entry than `kept`), in parallel; writes the last offset too.
+void copyKeptCells(const std::vector<TreeCells>& kept, const std::vector<std::size_t>& cellOffsets,
+                   const std::vector<std::size_t>& pointOffsets, const SurfaceArrays& arrays);
 
 class GridSection;
 
@@ -153,12 +170,19 @@ public:
   std::vector<RemoteFace> remoteFaces() const;
   std::vector<RemotePiece> answerRemoteFaces(const std::vector<RemoteFace>& faces) const;
   void addRemotePieces(const std::vector<RemotePiece>& pieces);
+  /// The pieces' edges along another rank's part (after count() and the remote
+  /// pieces), and then the vertices every rank's such edges put on them
+  /// (EdgeVertexExchange.h); cells() and points() count them.
+  std::vector<SharedEdge> sharedEdges() const;
+  void addSharedVertices(const SharedVertices& shared);
   /// Cells in all: count() plus the pieces added since.
   std::size_t cells() const { return Offsets.empty() ? 0 : Offsets.back(); }
   ///@}
-  /// Points per output cell: 2 (segments) for 1D grids, 4 (quads) otherwise.
-  std::size_t pointsPerCell() const { return Grid.dimension() == 1 ? 2 : 4; }
-  /// Fills arrays sized for count() cells.
+  /// Points of those cells, all together.
+  std::size_t points() const { return PointOffsets.empty() ? 0 : PointOffsets.back(); }
+  /// Whether the cells are segments (1D grids: VTK_LINE) rather than polygons.
+  bool segments() const { return Grid.dimension() == 1; }
+  /// Fills arrays sized for cells() cells and points() points.
   void write(const SurfaceArrays& arrays) const;
 
 private:
@@ -171,9 +195,11 @@ private:
   ProgressShare Progress;
   bool CountWalked = false;            ///< count() walked the trees: write() has half the progress
   std::unique_ptr<GridSection> Region; ///< 1D/2D culling region, built once for both passes
-  void computeOffsets(const std::vector<std::size_t>& counts);
+  void computeOffsets(const std::vector<std::size_t>& counts,
+                      const std::vector<std::size_t>& pointCounts);
 
-  std::vector<std::size_t> Offsets;
+  std::vector<std::size_t> Offsets;       ///< per tree, its first cell (prefix sums)
+  std::vector<std::size_t> PointOffsets;  ///< per tree, its first point
   std::vector<TreeCells> Kept;            ///< per tree, when the counting pass kept the cells
   std::vector<TreeCells>* Lent = nullptr; ///< where Kept's buffers came from
   /// Where remoteFaces() entries come from: (tree, position in its asked list).

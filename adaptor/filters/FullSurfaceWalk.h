@@ -19,10 +19,20 @@
 namespace canopy
 {
 
-/// Writes the full surface of `tree` into `arrays` (room for `limit` cells:
-/// nothing is written past it) and returns how many cells the tree has.
-/// Preconditions: grid.dimension() is 1 or 2, grid.branchFactor() is 2 or 3.
-std::size_t writeFullSurface(const HyperTreeAccess& grid, const TreeAccess& tree,
-                             const SurfaceArrays& arrays, std::size_t limit);
+/// What a tree's full surface holds.
+struct FullSurfaceCount
+{
+  std::size_t cells = 0;
+  std::size_t points = 0;
+};
+
+/// Writes the full surface of `tree` into `arrays` (room for `limit` cells and
+/// `pointLimit` points: nothing is written past them; `pointBase`: the output's
+/// index of arrays.points' first point, what the offsets count from) and returns
+/// how many cells and points the tree has. Preconditions: grid.dimension() is 1
+/// or 2, grid.branchFactor() is 2 or 3.
+FullSurfaceCount writeFullSurface(const HyperTreeAccess& grid, const TreeAccess& tree,
+                                  const SurfaceArrays& arrays, std::size_t limit,
+                                  std::size_t pointLimit, std::size_t pointBase);
 
 } // namespace canopy

@@ -59,6 +59,10 @@ struct TreeAccess
   /// Unmasked leaves without a masked ancestor: the cells of a full 1D/2D
   /// surface. Counted only with index tables (a kept access); -1 otherwise.
   vtkIdType visibleLeaves = -1;
+  /// The points of those cells (corners, and the corners of finer neighbours on
+  /// their edges): counted by the first full surface of a kept access, -1 before.
+  /// Written only by the thread walking this tree.
+  mutable vtkIdType fullSurfacePoints = -1;
 
   /// As VTK's compact tree decides, plus a guard: a single-vertex tree is a
   /// leaf whatever its table says (vtkHyperTreeGridSource leaves a 0 there),

@@ -4,6 +4,7 @@
 #include "ViewVolume.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <unordered_map>
 
@@ -46,24 +47,39 @@ int PixelBoxFilter::faceOnAxis(const ViewVolume& view)
   return normal >= 0 && alignedAxis(view.screenUp()) >= 0 ? normal : -1;
 }
 
-PixelBoxFilter::PixelBoxFilter(const ViewVolume& view, const double* points, vtkIdType quads,
+PixelBoxFilter::PixelBoxFilter(const ViewVolume& view, const double* points,
+                               const vtkIdType* offsets, vtkIdType quads,
                                const unsigned char* colors)
     : Width(view.camera().viewportWidth), Height(view.camera().viewportHeight),
       Owner(static_cast<std::size_t>(Width * Height), None)
 {
   const int normal = faceOnAxis(view);
-  // Face-on quads lie in a plane normal to the view: their corners share that
+  // Each quad's box: its points lie on the rectangle's edges.
+  auto boxOf = [&](vtkIdType q)
+  {
+    std::array<Vec3, 2> box{{{{1e300, 1e300, 1e300}}, {{-1e300, -1e300, -1e300}}}};
+    for (vtkIdType k = offsets[q]; k < offsets[q + 1]; ++k)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        box[0][a] = std::min(box[0][a], points[3 * k + a]);
+        box[1][a] = std::max(box[1][a], points[3 * k + a]);
+      }
+    }
+    return box;
+  };
+  // Face-on quads lie in a plane normal to the view: their points share that
   // coordinate (a slice's other planes are seen edge-on: skipped).
   auto faceOn = [&](vtkIdType q)
   {
-    const double* c = points + 12 * q;
-    return normal >= 0 && c[normal] == c[6 + normal] && c[normal] == c[3 + normal];
+    const auto box = boxOf(q);
+    return normal >= 0 && box[0][normal] == box[1][normal];
   };
   auto rectOf = [&](vtkIdType q)
   {
-    const double* c = points + 12 * q;
-    const auto a = view.toPixels({{c[0], c[1], c[2]}});
-    const auto b = view.toPixels({{c[6], c[7], c[8]}});
+    const auto box = boxOf(q);
+    const auto a = view.toPixels(box[0]);
+    const auto b = view.toPixels(box[1]);
     return PixelRect{std::min(a[0], b[0]), std::max(a[0], b[0]), std::min(a[1], b[1]),
                      std::max(a[1], b[1])};
   };

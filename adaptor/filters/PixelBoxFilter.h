@@ -51,11 +51,12 @@ public:
   /// screen-aligned rectangles (view up along another axis), else -1.
   static int faceOnAxis(const ViewVolume& view);
 
-  /// Precondition: faceOnAxis(view) >= 0. `points`: the quads' corners, 4
-  /// consecutive points (x, y, z) per quad, in order around it (corners 0 and 2
-  /// opposite); `colors`: RGB per quad. Both are read here only (not kept).
-  PixelBoxFilter(const ViewVolume& view, const double* points, vtkIdType quads,
-                 const unsigned char* colors);
+  /// Precondition: faceOnAxis(view) >= 0. `points`: the quads' points (x, y,
+  /// z), quad q's from offsets[q] to offsets[q + 1] - 1: an axis-aligned
+  /// rectangle, its corners and any vertices on its edges; `colors`: RGB per
+  /// quad. All are read here only (not kept).
+  PixelBoxFilter(const ViewVolume& view, const double* points, const vtkIdType* offsets,
+                 vtkIdType quads, const unsigned char* colors);
 
   /// What this rank's quads add to pixels whose centre none of them holds, 5
   /// values each: pixel index, red, green, blue (times area), area.

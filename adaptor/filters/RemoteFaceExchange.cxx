@@ -43,7 +43,9 @@ void exchangeRemoteFaces(AdaptiveSurfaceBuilder& builder, vtkMultiProcessControl
       {
         answers.insert(answers.end(),
                        {static_cast<double>(r), static_cast<double>(p.face), p.whole ? 1.0 : 0.0,
-                        p.lo[0], p.lo[1], p.lo[2], p.hi[0], p.hi[1], p.hi[2]});
+                        p.lo[0], p.lo[1], p.lo[2], p.hi[0], p.hi[1], p.hi[2],
+                        static_cast<double>(p.level), static_cast<double>(p.ijk[0]),
+                        static_cast<double>(p.ijk[1]), static_cast<double>(p.ijk[2])});
       }
     }
     at += values;
@@ -57,8 +59,13 @@ void exchangeRemoteFaces(AdaptiveSurfaceBuilder& builder, vtkMultiProcessControl
     const double* v = everyAnswer.data() + i;
     if (static_cast<int>(v[0]) == me)
     {
-      mine.push_back(
-          {static_cast<std::size_t>(v[1]), v[2] != 0, {{v[3], v[4], v[5]}}, {{v[6], v[7], v[8]}}});
+      mine.push_back({static_cast<std::size_t>(v[1]),
+                      v[2] != 0,
+                      {{v[3], v[4], v[5]}},
+                      {{v[6], v[7], v[8]}},
+                      static_cast<std::int64_t>(v[9]),
+                      {{static_cast<std::int64_t>(v[10]), static_cast<std::int64_t>(v[11]),
+                        static_cast<std::int64_t>(v[12])}}});
     }
   }
   builder.addRemotePieces(mine);

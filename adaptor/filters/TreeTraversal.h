@@ -40,7 +40,18 @@ template <typename Enter, typename AcceptChild>
 bool walkSubtree(const HyperTreeAccess& grid, const TreeAccess& tree, const WalkNode& start,
                  Enter&& enter, AcceptChild&& acceptChild)
 {
-  std::vector<WalkNode> stack{start};
+  std::vector<WalkNode> stack;
+  return walkSubtree(grid, tree, start, std::forward<Enter>(enter),
+                     std::forward<AcceptChild>(acceptChild), stack);
+}
+
+/// The same with the caller's stack (cleared first): a caller walking many small
+/// subtrees keeps one, allocated once.
+template <typename Enter, typename AcceptChild>
+bool walkSubtree(const HyperTreeAccess& grid, const TreeAccess& tree, const WalkNode& start,
+                 Enter&& enter, AcceptChild&& acceptChild, std::vector<WalkNode>& stack)
+{
+  stack.assign(1, start);
   while (!stack.empty())
   {
     WalkNode n = stack.back();

@@ -1,6 +1,7 @@
 #include "vtkCanopyAdaptiveSlice.h"
 
 #include "AdaptiveSliceBuilder.h"
+#include "EdgeVertexExchange.h"
 #include "HyperTreeAccess.h"
 #include "HyperTreeAccessCache.h"
 #include "TreeProgress.h"
@@ -9,11 +10,14 @@
 #include <vtkDoubleArray.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdTypeArray.h>
+#include <vtkMultiProcessController.h>
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 vtkStandardNewMacro(vtkCanopyAdaptiveSlice);
 
@@ -70,10 +74,7 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
     return 0;
   }
   canopy::CameraParameters camera;
-  if (!this->CurrentView(camera))
-  {
-    return 0;
-  }
+  const bool viewUsable = this->CurrentView(camera);
   std::vector<canopy::SlicePlane> planes;
   for (int axis = 0; axis < 3; ++axis)
   {
@@ -86,33 +87,66 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
   {
     planes.push_back({axis, 0.0});
   }
+  // No index tables and no masked-descendant flags: both cost a pass over
+  // every node, and a slice reads only the nodes it cuts.
+  std::shared_ptr<const canopy::HyperTreeAccess> access;
+  std::string problem;
+  try
+  {
+    access = this->Topology->get(input, false, false);
+    problem = canopy::AdaptiveSliceBuilder::validate(*access, planes);
+  }
+  catch (const std::exception& e)
+  {
+    this->Topology->clear();
+    problem = std::string("cannot build the slices: ") + e.what();
+  }
+  // A grid split between ranks: every rank agrees whether to go on and whether
+  // the ranks exchange the corners of their cuts along each other's parts
+  // (EdgeVertexExchange.h), before anything collective.
+  vtkMultiProcessController* controller = this->Controller;
+  const bool collective = controller && controller->GetNumberOfProcesses() > 1;
+  int local[2] = {!viewUsable || !problem.empty() ? 1 : 0,
+                  access && (access->hasAbsent() || access->hasTreesElsewhere()) ? 1 : 0};
+  int agreed[2] = {local[0], local[1]};
+  if (collective)
+  {
+    controller->AllReduce(local, agreed, 2, vtkCommunicator::MAX_OP);
+  }
+  if (agreed[0])
+  {
+    if (!problem.empty())
+    {
+      vtkErrorMacro(<< (access ? "cannot slice: " : "") << problem);
+    }
+    else if (viewUsable)
+    {
+      vtkErrorMacro("cannot build the slices: another process failed");
+    }
+    return 0;
+  }
 
   output->Initialize();
   const CellArrays arrays = this->NewCellArrays();
   vtkIdType quads = 0;
   try
   {
-    // No index tables and no masked-descendant flags: both cost a pass over
-    // every node, and a slice reads only the nodes it cuts.
-    const std::shared_ptr<const canopy::HyperTreeAccess> access =
-        this->Topology->get(input, false, false);
-    const std::string problem = canopy::AdaptiveSliceBuilder::validate(*access, planes);
-    if (!problem.empty())
-    {
-      vtkErrorMacro("cannot slice: " << problem);
-      return 0;
-    }
     canopy::SliceOptions options;
     const ViewResources resources = this->ViewOptionsFor(camera, input, options);
     canopy::TreeProgress progress(this);
     canopy::AdaptiveSliceBuilder builder(*access, std::move(planes), options, {&progress});
     quads = static_cast<vtkIdType>(builder.count());
     this->LastVisited = static_cast<vtkIdType>(builder.visited());
+    if (collective && agreed[1])
+    {
+      // Collective: an aborted rank still takes part.
+      canopy::exchangeSharedVertices(builder, controller);
+    }
     if (progress.stopped())
     {
       return 1; // aborted: the output stays empty
     }
-    builder.write(this->SizeCellArrays(arrays, quads, 4));
+    builder.write(this->SizeCellArrays(arrays, quads, static_cast<vtkIdType>(builder.points())));
   }
   catch (const std::exception& e)
   {
@@ -120,7 +154,7 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
     vtkErrorMacro("cannot build the slices: " << e.what());
     return 0;
   }
-  this->AssembleOutput(input, output, arrays, quads, 4);
+  this->AssembleOutput(input, output, arrays, quads, false);
   return 1;
 }
 

@@ -1,6 +1,7 @@
 #include "vtkCanopyAdaptiveSurface.h"
 
 #include "AdaptiveSurfaceBuilder.h"
+#include "EdgeVertexExchange.h"
 #include "HyperTreeAccess.h"
 #include "HyperTreeAccessCache.h"
 #include "RemoteFaceExchange.h"
@@ -42,11 +43,13 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   }
   canopy::CameraParameters camera;
   const bool viewUsable = this->CurrentView(camera);
-  // Split 3D grids: every rank agrees whether to go on and whether faces
-  // between ranks must be asked about, before anything collective.
+  // Split 2D and 3D grids: every rank agrees whether to go on, whether faces
+  // between ranks must be asked about (3D, masks) and whether the ranks put
+  // the corners of their pieces on each other's edges (EdgeVertexExchange.h),
+  // before anything collective.
   vtkMultiProcessController* controller = this->Controller;
   const bool collective =
-      input->GetDimension() == 3 && controller && controller->GetNumberOfProcesses() > 1;
+      input->GetDimension() >= 2 && controller && controller->GetNumberOfProcesses() > 1;
   std::shared_ptr<const canopy::HyperTreeAccess> access;
   std::string problem;
   try
@@ -81,15 +84,15 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   // Release the previous output first: its arrays can then be reused.
   output->Initialize();
   const CellArrays arrays = this->NewCellArrays();
-  vtkIdType quads = 0; // cells: quads, or segments of a 1D grid
-  vtkIdType perCell = 4;
+  vtkIdType quads = 0; // cells: flat pieces, or segments of a 1D grid
   canopy::TreeProgress progress(this);
   try
   {
     canopy::SurfaceOptions options;
     const ViewResources resources = this->ViewOptionsFor(camera, input, options);
     options.skipBackFaces = this->SkipBackFaces;
-    options.remoteFaces = collective && agreed[1] && agreed[2];
+    options.remoteFaces = collective && input->GetDimension() == 3 && agreed[1] && agreed[2];
+    options.sharedVertices = collective && agreed[2];
     options.memoize = this->Topology->lastWasKept();
     canopy::AdaptiveSurfaceBuilder builder(*access, options, &this->CellBuffers, {&progress});
     builder.count();
@@ -98,13 +101,17 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
       // Collective: an aborted rank still answers the others.
       canopy::exchangeRemoteFaces(builder, controller);
     }
+    if (options.sharedVertices)
+    {
+      // The same; after the remote faces, whose pieces have edges too.
+      canopy::exchangeSharedVertices(builder, controller);
+    }
     if (progress.stopped())
     {
       return 1; // aborted: the output stays empty
     }
     quads = static_cast<vtkIdType>(builder.cells());
-    perCell = static_cast<vtkIdType>(builder.pointsPerCell());
-    builder.write(this->SizeCellArrays(arrays, quads, perCell));
+    builder.write(this->SizeCellArrays(arrays, quads, static_cast<vtkIdType>(builder.points())));
     if (progress.stopped())
     {
       return 1; // aborted: the arrays are partly written, the output stays empty
@@ -116,7 +123,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     vtkErrorMacro("cannot build the surface: " << e.what());
     return 0;
   }
-  this->AssembleOutput(input, output, arrays, quads, perCell);
+  this->AssembleOutput(input, output, arrays, quads, input->GetDimension() == 1);
   if (input->GetDimension() == 3)
   {
     this->AddAxisNormals(output);

@@ -155,12 +155,15 @@ int vtkCanopyViewDependentFilter::RequestData(vtkInformation* request,
   auto* colors = vtkUnsignedCharArray::SafeDownCast(output->GetCellData()->GetArray("Colors"));
   vtkDoubleArray* points =
       output->GetPoints() ? vtkDoubleArray::SafeDownCast(output->GetPoints()->GetData()) : nullptr;
-  const bool quads = colors && points && output->GetPolys() &&
-                     output->GetPolys()->GetNumberOfCells() == output->GetNumberOfCells() &&
-                     points->GetNumberOfTuples() == 4 * output->GetNumberOfCells();
+  vtkCellArray* polys = output->GetPolys();
+  const bool quads = colors && points && polys && polys->IsStorage64Bit() &&
+                     polys->GetNumberOfCells() == output->GetNumberOfCells();
   const vtkIdType count = quads ? output->GetNumberOfCells() : 0;
-  canopy::PixelBoxFilter filter(view, quads ? points->GetPointer(0) : nullptr, count,
-                                quads ? colors->GetPointer(0) : nullptr);
+  canopy::PixelBoxFilter filter(
+      view, quads ? points->GetPointer(0) : nullptr,
+      quads ? reinterpret_cast<const vtkIdType*>(polys->GetOffsetsArray64()->GetPointer(0))
+            : nullptr,
+      count, quads ? colors->GetPointer(0) : nullptr);
   vtkMultiProcessController* controller = this->Controller;
   if (controller && controller->GetNumberOfProcesses() > 1)
   {
@@ -360,6 +363,7 @@ vtkCanopyViewDependentFilter::CellArrays vtkCanopyViewDependentFilter::NewCellAr
   CellArrays arrays;
   arrays.Points = this->ReusableArray<vtkDoubleArray>("points", VTK_DOUBLE);
   arrays.Points->SetNumberOfComponents(3);
+  arrays.Offsets = this->ReusableArray<vtkIdTypeArray>("cellOffsets", VTK_ID_TYPE);
   arrays.Ids = this->ReusableArray<vtkIdTypeArray>("OriginalCellId", VTK_ID_TYPE);
   arrays.Ids->SetName("OriginalCellId");
   arrays.Levels = this->ReusableArray<vtkUnsignedCharArray>("Level", VTK_UNSIGNED_CHAR);
@@ -375,34 +379,36 @@ vtkCanopyViewDependentFilter::CellArrays vtkCanopyViewDependentFilter::NewCellAr
 
 canopy::SurfaceArrays vtkCanopyViewDependentFilter::SizeCellArrays(const CellArrays& arrays,
                                                                    vtkIdType cells,
-                                                                   vtkIdType perCell)
+                                                                   vtkIdType points)
 {
   // Allocated once, written in place by the trees in parallel.
-  arrays.Points->SetNumberOfTuples(perCell * cells);
+  arrays.Points->SetNumberOfTuples(points);
+  arrays.Offsets->SetNumberOfTuples(cells + 1);
   arrays.Ids->SetNumberOfTuples(cells);
   arrays.Levels->SetNumberOfTuples(cells);
   if (arrays.Colors)
   {
     arrays.Colors->SetNumberOfTuples(cells);
   }
-  return {arrays.Points->GetPointer(0), arrays.Ids->GetPointer(0), arrays.Levels->GetPointer(0),
-          arrays.Colors ? arrays.Colors->GetPointer(0) : nullptr};
+  return {arrays.Points->GetPointer(0), arrays.Offsets->GetPointer(0), arrays.Ids->GetPointer(0),
+          arrays.Levels->GetPointer(0), arrays.Colors ? arrays.Colors->GetPointer(0) : nullptr};
 }
 
 void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output,
                                                   const CellArrays& arrays, vtkIdType cells,
-                                                  vtkIdType perCell)
+                                                  bool segments)
 {
   vtkNew<vtkPoints> points;
   points->SetData(arrays.Points);
 
-  auto offsets = this->ArithmeticIds("offsets", cells + 1, perCell);
-  auto connectivity = this->ArithmeticIds("connectivity", perCell * cells, 1);
+  // Every cell's points are its own, written in cell order.
+  auto connectivity = this->ArithmeticIds("connectivity", arrays.Points->GetNumberOfTuples(), 1);
+  arrays.Offsets->Modified();
   vtkNew<vtkCellArray> cellArray;
-  cellArray->SetData(offsets, connectivity);
+  cellArray->SetData(arrays.Offsets, connectivity);
 
   output->SetPoints(points);
-  if (perCell == 2)
+  if (segments)
   {
     output->SetLines(cellArray); // two-point lines: VTK_LINE cells
   }
@@ -444,26 +450,33 @@ void vtkCanopyViewDependentFilter::AddAxisNormals(vtkPolyData* output)
   normals->SetNumberOfComponents(3);
   const vtkIdType cells = output->GetNumberOfCells();
   normals->SetNumberOfTuples(cells);
-  // The builders write quads as 4 consecutive points each.
+  // The builders write each polygon's points consecutively, corners in order
+  // with any extra vertices on the edges between them: the first point is a
+  // corner, the second lies along its first edge and the last along its last.
   const double* p = vtkDoubleArray::SafeDownCast(output->GetPoints()->GetData())->GetPointer(0);
+  static_assert(sizeof(vtkIdType) == sizeof(vtkTypeInt64), "64-bit ids");
+  const auto* offsets =
+      reinterpret_cast<const vtkIdType*>(output->GetPolys()->GetOffsetsArray64()->GetPointer(0));
   float* n = normals->GetPointer(0);
-  vtkSMPTools::For(
-      0, cells,
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        for (vtkIdType q = begin; q < end; ++q)
-        {
-          const double* c = p + 12 * q;
-          auto corner = [c](int k) { return canopy::Vec3{{c[3 * k], c[3 * k + 1], c[3 * k + 2]}}; };
-          const canopy::Vec3 normal =
-              canopy::cross(canopy::sub(corner(1), corner(0)), canopy::sub(corner(3), corner(0)));
-          for (int a = 0; a < 3; ++a)
-          {
-            const double x = normal[a];
-            n[3 * q + a] = x > 0 ? 1.0f : x < 0 ? -1.0f : 0.0f;
-          }
-        }
-      });
+  vtkSMPTools::For(0, cells,
+                   [&](vtkIdType begin, vtkIdType end)
+                   {
+                     for (vtkIdType q = begin; q < end; ++q)
+                     {
+                       auto point = [p](vtkIdType k) {
+                         return canopy::Vec3{{p[3 * k], p[3 * k + 1], p[3 * k + 2]}};
+                       };
+                       const canopy::Vec3 first = point(offsets[q]);
+                       const canopy::Vec3 normal =
+                           canopy::cross(canopy::sub(point(offsets[q] + 1), first),
+                                         canopy::sub(point(offsets[q + 1] - 1), first));
+                       for (int a = 0; a < 3; ++a)
+                       {
+                         const double x = normal[a];
+                         n[3 * q + a] = x > 0 ? 1.0f : x < 0 ? -1.0f : 0.0f;
+                       }
+                     }
+                   });
   output->GetCellData()->SetNormals(normals);
 }
 

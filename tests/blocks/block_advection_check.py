@@ -178,10 +178,15 @@ for number, step in enumerate(steps):
                "step %d: the full surface has %d quads for %d cells"
                % (step, surface.GetNumberOfPolys(), cells))
         if surface.GetNumberOfPolys():
-            corners = vtk_to_numpy(surface.GetPolys().GetConnectivityArray()).reshape(
-                surface.GetNumberOfPolys(), -1)
+            # Each quad's box: a polygon also carries, on its edges, the corners of
+            # finer neighbours, so cells have 4 points or more.
+            polys = surface.GetPolys()
+            offsets = vtk_to_numpy(polys.GetOffsetsArray())[:-1]
+            corners = vtk_to_numpy(polys.GetConnectivityArray())
             points = vtk_to_numpy(surface.GetPoints().GetData())[corners]
-            area = numpy.prod((points.max(axis=1) - points.min(axis=1))[:, :2], axis=1)
+            extent = (numpy.maximum.reduceat(points, offsets, axis=0) -
+                      numpy.minimum.reduceat(points, offsets, axis=0))
+            area = numpy.prod(extent[:, :2], axis=1)
             surface_mass = math.fsum(cell_array(surface, "density") * area)
             expect(close(surface_mass, mass), "step %d: the full surface's mass is %.17g, the "
                    "simulation's %.17g" % (step, surface_mass, mass))

@@ -31,10 +31,11 @@
 // leaf touching a plane, a footprint equal to the threshold) both answers are taken,
 // and nowhere else (bounds are exact for binary trees over dyadic coordinates, there
 // the rules are checked to the last bit). Anything else aborts with a message on stderr
-// (libFuzzer saves the input). One known defect is tolerated, only in its own shape
-// (knownInteriorFacesTolerated; docs/testing.md); CANOPY_FUZZ_STRICT=1 reports it too.
-// (Wide perspective views' culling excess, found here, is fixed in ViewVolume:
-// corpus_filters/known_wide_view_culling_excess keeps it fixed.) CANOPY_FUZZ_DESCRIBE=1: one line
+// (libFuzzer saves the input). Nothing is tolerated. (What it found is fixed and kept
+// fixed by its input: wide perspective views' culling excess in ViewVolume,
+// corpus_filters/known_wide_view_culling_excess; faces drawn inside a coarser node
+// where level of detail stops, in AdaptiveSurfaceBuilder's face queries,
+// corpus_filters/regression_lod_interior_face.) CANOPY_FUZZ_DESCRIBE=1: one line
 // per input saying what it decoded to (tests/fuzz/make_filter_corpus.py --check reads it).
 //
 // Input format (tests/fuzz/make_filter_corpus.py writes inputs in it): bytes read front
@@ -65,6 +66,7 @@
 //                   random planes), near, far, aspect, then 6 or 18 bytes of planes
 #include "CameraPlanes.h"
 #include "ConvexClip.h"
+#include "FlatPolygons.h"
 #include "HtgWalk.h"
 #include "PartitionedForest.h"
 #include "RandomForest.h"
@@ -213,28 +215,6 @@ const char* triName(Tri t)
 
 /// Decisions taken both ways, for the summary line.
 std::size_t Ambiguous = 0;
-
-/// Known-defect shapes passed over (knownInteriorFacesTolerated), counted for the
-/// run's summary; none with CANOPY_FUZZ_STRICT=1.
-std::size_t Tolerated = 0;
-
-bool strict()
-{
-  static const bool on = std::getenv("CANOPY_FUZZ_STRICT") != nullptr;
-  return on;
-}
-
-/// Known defect, reported and not yet fixed: with level of detail, a 3D node's face
-/// whose other side lies in a coarser node where descent stops (drawn solid) is drawn
-/// when a masked node lies there at or above the drawn node's level:
-/// AdaptiveSurfaceBuilder's FaceSide::faceState descends the neighbour's tree to the
-/// node's level without checking level of detail on the way, so the face is inside
-/// the drawn solid (an interior face; hidden, but extra). Those faces only are
-/// tolerated, and not with CANOPY_FUZZ_STRICT=1.
-bool knownInteriorFacesTolerated()
-{
-  return !strict();
-}
 
 // ---- A grid as VTK's cursors see it: every node, masked subtrees included ----
 
@@ -806,7 +786,8 @@ struct SurfaceCell
 {
   vtkIdType id;
   int level;
-  std::vector<Point> points;
+  std::vector<Point> points;  ///< a segment's ends, a flat piece's four corners in order
+  std::vector<Point> polygon; ///< a flat piece's points: its corners, and those on its edges
 };
 
 std::vector<SurfaceCell> surfaceCells(vtkHyperTreeGrid* input, vtkPolyData* surface, int dimension,
@@ -821,23 +802,39 @@ std::vector<SurfaceCell> surfaceCells(vtkHyperTreeGrid* input, vtkPolyData* surf
     fail(what + ": OriginalCellId or Level missing or not one per cell");
   }
   std::vector<SurfaceCell> out;
-  const vtkIdType perCell = dimension == 1 ? 2 : 4;
   for (vtkIdType c = 0; c < cells; ++c)
   {
     vtkIdType n = 0;
     const vtkIdType* points = nullptr;
     surface->GetCellPoints(c, n, points);
-    if (n != perCell || surface->GetCellType(c) != (dimension == 1 ? VTK_LINE : VTK_QUAD))
+    const int type = surface->GetCellType(c);
+    if (dimension == 1 ? n != 2 || type != VTK_LINE
+                       : n < 4 || type != (n == 4 ? VTK_QUAD : VTK_POLYGON))
     {
       fail(what + ": cell " + std::to_string(c) + " is not a " +
-           (dimension == 1 ? "line" : "quad"));
+           (dimension == 1 ? "line" : "quad or polygon"));
     }
-    SurfaceCell cell{ids->GetValue(c), levels->GetValue(c), {}};
+    SurfaceCell cell{ids->GetValue(c), levels->GetValue(c), {}, {}};
     for (vtkIdType k = 0; k < n; ++k)
     {
       Point p;
       surface->GetPoint(points[k], p.data());
-      cell.points.push_back(p);
+      cell.polygon.push_back(p);
+    }
+    if (dimension == 1)
+    {
+      cell.points = cell.polygon;
+    }
+    else
+    {
+      // A rectangle, with the corners of the pieces meeting its edges on them.
+      std::array<Point, 4> corners;
+      const std::string problem = rectangleProblem(cell.polygon, corners);
+      if (!problem.empty())
+      {
+        fail(what + ": cell " + std::to_string(c) + ": " + problem);
+      }
+      cell.points.assign(corners.begin(), corners.end());
     }
     out.push_back(cell);
   }
@@ -1270,17 +1267,37 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
   vtkNew<vtkCanopyAdaptiveSurface> filter;
   ErrorWatch errors(filter);
   filter->SetInputData(g.htg);
-  auto run = [&](const std::string& what)
+  // `exact`: the vertices on each flat piece's edges must be exactly the other
+  // pieces' corners there (a 1D or 2D surface with every neighbour drawn), else
+  // at least those (culling leaves a piece the corners of neighbours culled
+  // away; 3D faces take the bounds of every cell around an edge). Split grids:
+  // another rank's pieces are not here, so the check is on the whole grid only.
+  auto run = [&](const std::string& what, bool exact)
   {
     Stage = label + ", " + what;
     filter->Update();
     errors.check(Stage);
-    return surfaceCells(g.htg, filter->GetPolyDataOutput(), g.dimension, Stage);
+    auto cells = surfaceCells(g.htg, filter->GetPolyDataOutput(), g.dimension, Stage);
+    if (wholeGrid && g.dimension >= 2)
+    {
+      std::vector<std::vector<Point>> pieces;
+      for (const SurfaceCell& c : cells)
+      {
+        pieces.push_back(c.polygon);
+      }
+      std::size_t found = 0;
+      const std::string problem = edgeVertexProblem(pieces, exact, found);
+      if (!problem.empty())
+      {
+        fail(Stage + ": the corners of the pieces meeting an edge: " + problem);
+      }
+    }
+    return cells;
   };
 
   // The full surface.
   filter->ViewDependentOff();
-  const auto full = run("surface without a view");
+  const auto full = run("surface without a view", g.dimension == 2);
   runs.full = resultOf(g, full);
   std::vector<Quad> fullQuads;
   if (g.dimension == 3)
@@ -1311,7 +1328,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
   view.configure(filter);
   filter->LevelOfDetailOff();
   filter->ViewCullingOn();
-  const auto culled = run("culled surface");
+  const auto culled = run("culled surface", false);
   runs.culled = resultOf(g, culled);
   if (g.dimension == 3)
   {
@@ -1357,7 +1374,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
     }
     // Back faces skipped: the faces turned towards the camera, no others.
     filter->SkipBackFacesOn();
-    const auto front = run("culled surface without back faces");
+    const auto front = run("culled surface without back faces", false);
     filter->SkipBackFacesOff();
     const double* position = view.camera->GetPosition();
     double dop[3];
@@ -1402,7 +1419,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
 
   // With level of detail.
   filter->LevelOfDetailOn();
-  const auto lod = run("surface with level of detail");
+  const auto lod = run("surface with level of detail", false);
   if (g.dimension < 3)
   {
     checkPlanarSurface(g, filter->GetPolyDataOutput(), &view, true, true, Stage);
@@ -1445,7 +1462,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
 
   // Level of detail without culling: 3D, exactly the boundary of the stop nodes.
   filter->ViewCullingOff();
-  const auto unculled = run("surface with level of detail, without culling");
+  const auto unculled = run("surface with level of detail, without culling", false);
   if (g.dimension < 3)
   {
     checkPlanarSurface(g, filter->GetPolyDataOutput(), &view, false, true, Stage);
@@ -1478,8 +1495,7 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
             front[a] += p[a] / 4;
         front[q.axis] += q.sign * 1e-6 * g.extent;
         std::string path;
-        int solidFrom = -1; ///< level of the stop node in front, if any
-        bool maskedBelowStop = false;
+        bool solid = false; ///< a stop node in front
         for (vtkIdType id : chainAt(g, front))
         {
           const NodeTruth& n = g.at(id);
@@ -1489,22 +1505,14 @@ SurfaceRuns checkSurfaces(const GridTruth& g, const View& view, int branchFactor
                   (n.leaf ? ", leaf" : "") + ")";
           if (n.masked)
           {
-            maskedBelowStop = solidFrom >= 0 && n.level <= drawer.level;
             break;
           }
-          if (solidFrom < 0 && stopped[static_cast<std::size_t>(id)])
-          {
-            solidFrom = n.level;
-          }
+          solid = solid || stopped[static_cast<std::size_t>(id)];
         }
-        if (solidFrom < 0)
+        if (!solid)
         {
           exposed.push_back(q);
           exposedCells.push_back(unculled[i]);
-        }
-        else if (knownInteriorFacesTolerated() && solidFrom < drawer.level && maskedBelowStop)
-        {
-          ++Tolerated;
         }
         else
         {
@@ -2516,9 +2524,9 @@ void describe(const ForestSpec& spec, const RandomForest& forest, const View& vi
   {
     std::fprintf(stderr,
                  "canopy filters fuzz input: %s; %zu node(s), %zu leaves; %s; selection: %s; "
-                 "%zu decision(s) within rounding, %zu known excess(es) tolerated; checked\n",
+                 "%zu decision(s) within rounding; checked\n",
                  spec.describe.c_str(), forest.numberOfNodes(), forest.numberOfLeaves(),
-                 viewStr(view).c_str(), selection.describe.c_str(), Ambiguous, Tolerated);
+                 viewStr(view).c_str(), selection.describe.c_str(), Ambiguous);
   }
 }
 
@@ -2536,7 +2544,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 {
   using namespace canopy::testing;
   Input in(data, size);
-  Ambiguous = Tolerated = 0;
+  Ambiguous = 0;
   Stage = "decoding";
   const ForestSpec spec = decodeForest(in);
   Decoded = spec.describe;

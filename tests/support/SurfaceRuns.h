@@ -5,6 +5,7 @@
 // level of detail).
 #pragma once
 
+#include "FlatPolygons.h"
 #include "HtgWalk.h"
 #include "RandomForest.h"
 
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <vtkCamera.h>
 #include <vtkCellData.h>
+#include <vtkCellType.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkIdTypeArray.h>
 #include <vtkMatrix4x4.h>
@@ -104,7 +106,8 @@ inline vtkSmartPointer<vtkPolyData> fullSurface(vtkHyperTreeGrid* htg)
 }
 
 /// The full surface of a 1D or 2D grid: one cell of `cellType` (VTK_LINE,
-/// VTK_QUAD) per visible leaf, on the leaf's box and at its level.
+/// VTK_QUAD) per visible leaf, on the leaf's box and at its level. A quad is a
+/// VTK_POLYGON where finer neighbours' corners lie on its edges: exactly those.
 inline void expectOneCellPerVisibleLeaf(vtkHyperTreeGrid* htg, int cellType,
                                         const std::string& context)
 {
@@ -120,7 +123,14 @@ inline void expectOneCellPerVisibleLeaf(vtkHyperTreeGrid* htg, int cellType,
   auto* levels = vtkUnsignedCharArray::SafeDownCast(surface->GetCellData()->GetArray("Level"));
   for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
   {
-    ASSERT_EQ(surface->GetCellType(c), cellType) << context << " cell " << c;
+    if (cellType == VTK_QUAD && surface->GetCellType(c) == VTK_POLYGON)
+    {
+      rectangleOf(cellPoints(surface, c), context + " cell " + std::to_string(c));
+    }
+    else
+    {
+      ASSERT_EQ(surface->GetCellType(c), cellType) << context << " cell " << c;
+    }
     const LeafBox* leaf = byId.at(ids->GetValue(c));
     EXPECT_EQ(levels->GetValue(c), leaf->level) << context << " cell " << c;
     double b[6];
@@ -129,6 +139,10 @@ inline void expectOneCellPerVisibleLeaf(vtkHyperTreeGrid* htg, int cellType,
     {
       ASSERT_NEAR(b[i], leaf->bounds[i], 1e-12) << context << " cell " << c << " bound " << i;
     }
+  }
+  if (cellType == VTK_QUAD)
+  {
+    expectEdgeVerticesAreNeighboursCorners(surface, context);
   }
 }
 

@@ -4,6 +4,7 @@
 // front, the closed-surface volume identity).
 #pragma once
 
+#include "FlatPolygons.h"
 #include "HtgWalk.h"
 
 #include <gtest/gtest.h>
@@ -181,21 +182,14 @@ inline Quad quadOf(const std::array<Point, 4>& corners)
   return q;
 }
 
+/// Each cell's rectangle: its four corners in order (a polygon also carries the
+/// corners of the pieces meeting its edges, FlatPolygons.h).
 inline std::vector<Quad> quadsOf(vtkPolyData* surface)
 {
   std::vector<Quad> quads;
   for (vtkIdType c = 0; c < surface->GetNumberOfCells(); ++c)
   {
-    vtkIdType n = 0;
-    const vtkIdType* ids = nullptr;
-    surface->GetCellPoints(c, n, ids);
-    EXPECT_EQ(n, 4);
-    std::array<Point, 4> corners;
-    for (int k = 0; k < 4; ++k)
-    {
-      surface->GetPoint(ids[k], corners[k].data());
-    }
-    quads.push_back(quadOf(corners));
+    quads.push_back(quadOf(rectangleOf(cellPoints(surface, c), "cell " + std::to_string(c))));
   }
   return quads;
 }

@@ -8,6 +8,7 @@
 // the work only the nodes the plane cuts.
 #include "CameraPlanes.h"
 #include "ErrorMessages.h"
+#include "FlatPolygons.h"
 #include "HtgWalk.h"
 #include "RandomForest.h"
 #include "RankPart.h"
@@ -54,7 +55,8 @@ std::vector<SliceQuad> quadsOf(vtkPolyData* out)
   vtkDataArray* values = out->GetCellData()->GetArray("node");
   for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
   {
-    EXPECT_EQ(out->GetCell(c)->GetNumberOfPoints(), 4);
+    // A rectangle, with the corners of finer neighbours on its edges.
+    rectangleOf(cellPoints(out, c), "cell " + std::to_string(c));
     double b[6];
     out->GetCellBounds(c, b);
     SliceQuad q{static_cast<vtkIdType>(ids->GetTuple1(c)),
@@ -428,6 +430,54 @@ TEST(AdaptiveSlice, LevelOfDetailCoversEachCutLeafExactlyOnce)
     }
   }
   EXPECT_GE(coarsened, 20) << "level of detail should coarsen most of these views";
+}
+
+TEST(AdaptiveSlice, EdgesCarryTheCornersOfFinerNeighbours)
+{
+  // Where a drawn quad meets finer ones (a T-junction), their corners lie on its
+  // edge: the quad is drawn as a polygon through them, so that the neighbours'
+  // edges coincide point for point. Exactly those corners: for every quad of a
+  // slice, at full resolution and with level of detail (culling off: every
+  // neighbour drawn), its points other than its corners are the other quads'
+  // corners inside its edges. With culling, a quad keeps the corners of
+  // neighbours culled away (they are harmless) and has all the others.
+  std::size_t vertices = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed)
+  {
+    RandomForestOptions o = sliceOptions(seed);
+    o.maxLevels = o.branchFactor == 3 ? 4 : 6;
+    o.refineProbability = 0.55;
+    SlicedForest sliced(o);
+    double b[6];
+    sliced.htg->GetBounds(b);
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const double p = b[2 * axis] + 0.41 * (b[2 * axis + 1] - b[2 * axis]);
+      const std::string label = "seed " + std::to_string(seed) + " axis " + std::to_string(axis);
+      vertices += expectEdgeVerticesAreNeighboursCorners(
+          runSlice(sliced.htg, {{axis, p}}, fullResolution), label + ", every cut leaf");
+      for (bool cull : {false, true})
+      {
+        for (double threshold : {1.0, 6.0})
+        {
+          auto view = [&](vtkCanopyAdaptiveSlice* s)
+          {
+            s->SetViewCulling(cull);
+            s->ParallelProjectionOff();
+            s->SetCameraFocalPoint(0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]));
+            s->SetCameraPosition(b[0] + 0.7 * (b[1] - b[0]), b[3] + 2, b[5] + 1.5);
+            s->SetViewAngle(35);
+            s->SetViewportSize(160, 120);
+            s->SetPixelThreshold(threshold);
+          };
+          vertices += expectEdgeVerticesAreNeighboursCorners(
+              runSlice(sliced.htg, {{axis, p}}, view),
+              label + (cull ? ", culled" : "") + ", threshold " + std::to_string(threshold), !cull);
+        }
+      }
+    }
+  }
+  EXPECT_GT(vertices, 1000u) << "these forests should have many T-junctions";
 }
 
 TEST(AdaptiveSlice, LevelOfDetailMatchesTheClosedForm)

@@ -4,6 +4,7 @@
 // detail must stop exactly where the closed form says, and the emitted cells
 // must tile the visible domain.
 #include "ErrorMessages.h"
+#include "FlatPolygons.h"
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
@@ -357,9 +358,10 @@ TEST(AdaptiveSurface2D, FullSurfaceFieldsAreTheSimulationsValuesInEveryLayout)
 
 TEST(AdaptiveSurface2D, CellsStayRightAcrossExecutionsThatGrowAndShrink)
 {
-  // The filter keeps its offsets and connectivity between executions and writes
-  // only what a longer output adds: after every execution, whatever the order of
-  // sizes, each quad must use its own four points and sit on its cell.
+  // The filter keeps its connectivity between executions and writes only what
+  // a longer output adds: after every execution, whatever the order of sizes,
+  // each quad must use its own points (four, or more with finer neighbours'
+  // corners on its edges), right after the previous quad's, and sit on its cell.
   RandomForestOptions o;
   o.dimension = 2;
   o.rootCells = {{4, 4, 1}};
@@ -390,14 +392,17 @@ TEST(AdaptiveSurface2D, CellsStayRightAcrossExecutionsThatGrowAndShrink)
     auto* ids = vtkIdTypeArray::SafeDownCast(surface->GetCellData()->GetArray("OriginalCellId"));
     ASSERT_NE(ids, nullptr);
     vtkNew<vtkIdList> points;
+    vtkIdType next = 0;
     for (vtkIdType q = 0; q < quads; ++q)
     {
       surface->GetPolys()->GetCellAtId(q, points);
-      ASSERT_EQ(points->GetNumberOfIds(), 4) << "scale " << scale << " quad " << q;
-      for (vtkIdType k = 0; k < 4; ++k)
+      ASSERT_GE(points->GetNumberOfIds(), 4) << "scale " << scale << " quad " << q;
+      for (vtkIdType k = 0; k < points->GetNumberOfIds(); ++k)
       {
-        ASSERT_EQ(points->GetId(k), 4 * q + k) << "scale " << scale << " quad " << q;
+        ASSERT_EQ(points->GetId(k), next + k) << "scale " << scale << " quad " << q;
       }
+      next += points->GetNumberOfIds();
+      rectangleOf(cellPoints(surface, q), "scale " + std::to_string(scale));
       double b[6];
       surface->GetCell(q)->GetBounds(b);
       const LeafBox& leaf = byId.at(ids->GetValue(q));
@@ -406,8 +411,53 @@ TEST(AdaptiveSurface2D, CellsStayRightAcrossExecutionsThatGrowAndShrink)
         ASSERT_NEAR(b[i], leaf.bounds[i], 1e-12) << "scale " << scale << " quad " << q;
       }
     }
+    EXPECT_EQ(next, surface->GetNumberOfPoints()) << "scale " << scale;
   }
   EXPECT_GE(sizes.size(), 4u) << "the views must give outputs of different sizes";
+}
+
+TEST(AdaptiveSurface2D, EdgesCarryTheCornersOfFinerNeighbours)
+{
+  // Where a quad meets finer ones (a T-junction), their corners lie on its edge
+  // and it is drawn as a polygon through them. With level of detail at several
+  // thresholds and culling off (every neighbour drawn), a quad's points other
+  // than its corners are exactly the other quads' corners inside its edges;
+  // with culling, at least those (full surfaces: SurfaceRuns.h).
+  std::size_t vertices = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed)
+  {
+    RandomCase c = randomCase(seed);
+    for (bool cull : {false, true})
+    {
+      for (double threshold : {1.0, 4.0, 16.0})
+      {
+        vtkNew<vtkCanopyAdaptiveSurface> filter;
+        filter->SetInputData(c.htg);
+        filter->SetCameraPosition(c.view.position.data());
+        filter->SetCameraFocalPoint(c.view.focal.data());
+        filter->SetCameraViewUp(c.view.up.data());
+        filter->SetParallelProjection(c.view.parallel);
+        if (c.view.parallel)
+        {
+          filter->SetParallelScale(c.view.scale);
+        }
+        else
+        {
+          filter->SetViewAngle(c.view.scale);
+        }
+        filter->SetViewportSize(c.view.width, c.view.height);
+        filter->SetViewCulling(cull);
+        filter->SetPixelThreshold(threshold);
+        filter->Update();
+        vertices += expectEdgeVerticesAreNeighboursCorners(
+            filter->GetPolyDataOutput(),
+            "seed " + std::to_string(seed) + (cull ? ", culled" : "") + ", threshold " +
+                std::to_string(threshold),
+            !cull);
+      }
+    }
+  }
+  EXPECT_GT(vertices, 1000u) << "these forests should have many T-junctions";
 }
 
 TEST(AdaptiveSurface2D, RandomViewsEmitExactlyTheOverlappingLeaves)

@@ -5,6 +5,7 @@
 // and culling must only ever remove pieces of that surface.
 #include "CameraPlanes.h"
 #include "ChangingForest.h"
+#include "FlatPolygons.h"
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
@@ -313,6 +314,238 @@ TEST(AdaptiveSurface3D, SkippedBackFacesFaceAwayFromTheCamera)
   {
     EXPECT_LT(q.sign * dop[q.axis], 0);
   }
+}
+
+/// Two roots along x, seen along +y with parallel projection, so that a node's
+/// footprint is max(dx, dz) / pixel: the left root [0, 4] is refined to level 3,
+/// the right one [4, 5] is four times narrower, so level of detail stops there
+/// two levels coarser than on the left. Below the right root's coarse nodes,
+/// masked nodes touch the face x = 4 between them.
+struct CoarseStopNextToFineForest
+{
+  std::array<double, 3> x{{0, 4, 5}};
+  std::array<double, 2> y{{0, 1}};
+  std::array<double, 2> z{{0, 1}};
+  static constexpr int Levels = 4;
+  static constexpr double PixelSize = 0.052; ///< parallel scale 2.6 over 100 pixels
+
+  struct Node
+  {
+    int level;
+    std::array<long, 3> ijk;
+  };
+  static bool refined(int tree, const Node& n)
+  {
+    if (tree == 0)
+    {
+      return n.level < 3;
+    }
+    const auto at = [&](int level, long i, long j, long k) {
+      return n.level == level && n.ijk == std::array<long, 3>{{i, j, k}};
+    };
+    return n.level == 0 || at(1, 0, 0, 0) || at(1, 0, 1, 1) || at(2, 0, 3, 3);
+  }
+  static bool masked(int tree, const Node& n)
+  {
+    const auto at = [&](int level, long i, long j, long k) {
+      return n.level == level && n.ijk == std::array<long, 3>{{i, j, k}};
+    };
+    return tree == 1 && (at(2, 0, 0, 0) || at(2, 0, 1, 1) || at(3, 0, 7, 6));
+  }
+  void box(int tree, const Node& n, double b[6]) const
+  {
+    const double lo[3] = {x[static_cast<std::size_t>(tree)], y[0], z[0]};
+    const double size[3] = {x[static_cast<std::size_t>(tree) + 1] - lo[0], y[1] - y[0],
+                            z[1] - z[0]};
+    const double cells = std::ldexp(1.0, n.level);
+    for (int a = 0; a < 3; ++a)
+    {
+      b[2 * a] = lo[a] + size[a] * static_cast<double>(n.ijk[a]) / cells;
+      b[2 * a + 1] = lo[a] + size[a] * static_cast<double>(n.ijk[a] + 1) / cells;
+    }
+  }
+  /// Where the walk stops at `threshold` pixels: a leaf, or a node at most that
+  /// wide on the screen (nothing is absent here).
+  bool stops(int tree, const Node& n, double threshold) const
+  {
+    double b[6];
+    box(tree, n, b);
+    return !refined(tree, n) || std::max(b[1] - b[0], b[5] - b[4]) <= threshold * PixelSize;
+  }
+
+  /// Breadth-first refinement and mask bytes of each tree; with `threshold` > 0,
+  /// of the grid pruned where the walk stops (those nodes become leaves), the
+  /// solid a surface with level of detail bounds. `stopBoxes` gets the boxes of
+  /// the unmasked nodes where it stops.
+  void describe(double threshold, std::vector<std::vector<std::uint8_t>>& refinement,
+                std::vector<std::vector<std::uint8_t>>& mask,
+                std::vector<std::array<double, 6>>* stopBoxes = nullptr) const
+  {
+    refinement.assign(2, {});
+    mask.assign(2, {});
+    for (int tree = 0; tree < 2; ++tree)
+    {
+      std::vector<Node> queue{Node{0, {{0, 0, 0}}}};
+      for (std::size_t q = 0; q < queue.size(); ++q)
+      {
+        const Node n = queue[q];
+        const bool hidden = masked(tree, n);
+        const bool stop = !hidden && threshold > 0 && stops(tree, n, threshold);
+        const bool refine = !hidden && refined(tree, n) && !stop;
+        refinement[static_cast<std::size_t>(tree)].push_back(refine ? 1 : 0);
+        mask[static_cast<std::size_t>(tree)].push_back(hidden ? 1 : 0);
+        if (stop && stopBoxes)
+        {
+          std::array<double, 6> b;
+          box(tree, n, b.data());
+          stopBoxes->push_back(b);
+        }
+        for (int c = 0; refine && c < 8; ++c)
+        {
+          queue.push_back({n.level + 1,
+                           {{2 * n.ijk[0] + (c & 1), 2 * n.ijk[1] + ((c >> 1) & 1),
+                             2 * n.ijk[2] + ((c >> 2) & 1)}}});
+        }
+      }
+    }
+  }
+
+  vtkSmartPointer<vtkHyperTreeGrid> build(const std::vector<std::vector<std::uint8_t>>& refinement,
+                                          const std::vector<std::vector<std::uint8_t>>& mask) const
+  {
+    ForestDescription d;
+    d.dimension = 3;
+    d.branchFactor = 2;
+    d.maxLevels = Levels;
+    d.rootGrid = {x.data(), y.data(), z.data(), 3, 2, 2};
+    for (std::size_t t = 0; t < 2; ++t)
+    {
+      TreeDescription tree;
+      tree.rootIndex = static_cast<std::int64_t>(t);
+      tree.refinement = refinement[t].data();
+      tree.numberOfNodes = refinement[t].size();
+      tree.masked = mask[t].data();
+      d.trees.push_back(tree);
+    }
+    return buildHyperTreeGrid(d);
+  }
+};
+
+TEST(AdaptiveSurface3D, LevelOfDetailDrawsNoFaceInsideACoarserStopNode)
+{
+  // A fine node drawn next to a coarser node where the neighbour's walk stops
+  // (drawn as a solid) must not draw its face toward it, even where a masked
+  // node lies below that coarse node at or above the fine node's level (at 12
+  // pixels: fine level 3 next to the right root's level 1; at 25: level 2 next
+  // to the right root itself). At each threshold the surface is exactly the
+  // boundary of the union of the nodes where descent stops.
+  const CoarseStopNextToFineForest forest;
+  std::vector<std::vector<std::uint8_t>> refinement;
+  std::vector<std::vector<std::uint8_t>> mask;
+  forest.describe(0, refinement, mask);
+  auto htg = forest.build(refinement, mask);
+  vtkNew<vtkCanopyAdaptiveSurface> filter;
+  filter->SetInputData(htg);
+  filter->SetCameraPosition(2.5, -10, 0.5);
+  filter->SetCameraFocalPoint(2.5, 0.5, 0.5);
+  filter->SetCameraViewUp(0, 0, 1);
+  filter->SetParallelProjection(true);
+  filter->SetParallelScale(2.6);
+  filter->SetViewportSize(100, 100);
+  filter->SetViewCulling(false); // the whole surface of the stop nodes, not the part in view
+  // Footprints are 4, 2, 1, 0.5 (left) and 1, 0.5, 0.25, 0.125 (right) units,
+  // pixels 0.052 units: no threshold below falls on a footprint.
+  for (double threshold : {1.0, 5.0, 12.0, 25.0, 50.0})
+  {
+    const std::string label = "threshold " + std::to_string(threshold);
+    filter->SetPixelThreshold(threshold);
+    filter->Update();
+    vtkPolyData* surface = filter->GetPolyDataOutput();
+    ASSERT_GT(surface->GetNumberOfCells(), 0) << label;
+    std::vector<std::vector<std::uint8_t>> prunedRefinement;
+    std::vector<std::vector<std::uint8_t>> prunedMask;
+    std::vector<std::array<double, 6>> stopBoxes;
+    forest.describe(threshold, prunedRefinement, prunedMask, &stopBoxes);
+    // (a) Nothing solid in front of any face: no stop node holds the point just
+    // in front of its centre.
+    const auto quads = quadsOf(surface);
+    int inside = 0;
+    for (const Quad& q : quads)
+    {
+      Point front{{0, 0, 0}};
+      for (const Point& p : q.p)
+        for (int a = 0; a < 3; ++a)
+          front[a] += p[a] / 4;
+      front[q.axis] += q.sign * 1e-6;
+      for (const auto& b : stopBoxes)
+      {
+        bool holds = true;
+        for (int a = 0; a < 3; ++a)
+        {
+          holds = holds && b[2 * a] < front[a] && front[a] < b[2 * a + 1];
+        }
+        inside += holds;
+      }
+    }
+    EXPECT_EQ(inside, 0) << label << ": faces inside the solid of the nodes where descent stops";
+    // (b) Exactly the boundary of that solid: per-axis area against its voxels,
+    // every face on it, facing out.
+    expectExactBoundary(Voxels(forest.build(prunedRefinement, prunedMask)), quads, label);
+  }
+}
+
+TEST(AdaptiveSurface3D, FacesCarryTheCornersOfThePiecesMeetingTheirEdges)
+{
+  // Where a face meets smaller ones along an edge (in its plane, or across a
+  // concave or convex edge of the solid), their corners lie on its edge and the
+  // face is drawn as a polygon through them: every corner of another face
+  // strictly inside one of its edges is one of its points. (A face may carry a
+  // few more: the bounds of every cell around the edge are taken, also where
+  // they bound no face.) Full surfaces and views with level of detail, culled
+  // or not, back faces skipped or not, on random masked forests with holes.
+  std::size_t vertices = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed)
+  {
+    RandomForestOptions o;
+    o.dimension = 3;
+    o.branchFactor = seed % 4 == 3 ? 3 : 2;
+    o.rootCells = {{3, 2, 2}};
+    o.maxLevels = o.branchFactor == 2 ? 5 : 3;
+    o.refineProbability = 0.45;
+    o.maskProbability = seed % 2 ? 0.15 : 0.0;
+    o.skipEveryOtherRoot = seed % 3 == 2;
+    o.seed = seed;
+    RandomForest forest(o);
+    auto htg = buildHyperTreeGrid(forest.description());
+    const std::string label = "seed " + std::to_string(seed);
+    vertices += expectEdgeVerticesAreNeighboursCorners(fullSurface(htg), label + ", full", false);
+    double b[6];
+    htg->GetBounds(b);
+    vtkNew<vtkCamera> camera;
+    camera->SetFocalPoint((b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2);
+    camera->SetPosition(b[1] + 2, b[2] - 3, b[5] + 2.5);
+    camera->SetViewUp(0, 0, 1);
+    camera->SetViewAngle(30);
+    for (double threshold : {1.0, 6.0, 20.0})
+      for (bool cull : {false, true})
+        for (bool backFaces : {false, true})
+        {
+          vtkNew<vtkCanopyAdaptiveSurface> filter;
+          filter->SetInputData(htg);
+          filter->SetCamera(camera);
+          filter->SetViewportSize(320, 240);
+          filter->SetPixelThreshold(threshold);
+          filter->SetViewCulling(cull);
+          filter->SetSkipBackFaces(backFaces);
+          filter->Update();
+          vertices += expectEdgeVerticesAreNeighboursCorners(
+              filter->GetPolyDataOutput(),
+              label + ", threshold " + std::to_string(threshold) + (cull ? ", culled" : "") +
+                  (backFaces ? ", back faces skipped" : ""),
+              false);
+        }
+  }
+  EXPECT_GT(vertices, 1000u) << "these forests should have many T-junctions";
 }
 
 TEST(AdaptiveSurfaceStress3D, Depth16TreeHasExactlyTheOuterBoxAsSurface)

@@ -21,9 +21,13 @@
  * The view and the shared properties: vtkCanopyViewDependentFilter. With
  * ViewDependent off every cut leaf is drawn.
  *
- * Output: vtkPolyData of quads (normals along +axis) with double-precision
- * points, the selected input cell fields (all by default), "OriginalCellId" and
- * "Level". Planes in the order x, y, z, each axis in the order added.
+ * Output: vtkPolyData of flat pieces (normals along +axis), one per node where
+ * descent stops: a quad, or a polygon that also carries, in order along its
+ * edges, the corners of the smaller cuts meeting them (no pixel holes where a
+ * coarse cut meets finer ones; across processes too, through the Controller:
+ * the execution is then collective). Double-precision points, the selected
+ * input cell fields (all by default), "OriginalCellId" and "Level". Planes in
+ * the order x, y, z, each axis in the order added.
  */
 #pragma once
 

@@ -16,14 +16,21 @@
  * The view and the shared properties: vtkCanopyViewDependentFilter. With
  * ViewDependent off the output is the full surface.
  *
- * 3D grids split between processes (absent cells, or trees on other ranks):
- * with a mask on any rank, a face between this rank's part and another's is
+ * Grids split between processes (absent cells, or trees on other ranks): in
+ * 3D with a mask on any rank, a face between this rank's part and another's is
  * drawn where the other rank masks its side, which only that rank knows: the
- * ranks exchange those faces through the Controller (RemoteFaceExchange.h), so
- * the execution is then collective, as VTK's parallel filters are. Without any
- * mask other ranks' parts are solid and nothing is exchanged.
+ * ranks exchange those faces through the Controller (RemoteFaceExchange.h).
+ * Without any mask other ranks' parts are solid and no face is exchanged. In 2D
+ * and 3D the ranks also put the corners of their pieces on the edges of the
+ * pieces meeting them across their parts (EdgeVertexExchange.h). With more than
+ * one process in the Controller the execution is collective, as VTK's parallel
+ * filters are.
  *
- * Output: vtkPolyData of quads (lines in 1D) with double-precision points, the selected input
+ * Output: vtkPolyData of flat pieces (lines in 1D): each an axis-aligned
+ * rectangle, a quad or a polygon that also carries, in order along its edges,
+ * the corners of the smaller pieces meeting them, so that neighbours share their
+ * edges and no rasterizer leaves a pixel between them (T-junctions,
+ * EdgeVertices.h). Double-precision points, the selected input
  * cell fields (all by default), "OriginalCellId" (the input's global cell index)
  * and "Level"; in 3D also exact cell "Normals" (outward), for shading that does
  * not depend on how the grid is split between processes. Re-executes only when the input, the

@@ -165,8 +165,9 @@ public:
 
   ///@{
   /// The ranks that exchange what their quads add to pixels at the edges of
-  /// their parts (the box filter on pixels) and, for 3D surfaces of grids split
-  /// between processes, the faces between their parts. Default: VTK's global
+  /// their parts (the box filter on pixels) and, for grids split between
+  /// processes, the faces between their parts (3D surfaces) and the corners of
+  /// the pieces along them (2D and 3D surfaces, slices). Default: VTK's global
   /// controller (ParaView and Catalyst set it); none, or one process: no exchange.
   void SetController(vtkMultiProcessController* controller);
   vtkGetObjectMacro(Controller, vtkMultiProcessController);
@@ -216,34 +217,36 @@ protected:
   ViewResources ViewOptionsFor(const canopy::CameraParameters& camera, vtkHyperTreeGrid* input,
                                canopy::ViewOptions& options) const;
 
-  /// The arrays a builder writes: coordinates (3 components), original cell ids
-  /// and levels, reused from the previous execution when nothing else holds
-  /// them. Call after releasing the previous output (output->Initialize()).
+  /// The arrays a builder writes: coordinates (3 components), where each cell's
+  /// points start, original cell ids and levels, reused from the previous
+  /// execution when nothing else holds them. Call after releasing the previous
+  /// output (output->Initialize()).
   struct CellArrays
   {
     vtkSmartPointer<vtkDoubleArray> Points;
+    vtkSmartPointer<vtkIdTypeArray> Offsets;
     vtkSmartPointer<vtkIdTypeArray> Ids;
     vtkSmartPointer<vtkUnsignedCharArray> Levels;
     vtkSmartPointer<vtkUnsignedCharArray> Colors; ///< null without colours
   };
   CellArrays NewCellArrays();
 
-  /// Sizes `arrays` for `cells` cells of `perCell` points and returns where a
-  /// builder writes them.
-  canopy::SurfaceArrays SizeCellArrays(const CellArrays& arrays, vtkIdType cells,
-                                       vtkIdType perCell);
+  /// Sizes `arrays` for `cells` cells of `points` points in all and returns
+  /// where a builder writes them.
+  canopy::SurfaceArrays SizeCellArrays(const CellArrays& arrays, vtkIdType cells, vtkIdType points);
 
-  /// Makes `output` from `cells` cells of `perCell` points each (2: lines,
-  /// otherwise polygons), written into `arrays`, with the input's selected cell
-  /// fields gathered at the cells' original ids.
+  /// Makes `output` from `cells` cells written into `arrays` (`segments`: lines
+  /// of two points, otherwise polygons), with the input's selected cell fields
+  /// gathered at the cells' original ids.
   void AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output, const CellArrays& arrays,
-                      vtkIdType cells, vtkIdType perCell);
+                      vtkIdType cells, bool segments);
 
-  /// Gives `output`'s quads exact cell normals (+-x, +-y, +-z: the right-handed
-  /// normal of corners 0, 1, 3), so that their shading does not depend on how
-  /// the renderer rounds the points (VTK otherwise derives flat normals from
-  /// screen-space derivatives of float positions shifted by each process's own
-  /// bounds: images of a grid split between ranks would differ by a few levels).
+  /// Gives `output`'s axis-aligned polygons exact cell normals (+-x, +-y, +-z:
+  /// the right-handed normal of each polygon's first edge and last edge), so
+  /// that their shading does not depend on how the renderer rounds the points
+  /// (VTK otherwise derives flat normals from screen-space derivatives of float
+  /// positions shifted by each process's own bounds: images of a grid split
+  /// between ranks would differ by a few levels).
   void AddAxisNormals(vtkPolyData* output);
 
   vtkWeakPointer<vtkRenderer> Renderer;
@@ -284,9 +287,9 @@ private:
   std::map<std::string, vtkSmartPointer<vtkDataArray>> Reusable;
   template <typename ArrayType>
   vtkSmartPointer<ArrayType> ReusableArray(const std::string& key, int dataType);
-  /// Offsets and connectivity are arithmetic sequences (cell q's points are
-  /// perCell q, perCell q + 1, ...), the same at every execution: their reusable
-  /// arrays (ReusableArray) are kept with how many values are already right, so an
+  /// The connectivity is an arithmetic sequence (the points are written in
+  /// their cells' order: 0, 1, 2, ...), the same at every execution: its reusable
+  /// array (ReusableArray) is kept with how many values are already right, so an
   /// execution writes only the values a longer output adds. Trusted only while
   /// the array's modification time is the one it was left with.
   struct KeptSequence
