@@ -353,7 +353,8 @@ In situ:  --output DIR (canopy-output)  --no-insitu
           --live-stall-limit S (20): a viewer silent that long is disconnected
 Output:   --quiet  --verify-untouched  --dump FILE
           --resource-log PREFIX: each rank writes PREFIX.<rank>.csv, a line per step:
-          step, resident KiB, heap KiB in use, open file descriptors (soak tests)
+          step, the rank's leaves, resident KiB, heap KiB in use, open file
+          descriptors (soak tests)
           --plant-leak BYTES: allocate BYTES per step and never free them (to check
           that a soak test sees a leak)
 )";

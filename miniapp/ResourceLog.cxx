@@ -45,17 +45,17 @@ ResourceLog::ResourceLog(const std::string& prefix, int rank)
   if (!prefix.empty())
   {
     Out.open(prefix + "." + std::to_string(rank) + ".csv");
-    Out << "step,resident_kib,heap_kib,descriptors\n";
+    Out << "step,leaves,resident_kib,heap_kib,descriptors\n";
   }
 }
 
-void ResourceLog::record(int step)
+void ResourceLog::record(int step, long long leaves)
 {
   if (!Out.is_open())
     return;
   const struct mallinfo2 heap = mallinfo2();
-  Out << step << "," << residentKiB() << "," << (heap.uordblks + heap.hblkhd) / 1024 << ","
-      << openDescriptors() << "\n";
+  Out << step << "," << leaves << "," << residentKiB() << ","
+      << (heap.uordblks + heap.hblkhd) / 1024 << "," << openDescriptors() << "\n";
   Out.flush();
 }
 

@@ -14,8 +14,9 @@ class ResourceLog
 public:
   /// Writes `prefix`.<rank>.csv (the folder must exist); an empty prefix logs nothing.
   ResourceLog(const std::string& prefix, int rank);
-  /// Appends `step`'s line: step, resident KiB, heap KiB in use, open descriptors.
-  void record(int step);
+  /// Appends `step`'s line: step, the rank's leaves (what its memory follows),
+  /// resident KiB, heap KiB in use, open descriptors.
+  void record(int step, long long leaves);
 
 private:
   std::ofstream Out;

@@ -52,6 +52,8 @@ public:
   /// Collective: (max leaves on a rank) / (mean leaves per rank).
   double imbalance() const;
   std::int64_t globalLeaves() const { return Forest.totalLeaves(); }
+  /// This rank's leaves (of the trees it owns).
+  std::int64_t localLeaves() const { return static_cast<std::int64_t>(Scalar.size()); }
   std::int64_t globalNodes() const { return Forest.totalNodes(); }
   int repartitions() const { return Repartitions; }
 

@@ -218,7 +218,7 @@ int main(int argc, char** argv)
         planted.emplace_back(new char[static_cast<std::size_t>(options.plantLeak)]);
         std::fill_n(planted.back().get(), options.plantLeak, char(step)); // resident
       }
-      resources.record(simulation.step());
+      resources.record(simulation.step(), simulation.localLeaves());
     }
     if (insitu)
       insitu->close();

@@ -305,6 +305,9 @@ struct VtkHdfWriter::Implementation
       {
         problem = "closing " + this->FileName + ": " + hdfErrorText();
       }
+      // HDF5 keeps what a file's metadata took on its free lists; the metadata
+      // grows with the steps, so a long run would keep the largest ever read.
+      H5garbage_collect();
       if (problem.empty())
       {
         problem = this->diskProblem();

@@ -5,7 +5,8 @@ passed.
 
   pvpython live_sources_client.py PORT SOURCE RESULT.json RECORDS SECONDS
 
-RESULT.json: {"sources": [names offered], "records": [{"step": s, "cells": n}, ...]}.
+RESULT.json: {"sources": [names offered], "records": [{"step": s, "cells": n}, ...]},
+rewritten at each record (a viewer stopped early leaves what it got).
 Prints "listening" once the port is open."""
 import json
 import os
@@ -39,6 +40,8 @@ while time.time() < deadline and len(result["records"]) < wanted:
         if cells and (not result["records"] or result["records"][-1]["step"] != step):
             result["records"].append({"step": step, "cells": cells})
             print("record", len(result["records"]), step, cells, flush=True)
+            with open(result_path, "w") as out:  # as it goes: the viewer may be stopped
+                json.dump(result, out)
     time.sleep(0.02)
 
 with open(result_path, "w") as out:
