@@ -1,5 +1,7 @@
 #include "HyperTreeAccess.h"
 
+#include "TopologyStamp.h"
+
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
@@ -93,6 +95,7 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables, bool m
     throw std::invalid_argument("only grids with one point on each unused axis are supported");
   }
   TreeAtRoot.assign(static_cast<std::size_t>(RootCells[0]) * RootCells[1] * RootCells[2], -1);
+  const std::optional<TopologyStamp> stamp = readTopologyStamp(htg);
   vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
   htg->InitializeTreeIterator(it);
   vtkIdType index = 0;
@@ -114,6 +117,13 @@ HyperTreeAccess::HyperTreeAccess(vtkHyperTreeGrid* htg, bool indexTables, bool m
     // (GlobalIndexStart == -1); the start itself is reliable: -1 means a table.
     access.globalIndexStart = tree->GetGlobalIndexStart();
     access.implicitGlobalIndex = access.globalIndexStart >= 0;
+    if (const TreeStamp* vouched = stamp ? stamp->vouchedTree(index, tree) : nullptr)
+    {
+      access.stampBuilder = stamp->builder;
+      access.stampTopology = vouched->topology;
+      // Its cells' marks live in the grid's mask and ghost arrays: the stamped ones?
+      access.stampMarks = stamp->arraysVouched ? vouched->marks : 0;
+    }
     unsigned int ijk[3];
     htg->GetLevelZeroCoordinatesFromIndex(index, ijk[0], ijk[1], ijk[2]);
     for (int a = 0; a < 3; ++a)

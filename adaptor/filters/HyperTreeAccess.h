@@ -48,6 +48,13 @@ struct TreeAccess
 
   vtkIdType numberOfVertices = 0;
   int childrenPerNode = 0;
+  /// What the grid's topology stamp (TopologyStamp.h) says of this tree, when
+  /// it vouches for it: its builder and the build that last changed its
+  /// refinement; and, when it vouches for the grid's mask and ghost arrays too,
+  /// the build that last changed its cells' marks. 0 where it does not vouch.
+  std::uint64_t stampBuilder = 0;
+  std::uint64_t stampTopology = 0;
+  std::uint64_t stampMarks = 0;
   /// 3D surface memos, filled on first use and kept with the access (they depend
   /// on the topology only, not on the view, and on whether other ranks' parts
   /// are asked: memoRemote). Written only by the thread walking this tree.

@@ -3,21 +3,23 @@
 // tables, masked- and absent-descendant flags) is paid once per topology, not
 // once per camera move.
 //
-// The key is what the access reads: the grid's shape (dimension, branch
-// factor, root dimensions, the coordinates' values, the trees-elsewhere flag),
-// the mask's and the ghost array's objects, times and storage, and each tree's
-// object and modified time, vertex count, child table and first global index
-// (a tree refined in place without Modified() is noticed too). Not the grid's
-// own modified time, which changes at every step of a simulation even when
-// only its field values did: a simulation's masked grid (split trees, a
-// masked block forest) keeps its access, masked-descendant flags and surface
-// memos from step to step while its topology holds. Grids with explicit
-// global indices key on the grid's modified time as well (their index tables
-// are not compared). Checking it costs one step per tree and root coordinate,
-// not per node.
+// The key is what the access reads (TopologyKeys.h, the filters' one rule for
+// what changed): the grid's shape (dimension, branch factor, root dimensions,
+// the coordinates' values, the trees-elsewhere flag), the mask's and the ghost
+// array's objects, times and storage, and each tree's object and modified time,
+// vertex count, child table and first global index (a tree refined in place
+// without Modified() is noticed too), and what Canopy's builder says of it in
+// the grid's topology stamp. Not the grid's own modified time, which changes at
+// every step of a simulation even when only its field values did: a
+// simulation's masked grid (split trees, a masked block forest) keeps its
+// access, masked-descendant flags and surface memos from step to step while its
+// topology holds. Grids with explicit global indices key on the grid's modified
+// time as well (their index tables are not compared). Checking it costs one step
+// per tree and root coordinate, not per node.
 #pragma once
 
 #include "HyperTreeAccess.h"
+#include "TopologyKeys.h"
 
 #include <vtkType.h>
 
@@ -44,39 +46,12 @@ public:
   bool lastWasKept() const { return LastWasKept; }
 
 private:
-  struct TreeKey
-  {
-    vtkIdType index;
-    const void* tree;
-    vtkMTimeType treeTime;
-    vtkIdType vertices;
-    const void* elderChild;
-    std::size_t elderChildSize;
-    vtkIdType globalIndexStart;
-    bool operator==(const TreeKey& o) const
-    {
-      return index == o.index && tree == o.tree && treeTime == o.treeTime &&
-             vertices == o.vertices && elderChild == o.elderChild &&
-             elderChildSize == o.elderChildSize && globalIndexStart == o.globalIndexStart;
-    }
-  };
   struct Key
   {
-    const void* grid = nullptr;
-    vtkMTimeType gridTime = 0; ///< 0 unless a tree has explicit global indices
-    std::uint64_t shape = 0;   ///< dimension, branch factor, dimensions, coordinates, flag
-    const void* mask = nullptr;
-    vtkMTimeType maskTime = 0;
-    const void* maskBits = nullptr;
-    vtkIdType maskSize = 0;
-    const void* ghosts = nullptr;
-    vtkMTimeType ghostTime = 0;
-    const void* ghostValues = nullptr;
-    vtkIdType cells = 0;
-    std::vector<TreeKey> trees;
-    bool operator==(const Key& o) const;
+    GridTopologyKey grid;
+    std::vector<TreeTopologyKey> trees;
+    bool operator==(const Key& o) const { return grid == o.grid && trees == o.trees; }
   };
-  static Key keyOf(vtkHyperTreeGrid* grid);
 
   Key Kept;
   std::shared_ptr<const HyperTreeAccess> Access;

@@ -12,84 +12,13 @@
 namespace canopy
 {
 
-namespace
-{
-
-/// Hash of the bits [from, to) of a vtkBitArray's packed bits (most significant
-/// first), realigned so that bit `from` leads: the same bits hash the same
-/// wherever they start.
-std::uint64_t hashBits(const unsigned char* bits, vtkIdType from, vtkIdType to, std::uint64_t seed)
-{
-  if (to <= from)
-  {
-    return hashBytes(nullptr, 0, seed);
-  }
-  const vtkIdType count = to - from;
-  std::vector<unsigned char> aligned(static_cast<std::size_t>((count + 7) / 8));
-  const unsigned char* p = bits + from / 8;
-  const int shift = static_cast<int>(from % 8);
-  const vtkIdType lastByte = (to - 1) / 8 - from / 8; // of the source, relative to p
-  for (std::size_t i = 0; i < aligned.size(); ++i)
-  {
-    const auto k = static_cast<vtkIdType>(i);
-    const unsigned int high = p[k];
-    const unsigned int low = k + 1 <= lastByte ? p[k + 1] : 0;
-    aligned[i] = static_cast<unsigned char>(((high << 8 | low) >> (8 - shift)) & 0xFF);
-  }
-  // Bits past `to` in the last byte are another tree's: cleared.
-  const int used = static_cast<int>(count % 8);
-  if (used != 0)
-  {
-    aligned.back() = static_cast<unsigned char>(aligned.back() & (0xFF00u >> used));
-  }
-  return hashBytes(aligned.data(), aligned.size(), seed);
-}
-
-} // namespace
-
-bool SelectionMaskMemo::TreeKey::sameFlags(const TreeKey& o, bool numbering) const
-{
-  return index == o.index && tree == o.tree && treeTime == o.treeTime && vertices == o.vertices &&
-         (!numbering || firstCell == o.firstCell) && elderChild == o.elderChild &&
-         elderChildSize == o.elderChildSize && box == o.box && marks == o.marks;
-}
-
 SelectionMaskMemo::TreeKey SelectionMaskMemo::keyOf(const HyperTreeAccess& grid,
                                                     const TreeAccess& tree)
 {
   TreeKey key;
-  key.index = tree.treeIndex;
-  key.tree = tree.tree;
-  key.treeTime = tree.tree ? tree.tree->GetMTime() : 0;
-  key.vertices = tree.numberOfVertices;
-  key.firstCell = tree.implicitGlobalIndex ? tree.globalIndexStart : -1;
-  // The child table by where it lives and the vertex count, as
-  // HyperTreeAccessCache keys it: VTK 9.2 only refines a tree in place
-  // (SubdivideLeaf adds vertices), never coarsens one.
-  key.elderChild = tree.elderChild;
-  key.elderChildSize = tree.elderChildSize;
+  key.topology = treeTopologyKey(grid, tree);
   key.box = hashBytes(tree.size.data(), sizeof(tree.size),
                       hashBytes(tree.origin.data(), sizeof(tree.origin), 0x5E1EC7ull));
-  if (key.firstCell < 0)
-  {
-    return key;
-  }
-  // The cells' marks, wherever the tree's cells are numbered: its own mask bits
-  // (realigned to start on a byte) and its ghost marks.
-  const vtkIdType first = key.firstCell;
-  const vtkIdType end = first + tree.numberOfVertices;
-  std::uint64_t marks = 0x3A5Cull;
-  if (const unsigned char* bits = grid.maskBits())
-  {
-    marks = hashBits(bits, std::min(first, grid.maskSize()), std::min(end, grid.maskSize()), marks);
-  }
-  if (const unsigned char* ghosts = grid.ghostMarks())
-  {
-    const vtkIdType from = std::min(first, grid.ghostMarkCount());
-    const vtkIdType to = std::min(end, grid.ghostMarkCount());
-    marks = hashBytes(ghosts + from, static_cast<std::size_t>(to - from), marks);
-  }
-  key.marks = marks;
   return key;
 }
 
@@ -109,12 +38,12 @@ void SelectionMaskMemo::begin(const HyperTreeAccess& grid, std::uint64_t selecti
   {
     TreeEntry& entry = Current[t];
     entry.key = keyOf(grid, trees[t]);
-    while (l < last.size() && last[l].key.index < entry.key.index)
+    while (l < last.size() && last[l].key.topology.index < entry.key.topology.index)
     {
       ++l;
     }
-    const bool found = l < last.size() && last[l].key.index == entry.key.index;
-    if (sameSelection && found && entry.key.firstCell >= 0 &&
+    const bool found = l < last.size() && last[l].key.topology.index == entry.key.topology.index;
+    if (sameSelection && found && entry.key.topology.firstCell >= 0 &&
         entry.key.sameFlags(last[l].key, readsByCellNumber))
     {
       entry.flags = std::move(last[l].flags);

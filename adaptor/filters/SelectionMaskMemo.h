@@ -6,13 +6,15 @@
 // A tree's flags are kept when the selection is the same (the `selection`
 // fingerprint the filter gives: mode, region, list or range, the values' array
 // and its modified time, Invert, AllowMasked) and so is everything of the tree
-// the flags depend on: the tree object and its modified time (VTK gives every
-// new object a time later than any before, so an address reused by a new tree
-// is noticed), its vertex count and child table (where it lives and its size:
-// VTK 9.2 refines a tree in place, never coarsens it), its root cell's box, the mask
-// and absent marks of its cells, and for selections that read cells by number
-// (ids, values) its first global index. Trees with explicit global indices are
-// always redone (their index tables would have to be compared node by node).
+// the flags depend on (TopologyKeys.h, the filters' one rule for what changed):
+// the tree object and its modified time (VTK gives every new object a time later
+// than any before, so an address reused by a new tree is noticed), its vertex
+// count and child table (where it lives and its size: VTK 9.2 refines a tree in
+// place, never coarsens it), what Canopy's builder stamped on it, the mask and
+// absent marks of its cells (the stamp's revision, or their fingerprint), its
+// root cell's box, and for selections that read cells by number (ids, values)
+// its first global index. Trees with explicit global indices are always redone
+// (their index tables would have to be compared node by node).
 //
 // The packed masks are kept too: when the grid has the same number of cells and
 // every tree has the cells it had, the next mask is the last one with the
@@ -22,10 +24,12 @@
 //
 // Memory kept between executions: a byte per node (the flags) and two bits per
 // cell (the last mask and pure mask). Checking the keys costs a few words per
-// tree and, on masked grids, a hash of its cells' mask bits and ghost marks.
+// tree and, on masked grids Canopy did not build, a hash of its cells' mask bits
+// and ghost marks.
 #pragma once
 
 #include "HyperTreeAccess.h"
+#include "TopologyKeys.h"
 
 #include <vtkSmartPointer.h>
 
@@ -88,17 +92,14 @@ public:
 private:
   struct TreeKey
   {
-    vtkIdType index = -1;
-    const void* tree = nullptr;
-    vtkMTimeType treeTime = 0;
-    vtkIdType vertices = 0;
-    vtkIdType firstCell = -1;                 ///< -1: explicit global indices (never kept)
-    const unsigned int* elderChild = nullptr; ///< the child table, where it lives
-    std::size_t elderChildSize = 0;
-    std::uint64_t box = 0;   ///< the root cell's box
-    std::uint64_t marks = 0; ///< its cells' mask bits and absent marks
+    TreeTopologyKey topology;
+    std::uint64_t box = 0; ///< the root cell's box
     /// Whether flags made for `o` hold for this tree.
-    bool sameFlags(const TreeKey& o, bool numbering) const;
+    bool sameFlags(const TreeKey& o, bool numbering) const
+    {
+      return topology.sameTopology(o.topology, numbering) && topology.marks == o.topology.marks &&
+             box == o.box;
+    }
   };
   struct TreeEntry
   {

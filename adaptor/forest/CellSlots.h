@@ -10,10 +10,10 @@
 // table in which absent cells have no slot.
 #pragma once
 
+#include "ForestLayout.h"
 #include "FreshMemory.h"
 #include "StorageSlots.h"
 #include "canopy/ForestDescription.h"
-#include "ForestLayout.h"
 
 #include <cstdint>
 #include <memory>

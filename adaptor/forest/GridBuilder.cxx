@@ -2,6 +2,7 @@
 
 #include "ByteHash.h"
 #include "GridAssembly.h"
+#include "TopologyStamp.h"
 #include "ValidatedTrees.h"
 
 #include <vtkHyperTreeGrid.h>
@@ -31,7 +32,30 @@ struct TreeKey
     return root == other.root && nodes == other.nodes && refinement == other.refinement;
   }
   bool sameShape(const TreeKey& other) const { return sameTree(other) && absent == other.absent; }
+  bool sameMarks(const TreeKey& other) const
+  {
+    return absent == other.absent && mask == other.mask;
+  }
 };
+
+/// The simulation's revision holds for `forest` against the last build's keys:
+/// the same, nonzero, and the same trees (roots, node counts) as then.
+bool revisionHolds(const ForestDescription& forest, std::uint64_t lastRevision,
+                   const std::vector<TreeKey>& last)
+{
+  if (forest.revision == 0 || forest.revision != lastRevision || forest.trees.size() != last.size())
+  {
+    return false;
+  }
+  for (std::size_t t = 0; t < last.size(); ++t)
+  {
+    if (forest.trees[t].rootIndex != last[t].root || forest.trees[t].numberOfNodes != last[t].nodes)
+    {
+      return false;
+    }
+  }
+  return true;
+}
 
 TreeKey keyOf(const TreeDescription& tree)
 {
@@ -56,6 +80,11 @@ TreeKey keyOf(const TreeDescription& tree)
 
 struct GridBuilder::State
 {
+  std::uint64_t id = newStampBuilder();
+  std::uint64_t builds = 0;
+  std::uint64_t simulationRevision = 0; ///< ForestDescription::revision at the last build
+  std::uint64_t arraysRevision = 0;     ///< the build that last changed mask or ghosts
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> treeRevisions; ///< topology, marks
   vtkSmartPointer<vtkHyperTreeGrid> grid;
   int dimension = 0;
   int branchFactor = 0;
@@ -82,15 +111,30 @@ void GridBuilder::reset()
   Impl = std::make_unique<State>();
 }
 
+std::uint64_t GridBuilder::identity() const
+{
+  return Impl->id;
+}
+
 vtkSmartPointer<vtkHyperTreeGrid> GridBuilder::build(const ForestDescription& forest,
                                                      const FieldRequest& request)
 {
   State& s = *Impl;
+  const std::uint64_t build = s.builds + 1;
+  // The simulation's word that nothing changed spares reading every tree's bytes.
+  const bool vouched = s.grid && revisionHolds(forest, s.simulationRevision, s.trees);
   std::vector<TreeKey> keys;
-  keys.reserve(forest.trees.size());
-  for (const TreeDescription& tree : forest.trees)
+  if (vouched)
   {
-    keys.push_back(keyOf(tree));
+    keys = s.trees;
+  }
+  else
+  {
+    keys.reserve(forest.trees.size());
+    for (const TreeDescription& tree : forest.trees)
+    {
+      keys.push_back(keyOf(tree));
+    }
   }
   // Validate first (a malformed description changes nothing kept from before),
   // skipping the per-node checks of trees whose bytes were validated last time.
@@ -153,6 +197,15 @@ vtkSmartPointer<vtkHyperTreeGrid> GridBuilder::build(const ForestDescription& fo
   {
     (r ? reuse.treesRebuilt : reuse.treesKept) += 1;
   }
+  reuse.revisionTrusted = vouched;
+  // What the filters read of this build (TopologyStamp.h): which build last changed
+  // each tree's refinement and marks, and the grid's topology arrays.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> revisions(keys.size(), {build, build});
+  for (std::size_t t = 0; sameShape && t < keys.size(); ++t)
+  {
+    revisions[t] = {rebuild[t] ? build : s.treeRevisions[t].first,
+                    keys[t].sameMarks(s.trees[t]) ? s.treeRevisions[t].second : build};
+  }
   // Keep nothing half-updated if VTK throws: forget the state until done.
   s.trees.clear();
   if (tablesChanged)
@@ -171,10 +224,22 @@ vtkSmartPointer<vtkHyperTreeGrid> GridBuilder::build(const ForestDescription& fo
     assembly::setTopologyArrays(s.grid, forest, layout, s.tables.blocks.get());
   }
   assembly::setFields(s.grid, forest, layout, fields, s.tables);
+  s.arraysRevision = arraysChanged ? build : s.arraysRevision;
+  StampRevisions stamp;
+  stamp.builder = s.id;
+  stamp.arrays = s.arraysRevision;
+  for (std::size_t t = 0; t < keys.size(); ++t)
+  {
+    stamp.trees[keys[t].root] = revisions[t];
+  }
+  writeTopologyStamp(s.grid, stamp);
   s.grid->Modified();
   s.trees = std::move(keys);
+  s.treeRevisions = std::move(revisions);
   s.layout = layout;
   s.missingTreesAreElsewhere = forest.missingTreesAreElsewhere;
+  s.simulationRevision = forest.revision;
+  s.builds = build;
   s.last = reuse;
   return s.grid;
 }

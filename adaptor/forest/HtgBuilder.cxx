@@ -1,6 +1,7 @@
 #include "canopy/HtgBuilder.h"
 
 #include "GridAssembly.h"
+#include "TopologyStamp.h"
 
 #include <vtkHyperTreeGrid.h>
 
@@ -21,6 +22,15 @@ vtkSmartPointer<vtkHyperTreeGrid> buildHyperTreeGrid(const ForestDescription& fo
                        tables.blocks.get());
   assembly::setTopologyArrays(htg, forest, layout, tables.blocks.get());
   assembly::setFields(htg, forest, layout, fields, tables);
+  // Built once: every tree and array at its first revision, for the filters' memos.
+  StampRevisions stamp;
+  stamp.builder = newStampBuilder();
+  stamp.arrays = 1;
+  for (const TreeDescription& tree : forest.trees)
+  {
+    stamp.trees[tree.rootIndex] = {1, 1};
+  }
+  writeTopologyStamp(htg, stamp);
   return htg;
 }
 

@@ -10,8 +10,8 @@
 #pragma once
 
 #include "CellSlots.h"
-#include "canopy/ForestDescription.h"
 #include "ForestLayout.h"
+#include "canopy/ForestDescription.h"
 
 #include <cstdint>
 #include <memory>

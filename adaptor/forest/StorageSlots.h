@@ -2,8 +2,8 @@
 // index in the vtkHyperTreeGrid.
 #pragma once
 
-#include "canopy/ForestDescription.h"
 #include "ForestLayout.h"
+#include "canopy/ForestDescription.h"
 
 #include <cstddef>
 

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <vector>
 
@@ -424,6 +425,14 @@ BasicP4estForest<D>::BasicP4estForest(const Forest* forest) : Impl(std::make_uni
   d.maxLevels = maxLevel + 1;
   // A brick has a tree in every lattice cell: the ones not listed are other ranks'.
   d.missingTreesAreElsewhere = true;
+  // p4est bumps its revision at every mesh change (refine, coarsen, balance,
+  // partition): the same forest at the same revision has the same trees, and
+  // Canopy's builder need not read them again. Nonzero, and another forest's
+  // revisions are other numbers.
+  const std::uint64_t revision =
+      static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(p)) * 1000003u +
+      static_cast<std::uint64_t>(p->revision);
+  d.revision = revision != 0 ? revision : 1;
   const auto& axes = s.lattice.axes;
   d.rootGrid = {axes[0].data(), axes[1].data(), axes[2].data(),
                 axes[0].size(), axes[1].size(), axes[2].size()};

@@ -341,6 +341,14 @@ struct ForestDescription
   /// read where the blocks are (no per-cell table); storageSlots are not used
   /// (blockIndex orders blocks). See docs/blocks.md.
   int blockCellsPerSide = 0;
+  /// The simulation's own count of changes to its mesh, when it keeps one
+  /// (p4est's `revision`, deal.II's refinement cycles): 0, none. Nonzero and the
+  /// same as at the last build of a GridBuilder: the simulation promises that
+  /// no tree, mask, absent part, slot map or block index changed since, and the
+  /// builder then reuses them without reading their bytes (it still checks the
+  /// number of trees, their roots and node counts, and reads their bytes when
+  /// those differ). Field values and coordinates are read at every build.
+  std::uint64_t revision = 0;
 };
 
 } // namespace canopy

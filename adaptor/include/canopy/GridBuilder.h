@@ -6,10 +6,13 @@
 //     vtkHyperTreeGrid* grid = builder.build(describe(state), request);
 //
 // Each tree's topology is fingerprinted (64-bit hashes, one pass over its bytes,
-// far cheaper than building it): a tree whose root and refinement did not change
-// keeps its vtkHyperTree, a changed one is rebuilt; when nothing changed (masks,
-// absent parts and slot maps included) the mask and the tables fields read
-// through are kept as well. Fields are wrapped anew at every build (the simulation
+// far cheaper than building it), unless the simulation's own revision
+// (ForestDescription::revision) says nothing changed: a tree whose root and
+// refinement did not change keeps its vtkHyperTree, a changed one is rebuilt;
+// when nothing changed (masks, absent parts and slot maps included) the mask and
+// the tables fields read through are kept as well. What changed is written into
+// the grid (its topology stamp, TopologyStamp.h), which the filters' memos read:
+// the one place that decides it. Fields are wrapped anew at every build (the simulation
 // may have moved them; leaves-only fields get their coarse averages again).
 // The same vtkHyperTreeGrid object is returned while the root grid's shape and
 // the set of trees stay the same, marked Modified() at every build so that
@@ -49,8 +52,13 @@ public:
     bool newGrid = false;         ///< a new grid object (first build, or a different shape)
     std::size_t treesRebuilt = 0; ///< trees built from their bytes
     std::size_t treesKept = 0;    ///< trees whose topology was unchanged
+    /// ForestDescription::revision vouched for every tree: no tree's bytes were read.
+    bool revisionTrusted = false;
   };
   const Reuse& lastBuild() const;
+
+  /// This builder's identity in the topology stamps of the grids it returns.
+  std::uint64_t identity() const;
 
   /// Forgets the previous build: the next one builds everything.
   void reset();
