@@ -436,6 +436,11 @@ CanopyModule::CanopyModule(PythonRunSettings settings, MPI_Comm communicator,
   {
     throw std::logic_error("_canopy is already connected to an open in-situ driver");
   }
+  // Not the agreement's communicator: a rank whose script failed goes to an
+  // agreement while the others may still be in the script's reductions, and
+  // mismatched collectives on one communicator end the job (MPI_ERR_TRUNCATE)
+  // instead of a wait the time limit bounds and explains
+  // (insitu.fault.time_limit.error_on_one_rank_without_decorator).
   this->Reductions = std::make_unique<OwnCommunicator>(communicator);
   vtkPythonInterpreter::Initialize();
   {
