@@ -6,7 +6,7 @@ calls its functions: the run's settings, each script's arguments, reductions
 over ranks, the agreement before extracts. The driver calls the methods of one
 object, ``DriverSide``, which importing this module registers with
 ``_canopy.connect``; the driver imports it when it opens. Outside the driver's
-process ``_canopy`` does not exist and neither does this module.
+process ``_canopy`` does not exist and importing this module fails.
 
 ParaView 5.11 calls a V2 script through functions of
 ``paraview.catalyst.v2_internals`` (import, catalyst_initialize,
