@@ -47,7 +47,8 @@ PyObject* toPython(const std::string& text)
   return PyUnicode_DecodeUTF8(text.data(), static_cast<Py_ssize_t>(text.size()), "surrogateescape");
 }
 
-/// The reverse of toPython; "" for anything but a str.
+/// The reverse of toPython ("" for anything but a str); what even that cannot
+/// encode (a lone surrogate of Python's own) as a backslash escape, never lost.
 std::string fromPython(PyObject* object)
 {
   if (object == nullptr || !PyUnicode_Check(object))
@@ -55,6 +56,11 @@ std::string fromPython(PyObject* object)
     return {};
   }
   vtkSmartPyObject bytes(PyUnicode_AsEncodedString(object, "utf-8", "surrogateescape"));
+  if (!bytes)
+  {
+    PyErr_Clear();
+    bytes.TakeReference(PyUnicode_AsEncodedString(object, "utf-8", "backslashreplace"));
+  }
   if (!bytes)
   {
     PyErr_Clear();
@@ -202,10 +208,11 @@ PyObject* reduceOverRanks(PyObject*, PyObject* arguments)
 
 PyObject* agreeBeforeExtracts(PyObject*, PyObject* arguments)
 {
-  const char* outcome = "";
+  PyObject* outcomeObject = nullptr;
   double needed = 0.0;
   double available = 0.0;
-  if (!PyArg_ParseTuple(arguments, "sdd:agree_before_extracts", &outcome, &needed, &available))
+  if (!PyArg_ParseTuple(arguments, "Udd:agree_before_extracts", &outcomeObject, &needed,
+                        &available))
   {
     return nullptr;
   }
@@ -214,7 +221,10 @@ PyObject* agreeBeforeExtracts(PyObject*, PyObject* arguments)
   {
     return nullptr;
   }
-  const bool failed = *outcome != '\0';
+  // Any text (a failure's message may hold what UTF-8 cannot encode): a rank
+  // that raised here instead would leave the others waiting in the agreement.
+  const std::string outcome = fromPython(outcomeObject);
+  const bool failed = !outcome.empty();
   run->watchdog->noteWaiting(failed ? outcome : "succeeded");
   const auto most = run->agreement->reduce({failed ? 1.0 : 0.0, -available}, MPI_MAX);
   const auto sum = run->agreement->reduce({needed}, MPI_SUM);
