@@ -1,28 +1,34 @@
 """The in-situ driver's side of Python (not for pipeline scripts).
 
+Canopy's driver and Python talk through one door, the driver's built-in module
+``_canopy`` (adaptor/insitu/CanopyModule.h lists every call, both ways). Python
+calls its functions: the run's settings, each script's arguments, reductions
+over ranks, the agreement before extracts. The driver calls the methods of one
+object, ``DriverSide``, which importing this module registers with
+``_canopy.connect``; the driver imports it when it opens. Outside the driver's
+process ``_canopy`` does not exist and importing this module fails.
+
 ParaView 5.11 calls a V2 script through functions of
 ``paraview.catalyst.v2_internals`` (import, catalyst_initialize,
-RequestDataDescription, catalyst_execute, catalyst_finalize). ``guard_catalyst_calls``
-wraps them so that
+RequestDataDescription, catalyst_execute, catalyst_finalize). Importing this
+module wraps them (``guard_catalyst_calls``) so that
 
 * ``sys.exit()`` in a script is an error like any other: a SystemExit reaching
   ParaView's C++ ends the process (its PyErr_Print exits on SystemExit);
-* the driver can read what went wrong (``take_failure``): the one-line summary
-  and the traceback, which ranks above 0 cannot print (ParaView silences them);
+* the driver can read what went wrong (``DriverSide.take_failure``): the one-line
+  summary and the traceback, which ranks above 0 cannot print (ParaView silences
+  them);
 * between a script's catalyst_execute and its extracts (which ParaView writes
-  right after), every rank agrees: if catalyst_execute failed on any rank, or
-  the extracts due at this step would not fit on the disk, no rank writes any
-  (VTK 9.2's polydata and unstructured writers crash on a full disk, and the
-  others leave partial files). ``discard_outputs`` removes what a failed step of
-  a script wrote.
+  right after), every rank agrees (``_canopy.agree_before_extracts``): if
+  catalyst_execute failed on any rank, or the extracts due at this step would not
+  fit on the disk, no rank writes any (VTK 9.2's polydata and unstructured
+  writers crash on a full disk, and the others leave partial files).
+  ``DriverSide.discard_outputs`` removes what a failed step of a script wrote.
 
-It also keeps each script's arguments (``register_arguments``), which
-canopy_catalyst's settings() reads. canopy_catalyst imports this module, never
-the reverse; the reductions here run on Canopy's own communicator, through the
-C++ driver's agreement (``agree_before_extracts``), never on ParaView's.
+canopy_catalyst imports this module, never the reverse.
 
-``StepTimeLimitExceeded`` is what the driver's watchdog raises in a script that
-runs past the step time limit.
+``StepTimeLimitExceeded`` (``_canopy``'s) is what the driver's watchdog raises in a
+script that runs past the step time limit.
 """
 import functools
 import os
@@ -30,12 +36,15 @@ import shutil
 import time
 import traceback
 
+import _canopy
+
 _failure = None  # (summary, traceback) of the last failed call, until taken
 _in_script = False  # the script's own code is running: the time limit may interrupt it
 _extractors = {}  # script path -> the extractors its import created
 _outputs = {}  # script path -> (start of its last run, the files that run was to write)
 _measures = {}  # name -> this rank's value of what the running script measured (report_measure)
-_arguments = {}  # script path -> the arguments the simulation gave it (register_arguments)
+
+StepTimeLimitExceeded = _canopy.StepTimeLimitExceeded
 
 # Disk space the extracts of one rank may need at most: the data in memory
 # times 4/3 for base64 (compression only shrinks it) and a margin (an image:
@@ -54,11 +63,6 @@ class ScriptExit(RuntimeError):
 
 class NotEnoughDiskSpace(OSError):
     """The extracts due at a step would not fit on the disk: none is written."""
-
-
-class StepTimeLimitExceeded(TimeoutError):
-    """Raised by the driver's watchdog where a script is when the step time limit
-    passes (InSituOptions::stepTimeLimitSeconds)."""
 
 
 def _summary(error):
@@ -100,17 +104,6 @@ def _guarded(call):
 
     guarded._canopy_guarded = True
     return guarded
-
-
-def register_arguments(path, arguments):
-    """The arguments the simulation gave the script at `path` (the C++ driver
-    registers them at open through canopy_catalyst._register_arguments)."""
-    _arguments[os.path.abspath(path)] = list(arguments)
-
-
-def script_arguments(path):
-    """The arguments registered for the script at `path` ([] if none)."""
-    return _arguments.get(os.path.abspath(path), [])
 
 
 def guard_catalyst_calls():
@@ -194,7 +187,7 @@ def _size(count):
 
 def _before_extracts(execute):
     """do_catalyst_execute, then the agreement before ParaView writes the extracts
-    (agree_before_extracts: set by the driver, on its own communicator)."""
+    (_canopy.agree_before_extracts, on the driver's agreement communicator)."""
 
     @functools.wraps(execute)
     def execute_then_agree(module):
@@ -210,7 +203,8 @@ def _before_extracts(execute):
             error = exception
         # Every rank comes here, also where the script failed.
         outcome = _summary(error) if error is not None else ""
-        failed, total_needed, free = agree_before_extracts(outcome, needed, _free_bytes(directory))
+        failed, total_needed, free = _canopy.agree_before_extracts(outcome, needed,
+                                                                   _free_bytes(directory))
         if error is not None:
             raise error
         if failed:
@@ -232,7 +226,7 @@ def ensure_step_fits(own_data_bytes, directory):
     script, step, step_time = _active_step()
     _, needed = _due_outputs(script, directory, step, step_time)
     needed += _written_bytes(own_data_bytes)
-    failed, total_needed, free = agree_before_extracts("", needed, _free_bytes(directory))
+    failed, total_needed, free = _canopy.agree_before_extracts("", needed, _free_bytes(directory))
     _refuse_unless_fits(directory, total_needed, free)
 
 
@@ -246,30 +240,10 @@ def _refuse_unless_fits(directory, total_needed, free):
             % (directory, _size(total_needed), _size(free)))
 
 
-def agree_before_extracts(outcome, needed, free):
-    """Replaced by the driver at open (its ranks' agreement): `outcome` is "" if
-    catalyst_execute succeeded here, else its failure; returns (whether it
-    failed on any rank, `needed` summed over ranks, the least `free`)."""
-    raise RuntimeError("Canopy's in-situ driver did not connect its agreement")
-
-
-def discard_outputs(script):
-    """Removes what the last run of `script` wrote (its extracts failed on some
-    rank): each file due at that step, and the folder of its pieces, if they
-    were written since that run started."""
-    start, paths = _outputs.pop(os.path.abspath(script), (None, []))
-    for path in paths:
-        stem = os.path.splitext(path)[0]
-        for candidate in (path, stem):
-            try:
-                if os.lstat(candidate).st_mtime < start - 1.0:  # coarse filesystem clocks
-                    continue
-            except OSError:
-                continue
-            if candidate == path and os.path.isfile(candidate):
-                _remove(os.remove, candidate)
-            elif candidate == stem and os.path.isdir(candidate) and path != stem:
-                _remove(shutil.rmtree, candidate)
+def report_measure(name, local_value):
+    """Records a number the running script measured at this step (canopy_catalyst.report);
+    `local_value`, a function, is called after the script's extracts were written."""
+    _measures[str(name)] = local_value
 
 
 def _remove(remove, path):
@@ -279,63 +253,73 @@ def _remove(remove, path):
         pass  # another rank removed it first
 
 
-def report_measure(name, local_value):
-    """Records a number the running script measured at this step (canopy_catalyst.report);
-    `local_value`, a function, is called after the script's extracts were written."""
-    _measures[str(name)] = local_value
+class DriverSide:
+    """What the C++ driver calls in Python (PythonSide in adaptor/insitu/CanopyModule.h):
+    registered with _canopy.connect when this module is imported."""
+
+    def take_failure(self):
+        """(summary, traceback) of the last failed script call, or None; forgets it."""
+        global _failure
+        failure, _failure = _failure, None
+        return failure
+
+    def take_measures(self, evaluate):
+        """What the script that just ran reported, summed over ranks: {name: total}, in
+        the StepReport. Collective when `evaluate` (every rank's script ran; every rank
+        reported the same names); otherwise forgets them (the step failed somewhere)."""
+        global _measures
+        measures, _measures = _measures, {}
+        if not evaluate:
+            return {}
+        names = sorted(measures)
+        local = []
+        for name in names:
+            try:
+                local.append(float(measures[name]()))
+            except Exception:  # a measure is never worth a deadlock: report NaN
+                local.append(float("nan"))
+        # First the most values any rank has, so that every rank reduces as many
+        # even if a script reported different names on some ranks: a measure is
+        # never worth a deadlock (the misreported sums are then wrong).
+        most = int(_canopy.reduce([float(len(local))], "max")[0])
+        padded = local + [float("nan")] * (most - len(local))
+        return dict(zip(names, _canopy.reduce(padded, "sum")))
+
+    def discard_outputs(self, script):
+        """Removes what the last run of `script` wrote (its extracts failed on some
+        rank): each file due at that step, and the folder of its pieces, if they
+        were written since that run started."""
+        start, paths = _outputs.pop(os.path.abspath(script), (None, []))
+        for path in paths:
+            stem = os.path.splitext(path)[0]
+            for candidate in (path, stem):
+                try:
+                    if os.lstat(candidate).st_mtime < start - 1.0:  # coarse filesystem clocks
+                        continue
+                except OSError:
+                    continue
+                if candidate == path and os.path.isfile(candidate):
+                    _remove(os.remove, candidate)
+                elif candidate == stem and os.path.isdir(candidate) and path != stem:
+                    _remove(shutil.rmtree, candidate)
+
+    def install_interrupt(self, number):
+        """Handles signal `number` on the main thread: when the driver's watchdog
+        wants the running script call stopped (_canopy.interrupt_wanted() gives the
+        message), raises StepTimeLimitExceeded where the script is. Not installed
+        (False) if the simulation handles that signal itself."""
+        import signal
+        if signal.getsignal(number) not in (signal.SIG_DFL, signal.SIG_IGN):
+            return False
+
+        def on_signal(signal_number, frame):
+            message = _canopy.interrupt_wanted() if _in_script else None
+            if message:
+                raise StepTimeLimitExceeded(message)
+
+        signal.signal(number, on_signal)
+        return True
 
 
-def take_measures(evaluate):
-    """What the script that just ran reported, summed over ranks: {name: total}, in
-    the StepReport. Collective when `evaluate` (every rank's script ran; every rank
-    reported the same names); otherwise forgets them (the step failed somewhere)."""
-    global _measures
-    measures, _measures = _measures, {}
-    if not evaluate:
-        return {}
-    names = sorted(measures)
-    local = []
-    for name in names:
-        try:
-            local.append(float(measures[name]()))
-        except Exception:  # a measure is never worth a deadlock: report NaN
-            local.append(float("nan"))
-    return dict(zip(names, _sum_over_ranks(local)))
-
-
-def _sum_over_ranks(values):
-    """`values` summed element-wise over Canopy's communicator (collective). The
-    C++ driver gives Python one reduction, agree_before_extracts, which sums its
-    `needed` and takes the least `free` there; ParaView's communicator is not
-    the driver's to use (docs/design.md, "Two communicators")."""
-    # First the most values any rank has, so that every rank makes as many
-    # reductions even if a script reported different names on some ranks: a
-    # measure is never worth a deadlock (the misreported sums are then wrong).
-    most = int(-agree_before_extracts("", 0.0, -float(len(values)))[2])
-    padded = list(values) + [float("nan")] * (most - len(values))
-    return [agree_before_extracts("", value, 0.0)[1] for value in padded]
-
-
-def take_failure():
-    """(summary, traceback) of the last failed script call, or None; forgets it."""
-    global _failure
-    failure, _failure = _failure, None
-    return failure
-
-
-def install_interrupt(number, interrupt_wanted):
-    """Handles signal `number` on the main thread: when the driver's watchdog
-    wants the running script call stopped (interrupt_wanted() gives the message),
-    raises StepTimeLimitExceeded where the script is. Not installed (False) if
-    the simulation handles that signal itself."""
-    import signal
-    if signal.getsignal(number) not in (signal.SIG_DFL, signal.SIG_IGN):
-        return False
-
-    def on_signal(signal_number, frame):
-        message = interrupt_wanted() if _in_script else None
-        if message:
-            raise StepTimeLimitExceeded(message)
-
-    signal.signal(number, on_signal)
-    return True
+guard_catalyst_calls()
+_canopy.connect(DriverSide())

@@ -3,14 +3,19 @@
 Canopy's in-situ driver puts this folder on the Python path before it imports
 any script, so a script starts with ``import canopy_catalyst``. A script reads
 its settings with ``settings(...)``: defaults given by the script, overridden by
-environment variables (``CANOPY_FREQUENCY=5``), overridden by the arguments the
-simulation gave this script (``--frequency=5``). Names use underscores in Python
-and in variables, dashes or underscores in arguments.
+environment variables the user set (``CANOPY_FREQUENCY=5``), overridden by what
+the driver's options say (output_directory, channel, live), overridden by the
+arguments the simulation gave this script (``--frequency=5``). Names use
+underscores in Python and in variables, dashes or underscores in arguments.
 
-The driver's side of Python (``_canopy_driver``: script arguments, agreements
-over ranks) is imported from here, never the reverse.
+Run by Canopy's driver, this module learns from the driver through its built-in
+module ``_canopy`` (the run's settings, the script's arguments, reductions over
+ranks; adaptor/insitu/CanopyModule.h) and imports the driver's side of Python
+(``_canopy_driver``), never the reverse. Elsewhere (pvbatch, pvpython) neither
+exists: settings come from the defaults, the environment and nothing else, and
+reductions go over ParaView's controller.
 
-Longer than the project's usual file (about 850 lines) on purpose: it is the one
+Longer than the project's usual file (about 900 lines) on purpose: it is the one
 module a user's script imports, so what scripts share (settings, the plugin,
 ImageScript and its view, legend and time label, the extractors and their
 disk-space agreement) stays behind one import that works the same from
@@ -32,28 +37,52 @@ COMMON_DEFAULTS = {
 where a Catalyst Live viewer listens ('' : no Live; docs/insitu.md)."""
 
 
-def _driver():
-    """Canopy's in-situ driver's module, or None when it cannot be imported
-    (canopy_catalyst.py copied alone, e.g. for pvbatch)."""
+def _door():
+    """Canopy's in-situ driver's built-in module ``_canopy``, or None when not run
+    by the driver (pvbatch, pvpython: the module exists only in its process)."""
     try:
-        import _canopy_driver
+        import _canopy
     except ImportError:
         return None
+    return _canopy
+
+
+def _driver():
+    """The driver's side of Python (_canopy_driver: measures, the disk-space
+    agreement), or None when not run by Canopy's driver."""
+    if _door() is None:
+        return None
+    import _canopy_driver
     return _canopy_driver
 
 
-def _register_arguments(path, arguments):
-    """The name the C++ driver registers each script's arguments by
-    (DriverPython.cxx); the registry is _canopy_driver's."""
-    import _canopy_driver
-    _canopy_driver.register_arguments(path, arguments)
-
-
 def _script_arguments():
+    door = _door()
+    if door is None:
+        return []
     from paraview import catalyst
     name = catalyst.get_script_filename()
-    driver = _driver()
-    return driver.script_arguments(name) if name and driver is not None else []
+    return door.script_arguments(name) if name else []
+
+
+def _run_settings():
+    """The settings the driver's options give every script ({} outside the driver):
+    output_directory and channel, and live when the options name a Live address."""
+    door = _door()
+    if door is None:
+        return {}
+    run = door.run_settings()
+    given = {"output_directory": run.output_directory, "channel": run.channel}
+    if run.live:
+        given["live"] = run.live
+    return given
+
+
+def plugin_path():
+    """The Canopy ParaView plugin's library: the driver's (CANOPY_PLUGIN if the user
+    set it, else the one next to Canopy's library); outside the driver, CANOPY_PLUGIN."""
+    door = _door()
+    return door.run_settings().plugin if door is not None else os.environ["CANOPY_PLUGIN"]
 
 
 class Settings(dict):
@@ -83,8 +112,9 @@ def _converted(text, default):
 
 def settings(**defaults):
     """The script's settings: COMMON_DEFAULTS and `defaults`, then CANOPY_<NAME>
-    environment variables, then the script's --name=value arguments. An argument
-    naming no known setting is an error (a typo must not go unnoticed)."""
+    environment variables, then the driver's options (_run_settings), then the
+    script's --name=value arguments. An argument naming no known setting is an
+    error (a typo must not go unnoticed)."""
     merged = dict(COMMON_DEFAULTS)
     merged.update(defaults)
     values = Settings(merged)
@@ -92,6 +122,8 @@ def settings(**defaults):
         text = os.environ.get("CANOPY_" + name.upper())
         if text is not None:
             values[name] = _converted(text, default)
+    for name, text in _run_settings().items():
+        values[name] = _converted(text, merged[name])
     for argument in _script_arguments():
         if not argument.startswith("--") or "=" not in argument:
             raise ValueError("script argument %r is not of the form --name=value" % argument)
@@ -139,7 +171,7 @@ def load_canopy_plugin(namespace=None):
     ParaView's ~480 proxies, about 1 s per script on the first step
     (tests/bench/canopy_bench_image_step --first-step, docs/benchmarks.md)."""
     from paraview import simple
-    simple.LoadPlugin(os.environ["CANOPY_PLUGIN"], remote=False)
+    simple.LoadPlugin(plugin_path(), remote=False)
     if namespace is not None:
         for name in dir(simple):
             if name.startswith("Canopy"):
@@ -803,7 +835,15 @@ def _any_rank(flag):
 
 
 def _reduce(values, operation):
-    """Element-wise MIN_OP / MAX_OP / SUM_OP of `values` over all ranks."""
+    """Element-wise MIN_OP / MAX_OP / SUM_OP of `values` over all ranks (collective).
+    In Catalyst a source's data and data information are this rank's only, so what
+    a script must agree on (bounds, colour ranges, whether a rank failed) is reduced
+    here. Run by Canopy's driver: _canopy.reduce, on a communicator of Canopy's that
+    only these reductions use; elsewhere (pvbatch, maybe under mpirun) ParaView's
+    controller, the only one there; alone, the values themselves."""
+    door = _door()
+    if door is not None:
+        return door.reduce(values, {"MIN_OP": "min", "MAX_OP": "max", "SUM_OP": "sum"}[operation])
     from paraview.modules.vtkRemotingCore import vtkProcessModule
     from paraview.vtk.vtkParallelCore import vtkCommunicator
     from paraview.vtk import vtkDoubleArray

@@ -1,6 +1,6 @@
 #include "CatalystScript.h"
 
-#include "DriverPython.h"
+#include "CanopyModule.h"
 #include "StepWatchdog.h"
 #include "VtkMessageCapture.h"
 
@@ -45,7 +45,7 @@ std::string CatalystScript::when() const
 
 std::string CatalystScript::failure(bool exceeded)
 {
-  auto python = takeScriptFailure();
+  auto python = PythonSide::takeFailure();
   this->LastTraceback = std::move(python.traceback);
   if (!python.summary.empty())
   {
@@ -235,7 +235,7 @@ void CatalystScript::takeOverLive()
 
 void CatalystScript::discardOutputs()
 {
-  discardStepOutputs(this->Path);
+  PythonSide::discardOutputs(this->Path);
 }
 
 bool CatalystScript::finalize(std::string& error)

@@ -1,10 +1,10 @@
 #include "canopy/InSitu.h"
 
+#include "CanopyModule.h"
 #include "CatalystScript.h"
 #include "CatalystSession.h"
 #include "CollectiveAgreement.h"
 #include "DriverChecks.h"
-#include "DriverPython.h"
 #include "FailureLog.h"
 #include "FinalizeGuard.h"
 #include "JobOutput.h"
@@ -93,6 +93,8 @@ private:
   /// Held while scripts may render: xvfb-run's server resets when its last client leaves.
   std::unique_ptr<XDisplayConnection> Display;
   std::unique_ptr<CatalystSession> Session;
+  /// The door between the driver and Python; before the scripts, which use it.
+  std::unique_ptr<CanopyModule> Python;
   ScriptList Scripts;
   /// Before the scripts go: it refers to their proxies.
   std::unique_ptr<LiveConnection> Live;
@@ -139,8 +141,6 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   const RenderPlan plan = planRendering(comm, this->Options.scripts, *this->Display);
   this->CanRender = plan.canRender;
 
-  exportScriptEnvironment(this->Options.outputDirectory, this->Options.channel,
-                          this->Options.liveUrl);
   prepareOutputDirectory(this->Options.outputDirectory); // created now; reported at each step
   this->Session = std::make_unique<CatalystSession>(comm);
   if (!this->Agreement->allOf(this->Session->started()))
@@ -148,8 +148,6 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
     throw InSituError("canopy::InSitu: ParaView Catalyst failed to initialize");
   }
   this->startScripts(plan.scripts);
-
-  connectAgreement(this->Agreement.get(), this->Watchdog.get());
   this->Open = true;
   this->Guard = std::make_unique<FinalizeGuard>([this] { this->close(); });
   vtkVLogF(vtkLogger::VERBOSITY_TRACE, "canopy: open with %zu pipeline(s), output in '%s'",
@@ -158,10 +156,18 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
 
 void InSitu::Driver::startScripts(const std::vector<PipelineScript>& scripts)
 {
-  std::string localProblem = startDriverPython(pipelinesDirectory(), scripts);
+  // Everything scripts learn from the driver, they learn through _canopy.
+  PythonRunSettings settings{this->Options.outputDirectory, this->Options.channel, pluginPath(),
+                             this->Options.liveUrl, scripts};
+  this->Python = std::make_unique<CanopyModule>(std::move(settings), this->Communicator->get(),
+                                                *this->Agreement, *this->Watchdog);
+  std::string localProblem = this->Python->importHelperModules(pipelinesDirectory());
   if (localProblem.empty())
   {
-    this->Watchdog->connectPython();
+    if (this->Watchdog->limitSeconds() > 0.0)
+    {
+      this->Watchdog->useSignal(PythonSide::installInterrupt(StepWatchdog::interruptSignal));
+    }
     try
     {
       for (const auto& script : scripts)
@@ -350,7 +356,7 @@ void InSitu::Driver::runScript(CatalystScript& script, vtkHyperTreeGrid* grid, s
   const auto running = after("catalyst_execute", since, extraSeconds);
   const bool ranEverywhere = agree(ran ? "" : error, &running);
   // Collective only when the script ran on every rank (then every rank is here).
-  for (const auto& [name, value] : takeScriptMeasures(ranEverywhere))
+  for (const auto& [name, value] : PythonSide::takeMeasures(ranEverywhere))
   {
     report.measures[name] = value;
   }
@@ -436,7 +442,7 @@ void InSitu::Driver::close()
   this->Open = false;
   this->Guard->disarm();
   this->finalizeScripts();
-  connectAgreement(nullptr, nullptr);
+  this->Python.reset(); // _canopy's functions raise from now on
   this->Live.reset();
   this->Scripts.clear();
   this->Session.reset();

@@ -1,11 +1,10 @@
-#include "vtkPython.h" // first, as Python requires
-
 #include "StepWatchdog.h"
+
+#include "CanopyModule.h"
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <csignal>
 #include <sstream>
 
 namespace canopy
@@ -19,48 +18,6 @@ namespace
 std::atomic<std::uint64_t> interruptibleCall{0};  // the watched call (0: none)
 std::atomic<std::uint64_t> requestedInterrupt{0}; // the call the watchdog wants interrupted
 std::string interruptMessage;
-
-/// The message to raise if an interrupt of the running call is due, else "".
-std::string takeInterrupt()
-{
-  const auto requested = requestedInterrupt.exchange(0);
-  return requested != 0 && requested == interruptibleCall.load() ? interruptMessage : std::string();
-}
-
-/// _canopy_driver's signal handler asks this (a Python builtin) whether to raise.
-PyObject* interruptWanted(PyObject*, PyObject*)
-{
-  const std::string message = takeInterrupt();
-  if (message.empty())
-  {
-    Py_RETURN_NONE;
-  }
-  return PyUnicode_FromString(message.c_str());
-}
-
-PyMethodDef interruptWantedMethod = {"interrupt_wanted", &interruptWanted, METH_NOARGS,
-                                     "The step time limit's message if the call must stop."};
-
-/// Fallback without the signal: Python runs pending calls on the main thread,
-/// but in 3.11 only once something else wakes its evaluation loop up.
-int interruptByPendingCall(void*)
-{
-  const std::string message = takeInterrupt();
-  if (message.empty())
-  {
-    return 0;
-  }
-  PyObject* module = PyImport_ImportModule("_canopy_driver");
-  PyObject* type = module ? PyObject_GetAttrString(module, "StepTimeLimitExceeded") : nullptr;
-  if (type == nullptr)
-  {
-    PyErr_Clear();
-  }
-  PyErr_SetString(type ? type : PyExc_TimeoutError, message.c_str());
-  Py_XDECREF(type);
-  Py_XDECREF(module);
-  return -1; // raises the exception where the script is
-}
 
 std::string seconds(double value)
 {
@@ -83,29 +40,16 @@ StepWatchdog::StepWatchdog(double limitSeconds, int rank, MPI_Comm abortCommunic
   }
 }
 
-bool StepWatchdog::connectPython()
+void StepWatchdog::useSignal(bool handled)
 {
-  if (!this->Thread.joinable())
-  {
-    return false;
-  }
-  // A Python handler runs on the main thread when the signal arrives there: it
-  // wakes Python's evaluation loop up (and interrupts a sleep), and raises.
-  vtkPythonScopeGilEnsurer gil;
-  PyObject* module = PyImport_ImportModule("_canopy_driver");
-  PyObject* wanted = PyCFunction_New(&interruptWantedMethod, nullptr);
-  PyObject* installed = module && wanted
-                            ? PyObject_CallMethod(module, "install_interrupt", "iO", SIGURG, wanted)
-                            : nullptr;
-  this->UseSignal = installed == Py_True;
-  if (installed == nullptr)
-  {
-    PyErr_Clear();
-  }
-  Py_XDECREF(installed);
-  Py_XDECREF(wanted);
-  Py_XDECREF(module);
-  return this->UseSignal;
+  std::lock_guard<std::mutex> lock(this->Mutex);
+  this->UseSignal = handled;
+}
+
+std::string StepWatchdog::takeInterrupt()
+{
+  const auto requested = requestedInterrupt.exchange(0);
+  return requested != 0 && requested == interruptibleCall.load() ? interruptMessage : std::string();
 }
 
 StepWatchdog::~StepWatchdog()
@@ -237,11 +181,14 @@ void StepWatchdog::run()
           requestedInterrupt.store(serial);
           if (this->UseSignal)
           {
-            pthread_kill(this->Caller, SIGURG);
+            // Python's handler runs on the main thread when the signal arrives
+            // there: it wakes Python's evaluation loop up (and interrupts a
+            // sleep), and raises.
+            pthread_kill(this->Caller, interruptSignal);
           }
           else
           {
-            Py_AddPendingCall(&interruptByPendingCall, nullptr);
+            interruptScriptByPendingCall();
           }
           nextInterrupt = now + std::chrono::seconds(1);
         }

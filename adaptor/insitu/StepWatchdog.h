@@ -17,6 +17,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -63,10 +64,19 @@ public:
   /// limit: ParaView loads its Python modules and creates render windows then.
   static constexpr double firstStepExtraSeconds = 60.0;
 
-  /// Once Python and Canopy's helper modules are up (main thread): installs the
-  /// handler of the signal (SIGURG) that interrupts the watched call. Without it
-  /// (the simulation handles SIGURG itself), interrupting is best effort.
-  bool connectPython();
+  /// The signal that interrupts the watched call on the main thread, where
+  /// Python handles it (PythonSide::installInterrupt).
+  static constexpr int interruptSignal = SIGURG;
+
+  /// Whether Python handles interruptSignal. Without it (the simulation handles
+  /// SIGURG itself) interrupting is best effort: a pending call, which Python
+  /// runs only once something else wakes its evaluation loop up.
+  void useSignal(bool handled);
+
+  /// The message to raise in the script when an interrupt of the running call is
+  /// due, else "" (asked from Python on the main thread: _canopy.interrupt_wanted).
+  /// An interrupt raises only in the call it was meant for, once.
+  static std::string takeInterrupt();
 
   /// The watched call is done with the script's code on this rank and now
   /// waits for the other ranks; `outcome` says how the script ended here

@@ -631,12 +631,9 @@ int main(int argc, char** argv)
       }
     }
 
-    // Python first, timed alone (canopy::InSitu's own call is then a no-op). Python
-    // copies the environment when it starts: set the variables canopy::InSitu would
-    // set for the scripts, with the values it would give them.
-    setenv("CANOPY_OUTPUT_DIRECTORY", fs::absolute(options.outputDirectory).c_str(), 1);
-    setenv("CANOPY_CHANNEL", options.channel.c_str(), 1);
-    setenv("CANOPY_PLUGIN", CANOPY_PLUGIN_FILE, 0);
+    // Python first, timed alone (canopy::InSitu's own call is then a no-op; the
+    // driver gives the scripts its settings through its Python module _canopy,
+    // whenever Python started).
     auto start = Clock::now();
     vtkPythonInterpreter::Initialize();
     const double pythonStart = secondsSince(start);

@@ -59,7 +59,7 @@ struct InSituOptions
   double stepTimeLimitSeconds = 0.0;
   /// Catalyst Live (docs/insitu.md): "host:port" where a viewer (ParaView's
   /// Catalyst > Connect, or pvpython's paraview.live) listens; every shipped
-  /// script then offers its sources to it (CANOPY_LIVE). Empty: only scripts
+  /// script then offers its sources to it (its setting `live`). Empty: only scripts
   /// whose options enable Live (options.EnableCatalystLive) do.
   std::string liveUrl;
   /// The longest a viewer's pause holds the simulation, in seconds (<= 0: until

@@ -552,7 +552,7 @@ LIMIT = r"the step time limit \(5 s\)"
 
 def check_loop_one_rank(code, log):
     """catalyst_execute loops forever on rank 1 at step 1 (under @canopy.collective,
-    rank 0 waits in ParaView's AllReduce): rank 1 is interrupted at the limit, the
+    rank 0 waits in its reduction over ranks): rank 1 is interrupted at the limit, the
     step is skipped on both ranks, the run goes on."""
     expect(code == 0, "the simulation survives and exits normally (exit code %d)" % code)
     expect(re.search(r"failure: rank 1, step 1: the script .*marker_script.py' exceeded "
@@ -576,8 +576,8 @@ def check_loop_all_ranks(code, log):
 
 def check_unguarded_error_one_rank(code, log):
     """Rank 1 raises at step 2 of 4 in a catalyst_execute without @canopy.collective;
-    rank 0 then waits for it in ParaView's AllReduce, where Python cannot be
-    interrupted. Instead of hanging, the job ends (MPI_Abort, exit code 124) with
+    rank 0 then waits for it in the script's reduction over ranks (canopy._reduce:
+    an MPI_Allreduce), where Python cannot be interrupted. Instead of hanging, the job ends (MPI_Abort, exit code 124) with
     rank 0 named as stuck (script, step) and rank 1's own error shown."""
     expect(code == 124, "the job is ended with exit code 124 (got %d)" % code)
     expect(re.search(r"rank 0, step 2: the script '.*marker_script.py' is still in "

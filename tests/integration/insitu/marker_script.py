@@ -10,7 +10,7 @@ rank number):
   --loop-steps=S,...     loop forever in catalyst_execute at these steps
   --loop-at=finalize     loop forever in catalyst_finalize
   --collective=0         catalyst_execute without @canopy.collective
-  --collective-call=1    catalyst_execute ends with a collective inside ParaView
+  --collective-call=1    catalyst_execute ends with a collective (a reduction over ranks)
 catalyst_finalize writes finalized.txt (rank 0)."""
 import os
 import sys
@@ -73,7 +73,7 @@ if settings.collective:
 def catalyst_execute(info):
     execute(info)
     if settings.collective_call:
-        canopy._reduce([1.0], "SUM_OP")  # every rank must come: ParaView's AllReduce
+        canopy._reduce([1.0], "SUM_OP")  # every rank must come: an MPI_Allreduce
 
 
 def catalyst_finalize():
