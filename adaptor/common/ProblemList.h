@@ -1,10 +1,10 @@
-// The problems found in a forest description, collected so that they are all
-// reported at once (one InvalidForest naming each) instead of one per attempt.
-// Used by validateForest (Canopy::forest) and P4estForest (Canopy::p4est).
-// Header only.
+// The problems found in a description, collected so that they are all
+// reported at once (one exception naming each: InvalidForest for forests)
+// instead of one per attempt. Used by validateForest (Canopy::forest) and
+// P4estForest (Canopy::p4est). Header only; it knows no Canopy type (the caller
+// names the exception), so that nothing in adaptor/common depends on the layers
+// above it.
 #pragma once
-
-#include "canopy/ForestValidation.h"
 
 #include <sstream>
 #include <string>
@@ -35,14 +35,20 @@ public:
   /// The problems so far; the list is left empty.
   std::vector<std::string> take() { return std::exchange(this->Lines, {}); }
 
-  /// Throws InvalidForest with every problem so far (when going on makes no sense).
-  [[noreturn]] void raise() { throw InvalidForest(this->take()); }
+  /// Throws `Error` (constructed from the list of problems) with every problem
+  /// so far, when going on makes no sense.
+  template <typename Error>
+  [[noreturn]] void raise()
+  {
+    throw Error(this->take());
+  }
 
+  template <typename Error>
   void raiseIfAny()
   {
     if (!this->empty())
     {
-      this->raise();
+      this->raise<Error>();
     }
   }
 

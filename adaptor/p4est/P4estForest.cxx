@@ -2,6 +2,7 @@
 
 // Internal to Canopy (adaptor/common, not installed): validateForest's problem list.
 #include "ProblemList.h"
+#include "canopy/ForestValidation.h"
 
 #include <p4est.h>
 #include <p4est_connectivity.h>
@@ -88,7 +89,7 @@ BrickLattice latticeOf(const typename Api<D>::Connectivity* connectivity, Proble
     problems.add("the connectivity has no vertices, so its trees have no place in space; "
                  "Canopy needs a brick (p4est_connectivity_new_brick) or trees that are "
                  "axis-aligned boxes on a lattice of vertices");
-    problems.raise();
+    problems.raise<InvalidForest>();
   }
   constexpr int children = Api<D>::Children;
   using Corner = std::array<double, 3>;
@@ -138,7 +139,7 @@ BrickLattice latticeOf(const typename Api<D>::Connectivity* connectivity, Proble
   {
     problems.add("... and ", notBoxes - 5, " more trees that are not axis-aligned boxes");
   }
-  problems.raiseIfAny();
+  problems.raiseIfAny<InvalidForest>();
   for (int a = 0; a < 3; ++a)
   {
     auto& axis = lattice.axes[static_cast<std::size_t>(a)];
@@ -191,7 +192,7 @@ BrickLattice latticeOf(const typename Api<D>::Connectivity* connectivity, Proble
     problems.add("the ", trees, " trees do not tile the ", latticeCells,
                  "-cell lattice of their corners (Canopy needs a box of trees, as a brick is)");
   }
-  problems.raiseIfAny();
+  problems.raiseIfAny<InvalidForest>();
   return lattice;
 }
 
@@ -264,7 +265,7 @@ DescribedTree describeTree(const typename Api<D>::Tree* tree, std::int64_t root,
     {
       problems.add("tree ", treeIndex, ": quadrant ", k,
                    " lies outside the tree or quadrants overlap (not a valid linear quadtree)");
-      problems.raise();
+      problems.raise<InvalidForest>();
     }
     while (true)
     {
@@ -279,7 +280,7 @@ DescribedTree describeTree(const typename Api<D>::Tree* tree, std::int64_t root,
       {
         problems.add("tree ", treeIndex, ": quadrant ", k,
                      " is not in Morton order or overlaps another (not a valid linear quadtree)");
-        problems.raise();
+        problems.raise<InvalidForest>();
       }
       for (; top.nextChild < child; ++top.nextChild)
       {
@@ -369,7 +370,7 @@ struct BasicP4estForest<D>::State
     {
       problems.add("field '", field.name, "' has ", field.components, " components (at least 1)");
     }
-    problems.raiseIfAny();
+    problems.raiseIfAny<InvalidForest>();
     description.fields.push_back(std::move(field));
   }
 };
@@ -383,12 +384,12 @@ BasicP4estForest<D>::BasicP4estForest(const Forest* forest) : Impl(std::make_uni
   if (p == nullptr)
   {
     problems.add("the forest pointer is null");
-    problems.raise();
+    problems.raise<InvalidForest>();
   }
   if (p->connectivity == nullptr || p->trees == nullptr)
   {
     problems.add("the forest has no connectivity or no trees (destroyed?)");
-    problems.raise();
+    problems.raise<InvalidForest>();
   }
   State& s = *Impl;
   s.forest = p;
@@ -416,7 +417,7 @@ BasicP4estForest<D>::BasicP4estForest(const Forest* forest) : Impl(std::make_uni
   {
     problems.add("the local trees hold ", described, " quadrants but local_num_quadrants is ",
                  s.quadrants);
-    problems.raise();
+    problems.raise<InvalidForest>();
   }
 
   ForestDescription& d = s.description;
@@ -485,13 +486,13 @@ void BasicP4estForest<D>::addUserDataField(std::string name, ValueType type, std
   if (p->data_size == 0)
   {
     problems.add("field '", name, "': the forest has no user data (data_size is 0)");
-    problems.raise();
+    problems.raise<InvalidForest>();
   }
   if (byteOffset + bytes > p->data_size)
   {
     problems.add("field '", name, "': ", bytes, " bytes at offset ", byteOffset,
                  " do not fit in the quadrants' ", p->data_size, " bytes of user data");
-    problems.raise();
+    problems.raise<InvalidForest>();
   }
   // One address per local quadrant, in local order: user_data lives in p4est's
   // memory pool, not at a fixed stride.
@@ -537,7 +538,7 @@ const ForestDescription& BasicP4estForest<D>::description() const
     problems.add("it changed since it was described (revision ", s.revision, ", now ",
                  s.forest->revision, "; ", s.quadrants, " local quadrants, now ", current,
                  "): describe it again after refine, coarsen, balance or partition");
-    problems.raise();
+    problems.raise<InvalidForest>();
   }
   return s.description;
 }

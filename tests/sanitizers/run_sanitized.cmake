@@ -4,7 +4,7 @@
 # (sanitizers.build). With LABEL: runs that build's tests with the label under the
 # sanitizers' options (sanitizers.unit, .insitu, .miniapp). docs/testing.md.
 if(NOT EXISTS "${BUILD}/CMakeCache.txt" OR NOT EXISTS "${BUILD}/CTestTestfile.cmake")
-  message(FATAL_ERROR "sanitizers: there is no sanitizer build in ${BUILD}. scripts/setup.sh "
+  message(FATAL_ERROR "sanitizers: there is no sanitizer build in ${BUILD}. scripts/setup.sh --tests "
     "configures and builds it (cmake -S <source> -B ${BUILD} -DCMAKE_BUILD_TYPE=Release "
     "\"-DCANOPY_SANITIZE=address;undefined\" -DCANOPY_BUILD_BENCHMARKS=OFF, then cmake --build)")
 endif()
