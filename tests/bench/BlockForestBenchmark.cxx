@@ -485,9 +485,10 @@ struct WrapRow
 };
 
 /// Where Canopy's build goes: its steps timed one by one (best of Repetitions),
-/// then the trees alone, through VTK's BuildFromBreadthFirstOrderDescriptor (what
-/// Canopy calls) and through VTK's InitializeForReader from the same bits (one
-/// exact allocation per tree; checked to give the same trees).
+/// then the trees alone, through VTK's BuildFromBreadthFirstOrderDescriptor (which
+/// grows each tree's child table bit by bit) and through VTK's InitializeForReader,
+/// what Canopy calls, from the same bits (one exact allocation per tree; checked to
+/// give the same trees).
 void wrapPhases(const canopy::ForestDescription& d, WrapRow& row)
 {
   const double cells = static_cast<double>(row.cells);

@@ -40,8 +40,9 @@ private:
 /// Builds the grid. Throws InvalidForest (nothing is built) when the description
 /// or the request is malformed.
 ///
-/// - Topology comes from the breadth-first refinement bytes through
-///   vtkHyperTree::BuildFromBreadthFirstOrderDescriptor: no per-node cursor walk.
+/// - Topology comes from the breadth-first refinement bytes, packed into descriptor
+///   bits: each tree is built by vtkHyperTree::InitializeForReader from its bits (the
+///   child table allocated once at its size), no per-node cursor walk.
 /// - Cells (VTK global indices) are numbered breadth-first, tree by tree: implicit,
 ///   one offset per tree, no per-node table. With the default storage a cell is its
 ///   storage slot; with slot maps or absent nodes, fields read through a cell -> slot
