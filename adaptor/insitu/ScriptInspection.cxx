@@ -4,7 +4,6 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 namespace canopy
@@ -19,21 +18,116 @@ enum class Verdict
   Unknown
 };
 
+std::size_t skipSpaces(const std::string& text, std::size_t at)
+{
+  while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at])))
+  {
+    ++at;
+  }
+  return at;
+}
+
+std::string lowered(std::string text)
+{
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+// "# canopy-renders: yes|no" anywhere (case-insensitive, spaces optional), the first one wins.
+// A hand scanner rather than std::regex: GCC 12's <regex> trips -Wmaybe-uninitialized under
+// the sanitizer build's flags, and the words here are fixed.
+Verdict overrideLine(const std::string& text)
+{
+  const std::string lower = lowered(text);
+  static const std::string key = "canopy-renders";
+  for (std::size_t hash = lower.find('#'); hash != std::string::npos;
+       hash = lower.find('#', hash + 1))
+  {
+    std::size_t at = skipSpaces(lower, hash + 1);
+    if (lower.compare(at, key.size(), key) != 0)
+    {
+      continue;
+    }
+    at = skipSpaces(lower, at + key.size());
+    if (at >= lower.size() || lower[at] != ':')
+    {
+      continue;
+    }
+    at = skipSpaces(lower, at + 1);
+    if (lower.compare(at, 3, "yes") == 0)
+    {
+      return Verdict::Renders;
+    }
+    if (lower.compare(at, 2, "no") == 0)
+    {
+      return Verdict::DoesNotRender;
+    }
+  }
+  return Verdict::Unknown;
+}
+
+// Whether `name` occurs followed (after optional spaces) by "(" and returns the position
+// after the parenthesis of the first such call through `after`.
+bool findCall(const std::string& text, const std::string& name, std::size_t from,
+              std::size_t& after)
+{
+  for (std::size_t at = text.find(name, from); at != std::string::npos;
+       at = text.find(name, at + 1))
+  {
+    const std::size_t open = skipSpaces(text, at + name.size());
+    if (open < text.size() && text[open] == '(')
+    {
+      after = open + 1;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool createsImageExtractor(const std::string& text)
+{
+  static const char* const imageKinds[] = {"PNG", "JPG", "RecolorableImage", "CinemaVolumetricPNG"};
+  std::size_t from = 0;
+  std::size_t after = 0;
+  while (findCall(text, "CreateExtractor", from, after))
+  {
+    const std::size_t quote = skipSpaces(text, after);
+    if (quote < text.size() && (text[quote] == '\'' || text[quote] == '"'))
+    {
+      for (const char* kind : imageKinds)
+      {
+        const std::string quoted = std::string(kind) + text[quote];
+        if (text.compare(quote + 1, quoted.size(), quoted) == 0)
+        {
+          return true;
+        }
+      }
+    }
+    from = after;
+  }
+  return false;
+}
+
 Verdict inspectSource(const std::string& text)
 {
-  static const std::regex overrideLine(R"(#\s*canopy-renders\s*:\s*(yes|no))", std::regex::icase);
-  std::smatch match;
-  if (std::regex_search(text, match, overrideLine))
+  const Verdict stated = overrideLine(text);
+  if (stated != Verdict::Unknown)
   {
-    std::string answer = match[1].str();
-    std::transform(answer.begin(), answer.end(), answer.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return answer == "no" ? Verdict::DoesNotRender : Verdict::Renders;
+    return stated;
   }
-  static const std::regex renderingCall(
-      R"((CreateView|GetActiveViewOrCreate|CreateRenderView|SaveScreenshot|render_view|ImageScript)\s*\()"
-      R"(|CreateExtractor\s*\(\s*['"](PNG|JPG|RecolorableImage|CinemaVolumetricPNG)['"])");
-  return std::regex_search(text, renderingCall) ? Verdict::Renders : Verdict::Unknown;
+  static const char* const renderingCalls[] = {"CreateView",       "GetActiveViewOrCreate",
+                                               "CreateRenderView", "SaveScreenshot",
+                                               "render_view",      "ImageScript"};
+  std::size_t after = 0;
+  for (const char* call : renderingCalls)
+  {
+    if (findCall(text, call, 0, after))
+    {
+      return Verdict::Renders;
+    }
+  }
+  return createsImageExtractor(text) ? Verdict::Renders : Verdict::Unknown;
 }
 
 std::string readText(const std::filesystem::path& path)
