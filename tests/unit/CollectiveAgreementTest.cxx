@@ -4,8 +4,8 @@
 // their minimum and maximum over ranks, against an independent all-gather of
 // the states; allOf and reduce against closed forms. Then the bounded wait after
 // a script call: a rank that comes late but within the limit costs nothing; one
-// that comes past the limit is waited for and reported by the rank that waits;
-// one that never comes ends the job (exit code 124) at the limit plus twice the
+// that comes past the limit is waited for and reported by the ranks that wait,
+// and not by itself; one that never comes ends the job (exit code 124) at the limit plus twice the
 // grace, in a job of its own (StuckJob.cxx).
 #include "CollectiveAgreement.h"
 #include "CapturedStderr.h"
@@ -214,6 +214,11 @@ TEST(CollectiveAgreementAfterAScriptCall, ARankPastTheLimitIsWaitedForAndReporte
       expected += "; on this rank: " + failure + "\ndetail";
     }
     EXPECT_EQ(said, expected + "\n");
+  }
+  else
+  {
+    // It came when the others were all there: it waited for nobody.
+    EXPECT_EQ(said, "");
   }
 }
 
