@@ -2,6 +2,7 @@
 
 #include "GatherText.h"
 
+#include <algorithm>
 #include <sstream>
 #include <thread>
 
@@ -33,7 +34,11 @@ void CollectiveAgreement::maxReduce(std::vector<int>& values, const After* after
   // with the better message (it knows where it is stuck); this rank says what
   // it knows before that, and ends the job itself only if nobody did.
   const double allowed = this->LimitSeconds + after->extraSeconds;
-  const auto noticeAt = after->since + seconds(allowed + 0.5 * this->GraceSeconds);
+  // Said only by a rank that has waited itself: one that comes late, when the
+  // others are all there, finishes the reduction within a few polls and must
+  // not claim to be waiting for them.
+  const auto noticeAt = std::max(after->since + seconds(allowed + 0.5 * this->GraceSeconds),
+                                 Clock::now() + seconds(0.5 * this->GraceSeconds));
   const auto endAt = after->since + seconds(allowed + 2.0 * this->GraceSeconds);
   MPI_Request request;
   MPI_Iallreduce(local.data(), values.data(), count, MPI_INT, MPI_MAX, this->Communicator,

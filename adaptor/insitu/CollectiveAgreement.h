@@ -72,9 +72,9 @@ public:
 
 private:
   /// MPI_Allreduce(MPI_MAX) of ints; with `after` and a limit, bounded in time:
-  /// half the grace past the limit this rank says it is waiting (and its own
-  /// failure), and it ends the job if the others still have not come at twice
-  /// the grace past the limit.
+  /// half the grace past the limit, once it has itself waited half the grace,
+  /// this rank says it is waiting (and its own failure), and it ends the job if
+  /// the others still have not come at twice the grace past the limit.
   void maxReduce(std::vector<int>& values, const After* after,
                  const std::string& localFailure) const;
 
