@@ -231,15 +231,13 @@ AdaptiveSurfaceBuilder::answerRemoteFaces(const std::vector<RemoteFace>& faces) 
     {
       continue; // not a face of a grid like this one: nothing of it is here
     }
-    Index3 across;
-    bool elsewhere = false;
-    if (!side.neighbourAcross(n, axis, towards, across, elsewhere))
+    Index3 position;
+    const SolidNeighbours::Neighbour across = side.across(n, axis, towards, position);
+    if (!across.tree)
     {
       continue; // no tree here on the other side
     }
-    const TreeAccess* neighbour = nullptr;
-    WalkNode m{0, 0, {{0, 0, 0}}};
-    const FaceState state = side.faceState(n, axis, towards, neighbour, m);
+    const FaceState state = side.stateOf(across);
     if ((state == FaceState::Whole || state == FaceState::Parts) &&
         side.coarserStopCovers(n, axis, towards))
     {
@@ -252,11 +250,11 @@ AdaptiveSurfaceBuilder::answerRemoteFaces(const std::vector<RemoteFace>& faces) 
     else if (state == FaceState::Parts)
     {
       side.exposedParts(
-          *neighbour, m, axis, towards,
+          *across.tree, WalkNode{across.node, n.level, position}, axis, towards,
           [&](const WalkNode& child)
           {
             RemotePiece piece{q, false, {{0, 0, 0}}, {{0, 0, 0}}, child.level, child.ijk};
-            Grid.nodeBounds(*neighbour, child.level, child.ijk, piece.lo, piece.hi);
+            Grid.nodeBounds(*across.tree, child.level, child.ijk, piece.lo, piece.hi);
             pieces.push_back(piece);
           },
           [](const WalkNode&) {});
@@ -279,7 +277,8 @@ void AdaptiveSurfaceBuilder::addRemotePieces(const std::vector<RemotePiece>& pie
     CellSink sink;
     sink.keep = &Kept[t];
     SolidSurfaceWalk walk(Grid, trees[t], Options, sink);
-    const WalkNode n{0, static_cast<int>(asked.face.level), asked.face.ijk};
+    // The node whose face it is, entered as the walk entered it.
+    const WalkNode n = walk.enterPath(static_cast<int>(asked.face.level), asked.face.ijk);
     const int axis = static_cast<int>(asked.face.axis);
     const int side = static_cast<int>(asked.face.side);
     Vec3 lo;
@@ -300,7 +299,7 @@ void AdaptiveSurfaceBuilder::addRemotePieces(const std::vector<RemotePiece>& pie
       cell[axis] = side ? (n.ijk[axis] + 1) * scale - 1 : n.ijk[axis] * scale;
     }
     walk.emitFace(axis, side, n, lo, hi, piece.whole ? lo : piece.lo, piece.whole ? hi : piece.hi,
-                  level, cell, asked.global, asked.inside, nullptr);
+                  level, cell, asked.global, asked.inside);
   }
   std::vector<std::size_t> counts(Kept.size());
   std::vector<std::size_t> pointCounts(Kept.size());

@@ -19,9 +19,10 @@
 // vertices. On the way down to the piece's level only the topology is asked
 // (a masked node, a leaf): were level of detail to stop there, it would stop at
 // the cell at the piece's level too (a node's footprint is at most its
-// parent's), which has no corner inside the edge either way. A flat walk (2D,
-// slices) carries each node's neighbours across its edges down the tree
-// (PlaneNeighbours) rather than looking for them from a common ancestor.
+// parent's), which has no corner inside the edge either way. The walks carry
+// each node's neighbours down the tree rather than looking for them from a
+// common ancestor: across its edges in a plane (2D, slices: PlaneNeighbours),
+// across its faces and edges in 3D (SolidNeighbours.h, FaceEdgeVertices.h).
 //
 // Another rank's part met on the way (an absent node, a tree elsewhere) is
 // reported: the caller then asks the other ranks (EdgeVertexExchange.h).
@@ -228,7 +229,8 @@ public:
   using Around = std::array<Neighbour, 4>;
 
   PlaneNeighbours(const HyperTreeAccess& grid, const TreeAccess& tree, int u, int v)
-      : Grid(grid), Tree(tree), U(u), V(v), Levels(static_cast<std::size_t>(grid.maxLevel()) + 1)
+      : Grid(grid), Tree(tree), U(u), V(v),
+        Levels(static_cast<std::size_t>(deepestLevel(grid, tree)) + 1)
   {
     int weight = 1;
     for (int a : grid.activeAxes())
@@ -242,6 +244,10 @@ public:
   /// (or the root).
   void enter(const WalkNode& n)
   {
+    if (static_cast<std::size_t>(n.level) >= Levels.size())
+    {
+      Levels.resize(static_cast<std::size_t>(n.level) + 1); // deeper than its tree said
+    }
     Around& here = Levels[static_cast<std::size_t>(n.level)];
     const int f = Grid.branchFactor();
     for (int e = 0; e < 4; ++e)

@@ -3,11 +3,14 @@
 // where four cells meet: the piece's own, the hole across the face, and the two
 // others, beside the piece's cell and diagonally across, where the pieces
 // meeting the edge come from (their drawn nodes' and their holes' bounds, a
-// masked node bounding the faces it exposes).
+// masked node bounding the faces it exposes). Both lie in the drawn node's
+// neighbours across a face or an edge, which the face walk carries down the
+// tree (SolidNeighbours.h): each search starts at the drawn node's level.
 #pragma once
 
 #include "EdgeVertices.h"
 #include "HyperTreeAccess.h"
+#include "SolidNeighbours.h"
 #include "TreeTraversal.h"
 #include "Vec3.h"
 
@@ -20,71 +23,24 @@
 namespace canopy
 {
 
-/// The deepest common ancestor of the cells at `from` and `to` (same level,
-/// same tree), given `from`'s ancestors (path[l]: its ancestor at level l).
-inline WalkNode commonAncestor(const HyperTreeAccess& grid, const vtkIdType* path, int level,
-                               const Index3& from, const Index3& to)
-{
-  if (grid.branchFactor() == 2)
-  {
-    // The positions agree above their highest differing bit.
-    std::uint64_t differing = 0;
-    for (int a = 0; a < 3; ++a)
-    {
-      differing |= static_cast<std::uint64_t>(from[a] ^ to[a]);
-    }
-    int up = 0;
-    for (; differing; differing >>= 1)
-    {
-      ++up;
-    }
-    if (up > level)
-    {
-      return {0, 0, {{0, 0, 0}}};
-    }
-    return {path[level - up], level - up, {{from[0] >> up, from[1] >> up, from[2] >> up}}};
-  }
-  for (int up = 1; up <= level; ++up)
-  {
-    const std::int64_t scale = grid.cellsPerRootAt(up);
-    bool same = true;
-    for (int a = 0; a < 3 && same; ++a)
-    {
-      same = from[a] / scale == to[a] / scale;
-    }
-    if (same)
-    {
-      return {path[level - up], level - up, {{from[0] / scale, from[1] / scale, from[2] / scale}}};
-    }
-  }
-  return {0, 0, {{0, 0, 0}}};
-}
-
 /// The vertices on the four edges of a 3D face piece, found around each edge.
 /// The piece is the face normal to `axis`, on side `side` (1: the upper one), of
-/// the cell at `level`, `ijk` on the solid's side (in `tree`): the drawn node
-/// at `nodeLevel`, `nodeIJK` itself, or a finer cell inside it facing a finer
-/// hole. It spans lo to hi on the other axes u = axis + 1 and v = axis + 2
-/// (mod 3); onEdge as rectangleEdgeVertices gives it. Four cells meet along an
-/// edge: the piece's own (inside the drawn node), the hole across the face,
-/// and the two others, beside the piece's cell and diagonally across, where the
-/// pieces meeting it come from: their drawn nodes' and holes' bounds (a masked
-/// node bounds the faces it exposes). `path`: the drawn node's ancestors, or
-/// nullptr (descents then start at the roots). Returns the edges (bit e for
-/// onEdge[e]) around which another rank's part was met.
-template <typename Classify>
-unsigned faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
-                          const vtkIdType* path, int nodeLevel, const Index3& nodeIJK, int level,
-                          const Index3& ijk, int axis, int side, const Vec3& lo, const Vec3& hi,
-                          Classify&& classify, std::array<std::vector<double>, 4>& onEdge,
-                          EdgeScratch& scratch)
+/// the cell at `level`, `ijk` on the solid's side: the drawn node at
+/// `nodeLevel`, `nodeIJK` itself, or a finer cell inside it facing a finer hole.
+/// It spans lo to hi on the other axes u = axis + 1 and v = axis + 2 (mod 3);
+/// onEdge as rectangleEdgeVertices gives it. `around(d)`: the drawn node's
+/// same-level neighbour in direction d (SolidNeighbours::at). Returns the edges
+/// (bit e for onEdge[e]) around which another rank's part was met.
+template <typename Around, typename Classify>
+unsigned faceEdgeVertices(const HyperTreeAccess& grid, int nodeLevel, const Index3& nodeIJK,
+                          int level, const Index3& ijk, int axis, int side, const Vec3& lo,
+                          const Vec3& hi, Around&& around, Classify&& classify,
+                          std::array<std::vector<double>, 4>& onEdge, EdgeScratch& scratch)
 {
+  using Kind = SolidNeighbours::Neighbour::Kind;
   const int f = grid.branchFactor();
   const int u = (axis + 1) % 3;
   const int v = (axis + 2) % 3;
-  const std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
-                                  static_cast<long>(tree.rootIJK[1]),
-                                  static_cast<long>(tree.rootIJK[2])}};
   const std::int64_t scale = grid.cellsPerRootAt(level - nodeLevel);
   const std::int64_t perRoot = grid.cellsPerRootAt(level);
   std::vector<double>& found = scratch.found;
@@ -99,47 +55,47 @@ unsigned faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
     out.clear();
     for (const bool diagonal : {false, true})
     {
-      std::array<int, 3> offset{{0, 0, 0}};
-      offset[static_cast<std::size_t>(across)] = edgeSide ? 1 : -1;
+      Index3 at = ijk;
+      at[static_cast<std::size_t>(across)] += edgeSide ? 1 : -1;
+      if (diagonal)
+      {
+        at[static_cast<std::size_t>(axis)] += side ? 1 : -1;
+      }
+      // The drawn node's neighbour holding the cell (a step of -1, 0 or 1 per
+      // axis at the node's level), and the cell's position in that one's tree.
+      SolidNeighbours::Direction step{{0, 0, 0}};
+      for (std::size_t a = 0; a < 3; ++a)
+      {
+        const std::int64_t outer = at[a] < 0            ? -1
+                                   : level == nodeLevel ? at[a]
+                                   : f == 2             ? at[a] >> (level - nodeLevel)
+                                                        : at[a] / scale;
+        step[a] = static_cast<int>(outer - nodeIJK[a]);
+        at[a] = at[a] < 0 ? perRoot - 1 : at[a] >= perRoot ? 0 : at[a];
+      }
+      const SolidNeighbours::Neighbour& holder = around(step);
+      if (holder.kind != Kind::Node)
+      {
+        // Nothing drawn there (a border, a hole, a leaf as large or larger),
+        // or another rank's part.
+        remote |= holder.kind == Kind::Elsewhere || holder.kind == Kind::Absent ? 1u << e : 0u;
+        continue;
+      }
       EdgeCells cells;
       cells.along = along;
       cells.digit[static_cast<std::size_t>(across)] = edgeSide ? 0 : f - 1;
       // The children touching the face's plane: on the face's side of a cell
       // beside the piece's, on the opposite side of one across the plane.
       cells.digit[static_cast<std::size_t>(axis)] = (side == 1) != diagonal ? f - 1 : 0;
-      if (diagonal)
-      {
-        offset[static_cast<std::size_t>(axis)] = side ? 1 : -1;
-      }
-      Index3 at = ijk;
-      const TreeAccess* other = &tree;
-      bool inside = true; // in this tree
-      for (int a = 0; a < 3; ++a)
-      {
-        at[a] += offset[static_cast<std::size_t>(a)];
-        inside = inside && at[a] >= 0 && at[a] < perRoot;
-      }
-      if (!inside)
-      {
-        std::array<long, 3> atRoot;
-        bool elsewhere = false;
-        other = treeOfCell(grid, root, level, ijk, offset, at, atRoot, elsewhere);
-        if (!other)
-        {
-          remote |= elsewhere ? 1u << e : 0u;
-          continue;
-        }
-      }
-      else if (level > nodeLevel && at[0] / scale == nodeIJK[0] && at[1] / scale == nodeIJK[1] &&
-               at[2] / scale == nodeIJK[2])
-      {
-        continue; // inside the drawn node: drawn whole, no corner inside the edge
-      }
-      const WalkNode from =
-          other == &tree && path ? commonAncestor(grid, path, level, ijk, at) : WalkNode{};
       found.clear();
-      if (!edgeVertices(grid, *other, from, level, at, cells, lo[static_cast<std::size_t>(along)],
-                        hi[static_cast<std::size_t>(along)], classify, true, found, scratch.stack))
+      WalkNode start{holder.node, nodeLevel, at};
+      for (std::size_t a = 0; level > nodeLevel && a < 3; ++a)
+      {
+        start.ijk[a] = f == 2 ? at[a] >> (level - nodeLevel) : at[a] / scale;
+      }
+      if (!edgeVertices(grid, *holder.tree, start, level, at, cells,
+                        lo[static_cast<std::size_t>(along)], hi[static_cast<std::size_t>(along)],
+                        classify, true, found, scratch.stack))
       {
         remote |= 1u << e;
       }

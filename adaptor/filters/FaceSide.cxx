@@ -61,75 +61,44 @@ const TreeAccess* FaceSide::neighbourAcross(const FacePosition& n, int axis, int
   return tree;
 }
 
-WalkNode FaceSide::descentStart(const TreeAccess* neighbour, const FacePosition& n, int axis,
-                                const Index3& across) const
+SolidNeighbours::Neighbour FaceSide::across(const FacePosition& n, int axis, int side,
+                                            Index3& position) const
 {
-  if (neighbour != n.tree || !n.path)
+  using Neighbour = SolidNeighbours::Neighbour;
+  bool elsewhere = false;
+  const TreeAccess* tree = neighbourAcross(n, axis, side, position, elsewhere);
+  if (!tree)
   {
-    return WalkNode{0, 0, {{0, 0, 0}}};
+    return {elsewhere ? Neighbour::Kind::Elsewhere : Neighbour::Kind::Border, nullptr, 0};
   }
-  if (grid.branchFactor() == 2)
+  // Down from the root towards the position, until a masked node or a leaf.
+  Neighbour m = SolidNeighbours::nodeAt(grid, *tree, 0);
+  for (int level = 0; level < n.level && m.kind == Neighbour::Kind::Node; ++level)
   {
-    // The positions agree above their highest differing bit.
-    const auto differing = static_cast<std::uint64_t>(across[axis] ^ n.ijk[axis]);
-    int bits = 0;
-    for (std::uint64_t d = differing; d; d >>= 1)
-    {
-      ++bits;
-    }
-    const int level = n.level - bits;
-    if (level <= 0)
-    {
-      return WalkNode{0, 0, {{0, 0, 0}}};
-    }
-    const int shift = n.level - level;
-    return WalkNode{
-        n.path[level], level, {{n.ijk[0] >> shift, n.ijk[1] >> shift, n.ijk[2] >> shift}}};
+    m = SolidNeighbours::childOf(grid, m, grid.childToward(level, n.level, position));
   }
-  for (int level = n.level - 1; level > 0; --level)
-  {
-    const std::int64_t scale = grid.cellsPerRootAt(n.level - level);
-    if (across[axis] / scale == n.ijk[axis] / scale)
-    {
-      return WalkNode{
-          n.path[level], level, {{n.ijk[0] / scale, n.ijk[1] / scale, n.ijk[2] / scale}}};
-    }
-  }
-  return WalkNode{0, 0, {{0, 0, 0}}};
+  return m;
 }
 
-FaceState FaceSide::faceState(const FacePosition& n, int axis, int side,
-                              const TreeAccess*& neighbour, WalkNode& m) const
+FaceState FaceSide::stateOf(const SolidNeighbours::Neighbour& across) const
 {
+  using Kind = SolidNeighbours::Neighbour::Kind;
   const FaceState otherRank = options.remoteFaces ? FaceState::Remote : FaceState::Covered;
-  Index3 across;
-  bool elsewhere = false;
-  neighbour = neighbourAcross(n, axis, side, across, elsewhere);
-  if (!neighbour)
+  switch (across.kind)
   {
-    return elsewhere ? otherRank : FaceState::Whole;
-  }
-  // Descend the neighbour tree towards `across` at level n.level.
-  m = descentStart(neighbour, n, axis, across);
-  while (true)
-  {
-    if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
-    {
-      return grid.isAbsent(neighbour->globalIndex(m.node)) ? otherRank : FaceState::Whole;
-    }
-    if (m.level == n.level)
-    {
-      // Parts of the face show only where masked descendants of m touch it.
-      return neighbour->isLeaf(m.node) || !neighbour->hasMaskedDescendant(m.node)
-                 ? FaceState::Covered
-                 : FaceState::Parts;
-    }
-    if (neighbour->isLeaf(m.node))
-    {
-      return FaceState::Covered;
-    }
-    // A topology fact only: level of detail on the way is coarserStopCovers'.
-    m = childToward(*neighbour, m, n.level, across);
+  case Kind::Border:
+  case Kind::Hidden:
+    return FaceState::Whole;
+  case Kind::Elsewhere:
+  case Kind::Absent:
+    return otherRank;
+  case Kind::CoarserLeaf:
+    return FaceState::Covered;
+  default:
+    // Parts of the face show only where masked descendants of the node touch it.
+    return across.tree->isLeaf(across.node) || !across.tree->hasMaskedDescendant(across.node)
+               ? FaceState::Covered
+               : FaceState::Parts;
   }
 }
 
@@ -146,11 +115,7 @@ bool FaceSide::coarserStopCovers(const FacePosition& n, int axis, int side) cons
   {
     return false; // the grid's boundary, or another rank's tree: nothing drawn here
   }
-  WalkNode m = descentStart(neighbour, n, axis, across);
-  // In n's own tree the descent starts at an ancestor of n, which the walk
-  // entered without stopping (n was reached): the same rule, not asked again.
-  bool ancestorOfN = neighbour == n.tree;
-  for (; m.level < n.level; ancestorOfN = false)
+  for (WalkNode m{0, 0, {{0, 0, 0}}}; m.level < n.level;)
   {
     if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
     {
@@ -158,13 +123,14 @@ bool FaceSide::coarserStopCovers(const FacePosition& n, int axis, int side) cons
     }
     if (neighbour->isLeaf(m.node))
     {
-      return false; // faceState's Covered: never asked
+      return false; // stateOf's Covered: never asked
     }
-    if (!ancestorOfN && lodStops(*neighbour, m) && !neighbour->hasAbsentDescendant(m.node))
+    if (lodStops(*neighbour, m) && !neighbour->hasAbsentDescendant(m.node))
     {
       return true;
     }
-    m = childToward(*neighbour, m, n.level, across);
+    const int child = grid.childToward(m.level, n.level, across);
+    m = {neighbour->firstChild(m.node) + child, m.level + 1, grid.childPosition(m.ijk, child)};
   }
   return false;
 }

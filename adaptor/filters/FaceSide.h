@@ -7,14 +7,17 @@
 // grid, in another rank's part, below a masked node (a hole), in a leaf as
 // large or larger (covered), or a same-level unmasked node whose masked
 // descendants may leave parts of the face exposed. That is a topology fact
-// (faceState), kept by the walk per node and face across camera moves. Level
-// of detail is applied on top of it, never stored: a node on the way where the
-// neighbour tree's walk stops (drawn as a solid) covers the face
-// (coarserStopCovers).
+// (stateOf), kept by the walk per node and face across camera moves. Level of
+// detail is applied on top of it, never stored: a node on the way where the
+// neighbour tree's walk stops (drawn as a solid) covers the face. The walk
+// carries the positions and that question down the tree (SolidNeighbours.h);
+// for another rank's face, whose node this rank does not have, they are looked
+// for from the root of the tree across (across, coarserStopCovers).
 #pragma once
 
 #include "AdaptiveSurfaceBuilder.h"
 #include "HyperTreeAccess.h"
+#include "SolidNeighbours.h"
 #include "TreeTraversal.h"
 #include "Vec3.h"
 
@@ -37,18 +40,13 @@ enum class FaceState : std::uint32_t
   Remote = 4   ///< (remote faces) another rank's part: the owner says what shows
 };
 
-/// A node as the face queries see it: its root cell, level and integer
+/// A node as another rank's face gives it: its root cell, level and integer
 /// position (no tree needed: the rank answering for the other side has none).
-/// The walk that owns the node also gives its tree and its ancestors (path[l]:
-/// the ancestor at level l < level), so that a neighbour in the same tree is
-/// found from their common ancestor rather than from the root.
 struct FacePosition
 {
   std::array<long, 3> root;
   int level;
   Index3 ijk;
-  const TreeAccess* tree = nullptr;
-  const vtkIdType* path = nullptr;
 };
 
 struct FaceSide
@@ -67,33 +65,23 @@ struct FaceSide
   const TreeAccess* neighbourAcross(const FacePosition& n, int axis, int side, Index3& across,
                                     bool& elsewhere) const;
 
-  /// The child of m on the way down to position `target` at level `level`.
-  WalkNode childToward(const TreeAccess& t, const WalkNode& m, int level,
-                       const Index3& target) const
-  {
-    const int child = grid.childToward(m.level, level, target);
-    return {t.firstChild(m.node) + child, m.level + 1, grid.childPosition(m.ijk, child)};
-  }
+  /// What is at the same-level position across one face of n, looked for from
+  /// the root of the tree there; `position`: that position in its tree.
+  SolidNeighbours::Neighbour across(const FacePosition& n, int axis, int side,
+                                    Index3& position) const;
 
-  /// Where the descent in `neighbour` towards `across` (at n's level) starts:
-  /// the root, or, in n's own tree with n's ancestors known, their deepest
-  /// ancestor in common (unmasked, as every ancestor of a visited node is).
-  WalkNode descentStart(const TreeAccess* neighbour, const FacePosition& n, int axis,
-                        const Index3& across) const;
-
-  /// What lies across one face of n; for Parts, the same-level neighbour `m` in
-  /// `neighbour`. Another rank's part (an absent cell, or a tree elsewhere) is
-  /// Remote with remote faces on, else Covered (solid: faces between ranks are
-  /// inside the domain).
-  FaceState faceState(const FacePosition& n, int axis, int side, const TreeAccess*& neighbour,
-                      WalkNode& m) const;
+  /// What lies across a face whose same-level position is `across`; for Parts,
+  /// that position is an unmasked node. Another rank's part (an absent cell, or
+  /// a tree elsewhere) is Remote with remote faces on, else Covered (solid:
+  /// faces between ranks are inside the domain).
+  FaceState stateOf(const SolidNeighbours::Neighbour& across) const;
 
   /// Whether the walk of the tree across a face of n stops for level of detail
   /// (SurfaceWalk's rule) at an unmasked node coarser than n on the way down
   /// to n's level, before any masked one: that node is drawn as a solid and the
-  /// face is inside it. What faceState says Whole or Parts is then covered. It
+  /// face is inside it. What stateOf says Whole or Parts is then covered. It
   /// depends on the view, so it is asked after the (topological) face memo,
-  /// never stored in it.
+  /// never stored in it. (The face walk asks SolidNeighbours::coarserStop.)
   bool coarserStopCovers(const FacePosition& n, int axis, int side) const;
 
   /// m: an unmasked node across a face (`axis`, `side` of the node we look

@@ -2,6 +2,7 @@
 
 #include "FaceEdgeVertices.h"
 
+#include <stdexcept>
 #include <utility>
 
 namespace canopy
@@ -9,7 +10,7 @@ namespace canopy
 
 SolidSurfaceWalk::SolidSurfaceWalk(const HyperTreeAccess& grid, const TreeAccess& tree,
                                    const SurfaceOptions& options, CellSink& out)
-    : SurfaceWalk(grid, tree, options, nullptr, out), faces{grid, options}
+    : SurfaceWalk(grid, tree, options, nullptr, out), faces{grid, options}, around(grid, tree)
 {
   if (tree.memoRemote != static_cast<int>(options.remoteFaces))
   {
@@ -20,14 +21,23 @@ SolidSurfaceWalk::SolidSurfaceWalk(const HyperTreeAccess& grid, const TreeAccess
   }
 }
 
-FacePosition SolidSurfaceWalk::positionOf(const WalkNode& n) const
+WalkNode SolidSurfaceWalk::enterPath(int level, const Index3& ijk)
 {
-  return {{{static_cast<long>(tree.rootIJK[0]), static_cast<long>(tree.rootIJK[1]),
-            static_cast<long>(tree.rootIJK[2])}},
-          n.level,
-          n.ijk,
-          &tree,
-          path.data()};
+  WalkNode n{0, 0, {{0, 0, 0}}};
+  while (true)
+  {
+    around.enter(n);
+    if (n.level == level)
+    {
+      return n;
+    }
+    if (tree.isLeaf(n.node))
+    {
+      throw std::logic_error("a face this rank drew lies below one of its leaves");
+    }
+    const int child = grid.childToward(n.level, level, ijk);
+    n = {tree.firstChild(n.node) + child, n.level + 1, grid.childPosition(n.ijk, child)};
+  }
 }
 
 bool SolidSurfaceWalk::mayDrawBelow(const WalkNode& n)
@@ -51,23 +61,9 @@ bool SolidSurfaceWalk::mayDrawBelow(const WalkNode& n)
   return known == 2;
 }
 
-bool SolidSurfaceWalk::turnedAway(int axis, int side, double x) const
-{
-  if (!options.view || !options.skipBackFaces)
-  {
-    return false;
-  }
-  const double outward = side ? 1.0 : -1.0;
-  const double facing = options.view->parallel()
-                            ? outward * options.view->directionOfProjection()[axis]
-                            : outward * (x - options.view->position()[axis]);
-  return facing >= 0;
-}
-
 void SolidSurfaceWalk::emitFace(int axis, int side, const WalkNode& n, const Vec3& lo,
                                 const Vec3& hi, const Vec3& plo, const Vec3& phi, int pieceLevel,
-                                const Index3& pieceIJK, vtkIdType global, bool inside,
-                                const vtkIdType* ancestors)
+                                const Index3& pieceIJK, vtkIdType global, bool inside)
 {
   const int b = (axis + 1) % 3;
   const int c = (axis + 2) % 3;
@@ -93,7 +89,9 @@ void SolidSurfaceWalk::emitFace(int axis, int side, const WalkNode& n, const Vec
     std::swap(q[1], q[3]);
   }
   const unsigned remote = faceEdgeVertices(
-      grid, tree, ancestors, n.level, n.ijk, pieceLevel, pieceIJK, axis, side, flo, fhi,
+      grid, n.level, n.ijk, pieceLevel, pieceIJK, axis, side, flo, fhi,
+      [&](const SolidNeighbours::Direction& d) -> const SolidNeighbours::Neighbour&
+      { return around.at(n.level, d); },
       [this](const TreeAccess& t, const WalkNode& m) { return roleAt(t, m); }, onEdge, scratch);
   recordShared(remote, b, c, flo, fhi);
   polygonAround(q, b, c, fhi, {{&onEdge[0], &onEdge[1], &onEdge[2], &onEdge[3]}}, polygon);
@@ -112,7 +110,7 @@ void SolidSurfaceWalk::draw(const WalkNode& n, const Vec3& lo, const Vec3& hi, v
     memo.assign(static_cast<std::size_t>(tree.numberOfVertices), 0);
   }
   std::uint32_t& known = options.memoize ? memo[static_cast<std::size_t>(n.node)] : scratchState;
-  const FacePosition position = positionOf(n);
+  const bool lod = options.view && options.levelOfDetail;
   for (int axis = 0; axis < 3; ++axis)
   {
     for (int side = 0; side < 2; ++side)
@@ -123,96 +121,91 @@ void SolidSurfaceWalk::draw(const WalkNode& n, const Vec3& lo, const Vec3& hi, v
       }
       const int shift = 3 * (2 * axis + side);
       auto state = static_cast<FaceState>((known >> shift) & 7);
-      const TreeAccess* neighbour = nullptr;
-      WalkNode m{0, 0, {{0, 0, 0}}};
       if (state == FaceState::Unknown)
       {
-        state = faces.faceState(position, axis, side, neighbour, m);
+        state = faces.stateOf(around.at(n.level, SolidNeighbours::faceDirection(axis, side)));
         known |= static_cast<std::uint32_t>(state) << shift;
       }
       // The memo holds the topology; the view may cover what it says shows.
-      if ((state == FaceState::Whole || state == FaceState::Parts) &&
-          faces.coarserStopCovers(position, axis, side))
+      if ((state == FaceState::Whole || state == FaceState::Parts) && lod &&
+          around.coarserStop(n.level, axis, side,
+                             [this](const TreeAccess& t, const WalkNode& m)
+                             { return lodStopsHere(t, m); }))
       {
         state = FaceState::Covered;
-      }
-      else if (state == FaceState::Parts && !neighbour)
-      {
-        faces.faceState(position, axis, side, neighbour, m); // the neighbour itself
       }
       bool ask = state == FaceState::Remote;
       if (state == FaceState::Whole)
       {
-        emitFace(axis, side, n, lo, hi, lo, hi, n.level, n.ijk, global, n.inherited, path.data());
+        emitFace(axis, side, n, lo, hi, lo, hi, n.level, n.ijk, global, n.inherited);
       }
       else if (state == FaceState::Parts)
       {
         // Same-level neighbour, unmasked: exposed where its descendants touching
         // the face are masked; where they are another rank's, that rank says.
+        const SolidNeighbours::Direction d = SolidNeighbours::faceDirection(axis, side);
+        const TreeAccess& across = *around.at(n.level, d).tree;
         faces.exposedParts(
-            *neighbour, m, axis, side,
+            across, around.walkNodeAt(n.level, d), axis, side,
             [&](const WalkNode& child)
             {
               Vec3 clo;
               Vec3 chi;
-              grid.nodeBounds(*neighbour, child.level, child.ijk, clo, chi);
+              grid.nodeBounds(across, child.level, child.ijk, clo, chi);
               // The piece is the face of n's cell facing the hole, at the hole's level.
               Index3 cell = child.ijk;
               const std::int64_t scale = grid.cellsPerRootAt(child.level - n.level);
               cell[axis] = side ? (n.ijk[axis] + 1) * scale - 1 : n.ijk[axis] * scale;
-              emitFace(axis, side, n, lo, hi, clo, chi, child.level, cell, global, n.inherited,
-                       path.data());
+              emitFace(axis, side, n, lo, hi, clo, chi, child.level, cell, global, n.inherited);
             },
             [&](const WalkNode&) { ask = ask || options.remoteFaces; });
       }
       if (ask && out.keep)
       {
-        const RemoteFace face{
-            {{position.root[0], position.root[1], position.root[2]}}, n.level, n.ijk, axis, side};
+        const RemoteFace face{{{static_cast<std::int64_t>(tree.rootIJK[0]),
+                                static_cast<std::int64_t>(tree.rootIJK[1]),
+                                static_cast<std::int64_t>(tree.rootIJK[2])}},
+                              n.level,
+                              n.ijk,
+                              axis,
+                              side};
         out.keep->asked.push_back({face, global, n.inherited});
       }
     }
   }
 }
 
-bool SolidSurfaceWalk::mayExposeInside(const WalkNode& n) const
+bool SolidSurfaceWalk::mayExposeInside(const WalkNode& n)
 {
   if (tree.hasMaskedDescendant(n.node))
   {
     return true;
   }
+  using Kind = SolidNeighbours::Neighbour::Kind;
   for (int axis = 0; axis < 3; ++axis)
   {
     for (int side = 0; side < 2; ++side)
     {
-      Index3 across;
-      bool elsewhere = false;
-      const FacePosition position = positionOf(n);
-      const TreeAccess* neighbour = faces.neighbourAcross(position, axis, side, across, elsewhere);
-      if (!neighbour)
+      const SolidNeighbours::Neighbour& across =
+          around.at(n.level, SolidNeighbours::faceDirection(axis, side));
+      switch (across.kind)
       {
-        if (elsewhere && !options.remoteFaces)
-        {
-          continue; // another rank's tree: solid
-        }
-        return true;
-      }
-      WalkNode m = faces.descentStart(neighbour, position, axis, across);
-      while (true)
-      {
-        if (grid.hasMask() && grid.isMasked(neighbour->globalIndex(m.node)))
+      case Kind::Node:
+        if (across.tree->hasMaskedDescendant(across.node))
         {
           return true;
         }
-        if (m.level == n.level || neighbour->isLeaf(m.node))
+        break; // solid
+      case Kind::CoarserLeaf:
+        break; // solid
+      case Kind::Elsewhere:
+        if (options.remoteFaces)
         {
-          if (neighbour->hasMaskedDescendant(m.node))
-          {
-            return true;
-          }
-          break; // solid
+          return true;
         }
-        m = faces.childToward(*neighbour, m, n.level, across);
+        break; // another rank's tree: solid
+      default:
+        return true; // the grid's border, a hole, another rank's part of the tree
       }
     }
   }

@@ -8,7 +8,7 @@ namespace canopy
 SurfaceWalk::SurfaceWalk(const HyperTreeAccess& grid, const TreeAccess& tree,
                          const SurfaceOptions& options, const GridSection* region, CellSink& out)
     : grid(grid), tree(tree), options(options), region(region), out(out),
-      path(static_cast<std::size_t>(grid.maxLevel()) + 1, 0), decisions(grid.maxLevel())
+      decisions(deepestLevel(grid, tree))
 {
 }
 
@@ -21,7 +21,6 @@ void SurfaceWalk::walk()
 
 WalkStep SurfaceWalk::enter(WalkNode& n, Vec3& lo, Vec3& hi)
 {
-  path[static_cast<std::size_t>(n.level)] = n.node;
   entered(n);
   // The global index costs a virtual call for explicit indices: only when needed.
   vtkIdType global = -1;

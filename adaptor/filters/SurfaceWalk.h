@@ -81,9 +81,6 @@ protected:
   const GridSection* region;
   CellSink& out;
 
-  /// path[l]: the node last entered at level l; in a depth-first walk, the
-  /// ancestor at level l of the node being entered (for l below its level).
-  std::vector<vtkIdType> path;
   SiblingDecisions decisions;                  ///< level of detail's, kept (lodStopsHere)
   EdgeScratch scratch{};                       ///< the edge searches' memory
   std::array<std::vector<double>, 4> onEdge{}; ///< a piece's edge vertices (polygonAround)
