@@ -114,9 +114,13 @@ std::size_t AdaptiveSurfaceBuilder::count()
   const bool known = std::all_of(trees.begin(), trees.end(),
                                  [](const TreeAccess& t) { return t.visibleLeaves >= 0; });
   CountWalked = false;
-  // Cells are kept to be copied (3D: the output is small next to the walk), or
-  // to take the vertices other ranks put on their edges (2D, split grids).
-  const bool keep = Grid.dimension() == 3 || (Grid.dimension() == 2 && Options.sharedVertices);
+  // Cells are kept to be copied when that is cheaper than a second walk (3D; 2D
+  // with level of detail: the output is bounded by the view's pixels, and the
+  // writing walk would repeat every decision and edge search), or to take the
+  // vertices other ranks put on their edges (2D, split grids).
+  const bool levelOfDetail = Options.view && Options.levelOfDetail;
+  const bool keep = Grid.dimension() == 3 ||
+                    (Grid.dimension() == 2 && (Options.sharedVertices || levelOfDetail));
   if (!keep)
   {
     Kept.clear(); // buffers lent from an execution that kept its cells: not used here
