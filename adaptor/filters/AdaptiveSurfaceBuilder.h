@@ -142,7 +142,8 @@ class GridSection;
 /// place; its order is the tree order for any number of threads. A full 1D/2D
 /// surface of a kept access is not counted (the access knows its leaves) and is
 /// written by a walk of its own (no view to test: the cost is the output); a 3D
-/// surface is walked once, its cells kept per tree and copied.
+/// surface, and a 2D one with level of detail (its output bounded by the view's
+/// pixels), is walked once, its cells kept per tree and copied.
 class AdaptiveSurfaceBuilder
 {
 public:

@@ -19,9 +19,10 @@
 // vertices. On the way down to the piece's level only the topology is asked
 // (a masked node, a leaf): were level of detail to stop there, it would stop at
 // the cell at the piece's level too (a node's footprint is at most its
-// parent's), which has no corner inside the edge either way. A flat walk (2D,
-// slices) carries each node's neighbours across its edges down the tree
-// (PlaneNeighbours) rather than looking for them from a common ancestor.
+// parent's), which has no corner inside the edge either way. The walks carry
+// each node's neighbours down the tree rather than looking for them from a
+// common ancestor: across its edges in a plane (2D, slices: PlaneNeighbours),
+// across its faces and edges in 3D (SolidNeighbours.h, FaceEdgeVertices.h).
 //
 // Another rank's part met on the way (an absent node, a tree elsewhere) is
 // reported: the caller then asks the other ranks (EdgeVertexExchange.h).
@@ -31,10 +32,8 @@
 #include "TreeTraversal.h"
 #include "Vec3.h"
 
-#include <algorithm>
 #include <array>
 #include <cstdint>
-#include <iterator>
 #include <vector>
 
 namespace canopy
@@ -105,46 +104,6 @@ inline const TreeAccess* treeOfCell(const HyperTreeAccess& grid, const std::arra
   const TreeAccess* tree = grid.treeAt(atRoot[0], atRoot[1], atRoot[2]);
   elsewhere = !tree && grid.treeElsewhere(atRoot[0], atRoot[1], atRoot[2]);
   return tree;
-}
-
-/// The deepest common ancestor of the cells at `from` and `to` (same level,
-/// same tree), given `from`'s ancestors (path[l]: its ancestor at level l).
-inline WalkNode commonAncestor(const HyperTreeAccess& grid, const vtkIdType* path, int level,
-                               const Index3& from, const Index3& to)
-{
-  if (grid.branchFactor() == 2)
-  {
-    // The positions agree above their highest differing bit.
-    std::uint64_t differing = 0;
-    for (int a = 0; a < 3; ++a)
-    {
-      differing |= static_cast<std::uint64_t>(from[a] ^ to[a]);
-    }
-    int up = 0;
-    for (; differing; differing >>= 1)
-    {
-      ++up;
-    }
-    if (up > level)
-    {
-      return {0, 0, {{0, 0, 0}}};
-    }
-    return {path[level - up], level - up, {{from[0] >> up, from[1] >> up, from[2] >> up}}};
-  }
-  for (int up = 1; up <= level; ++up)
-  {
-    const std::int64_t scale = grid.cellsPerRootAt(up);
-    bool same = true;
-    for (int a = 0; a < 3 && same; ++a)
-    {
-      same = from[a] / scale == to[a] / scale;
-    }
-    if (same)
-    {
-      return {path[level - up], level - up, {{from[0] / scale, from[1] / scale, from[2] / scale}}};
-    }
-  }
-  return {0, 0, {{0, 0, 0}}};
 }
 
 /// Appends to `out`, ascending and without repeats, the bounds along
@@ -270,7 +229,8 @@ public:
   using Around = std::array<Neighbour, 4>;
 
   PlaneNeighbours(const HyperTreeAccess& grid, const TreeAccess& tree, int u, int v)
-      : Grid(grid), Tree(tree), U(u), V(v), Levels(static_cast<std::size_t>(grid.maxLevel()) + 1)
+      : Grid(grid), Tree(tree), U(u), V(v),
+        Levels(static_cast<std::size_t>(deepestLevel(grid, tree)) + 1)
   {
     int weight = 1;
     for (int a : grid.activeAxes())
@@ -284,6 +244,10 @@ public:
   /// (or the root).
   void enter(const WalkNode& n)
   {
+    if (static_cast<std::size_t>(n.level) >= Levels.size())
+    {
+      Levels.resize(static_cast<std::size_t>(n.level) + 1); // deeper than its tree said
+    }
     Around& here = Levels[static_cast<std::size_t>(n.level)];
     const int f = Grid.branchFactor();
     for (int e = 0; e < 4; ++e)
@@ -411,106 +375,6 @@ unsigned rectangleEdgeVertices(const HyperTreeAccess& grid, const WalkNode& n,
                       classify, false, out, scratch.stack))
     {
       remote |= 1u << e;
-    }
-  }
-  return remote;
-}
-
-/// The vertices on the four edges of a 3D face piece, found around each edge.
-/// The piece is the face normal to `axis`, on side `side` (1: the upper one), of
-/// the cell at `level`, `ijk` on the solid's side (in `tree`): the drawn node
-/// at `nodeLevel`, `nodeIJK` itself, or a finer cell inside it facing a finer
-/// hole. It spans lo to hi on the other axes u = axis + 1 and v = axis + 2
-/// (mod 3); onEdge as rectangleEdgeVertices gives it. Four cells meet along an
-/// edge: the piece's own (inside the drawn node), the hole across the face,
-/// and the two others, beside the piece's cell and diagonally across, where the
-/// pieces meeting it come from: their drawn nodes' and holes' bounds (a masked
-/// node bounds the faces it exposes). `path`: the drawn node's ancestors, or
-/// nullptr (descents then start at the roots). Returns the edges (bit e for
-/// onEdge[e]) around which another rank's part was met.
-template <typename Classify>
-unsigned faceEdgeVertices(const HyperTreeAccess& grid, const TreeAccess& tree,
-                          const vtkIdType* path, int nodeLevel, const Index3& nodeIJK, int level,
-                          const Index3& ijk, int axis, int side, const Vec3& lo, const Vec3& hi,
-                          Classify&& classify, std::array<std::vector<double>, 4>& onEdge,
-                          EdgeScratch& scratch)
-{
-  const int f = grid.branchFactor();
-  const int u = (axis + 1) % 3;
-  const int v = (axis + 2) % 3;
-  const std::array<long, 3> root{{static_cast<long>(tree.rootIJK[0]),
-                                  static_cast<long>(tree.rootIJK[1]),
-                                  static_cast<long>(tree.rootIJK[2])}};
-  const std::int64_t scale = grid.cellsPerRootAt(level - nodeLevel);
-  const std::int64_t perRoot = grid.cellsPerRootAt(level);
-  std::vector<double>& found = scratch.found;
-  std::vector<double>& merged = scratch.merged;
-  unsigned remote = 0;
-  for (int e = 0; e < 4; ++e)
-  {
-    const int across = e < 2 ? v : u; // the axis the edge is crossed along, in the face
-    const int along = e < 2 ? u : v;
-    const int edgeSide = e % 2;
-    std::vector<double>& out = onEdge[static_cast<std::size_t>(e)];
-    out.clear();
-    for (const bool diagonal : {false, true})
-    {
-      std::array<int, 3> offset{{0, 0, 0}};
-      offset[static_cast<std::size_t>(across)] = edgeSide ? 1 : -1;
-      EdgeCells cells;
-      cells.along = along;
-      cells.digit[static_cast<std::size_t>(across)] = edgeSide ? 0 : f - 1;
-      // The children touching the face's plane: on the face's side of a cell
-      // beside the piece's, on the opposite side of one across the plane.
-      cells.digit[static_cast<std::size_t>(axis)] = (side == 1) != diagonal ? f - 1 : 0;
-      if (diagonal)
-      {
-        offset[static_cast<std::size_t>(axis)] = side ? 1 : -1;
-      }
-      Index3 at = ijk;
-      const TreeAccess* other = &tree;
-      bool inside = true; // in this tree
-      for (int a = 0; a < 3; ++a)
-      {
-        at[a] += offset[static_cast<std::size_t>(a)];
-        inside = inside && at[a] >= 0 && at[a] < perRoot;
-      }
-      if (!inside)
-      {
-        std::array<long, 3> atRoot;
-        bool elsewhere = false;
-        other = treeOfCell(grid, root, level, ijk, offset, at, atRoot, elsewhere);
-        if (!other)
-        {
-          remote |= elsewhere ? 1u << e : 0u;
-          continue;
-        }
-      }
-      else if (level > nodeLevel && at[0] / scale == nodeIJK[0] && at[1] / scale == nodeIJK[1] &&
-               at[2] / scale == nodeIJK[2])
-      {
-        continue; // inside the drawn node: drawn whole, no corner inside the edge
-      }
-      const WalkNode from =
-          other == &tree && path ? commonAncestor(grid, path, level, ijk, at) : WalkNode{};
-      found.clear();
-      if (!edgeVertices(grid, *other, from, level, at, cells, lo[static_cast<std::size_t>(along)],
-                        hi[static_cast<std::size_t>(along)], classify, true, found, scratch.stack))
-      {
-        remote |= 1u << e;
-      }
-      // Both cells' bounds, merged in order.
-      if (out.empty())
-      {
-        out.swap(found);
-      }
-      else if (!found.empty())
-      {
-        merged.clear();
-        std::merge(out.begin(), out.end(), found.begin(), found.end(), std::back_inserter(merged));
-        merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
-        out.swap(merged);
-      }
     }
   }
   return remote;

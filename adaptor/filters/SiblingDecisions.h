@@ -28,14 +28,17 @@ namespace canopy
 class SiblingDecisions
 {
 public:
+  /// `maxLevel`: the deepest level whose decisions are kept (a walk allocates
+  /// one per tree: the tree's own depth, not every level a grid can address).
   explicit SiblingDecisions(int maxLevel) : Levels(static_cast<std::size_t>(maxLevel) + 1) {}
 
-  /// decide(m) for `m` of `tree` (the walk's own tree), kept with its block.
+  /// decide(m) for `m` of `tree` (the walk's own tree), kept with its block
+  /// (decided without being kept below maxLevel).
   template <typename Decide>
   bool get(const HyperTreeAccess& grid, const WalkNode& m, Decide&& decide)
   {
     const int children = grid.childrenPerNode();
-    if (m.level == 0 || m.node < 1)
+    if (m.level == 0 || m.node < 1 || static_cast<std::size_t>(m.level) >= Levels.size())
     {
       return decide(m);
     }

@@ -78,6 +78,15 @@ bool walkSubtree(const HyperTreeAccess& grid, const TreeAccess& tree, const Walk
   return true;
 }
 
+/// The deepest level of `tree` (its vtkHyperTree's count, within what integer
+/// positions address): what a walk's per-level state is sized for, rather than
+/// every level a grid can address (a walk per tree would allocate those).
+inline int deepestLevel(const HyperTreeAccess& grid, const TreeAccess& tree)
+{
+  const int levels = tree.tree ? static_cast<int>(tree.tree->GetNumberOfLevels()) : 0;
+  return levels > 0 && levels <= grid.maxLevel() ? levels - 1 : grid.maxLevel();
+}
+
 /// The whole tree, from its root.
 template <typename Enter, typename AcceptChild>
 bool walkTree(const HyperTreeAccess& grid, const TreeAccess& tree, Enter&& enter,

@@ -1,7 +1,8 @@
 // Steady-state times of the adaptive surface and slice filters on synthetic
 // forests, with the output's size: cells, points, points per cell (a flat
 // piece has 4, more where smaller pieces meet its edges). Each case executes
-// once, then `repetitions` more times (re-executed as a camera move would); the
+// once, then `repetitions` more times (re-executed as a camera move would, or
+// on a new mask, as at each step of a pipeline that selects a region); the
 // fastest is printed, the least disturbed by other jobs on the machine.
 //
 //   canopy_bench_filter_times [repetitions (21)] [only the cases whose name contains this]
@@ -12,6 +13,7 @@
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSlice.h"
 #include "vtkCanopyAdaptiveSurface.h"
+#include "vtkCanopyExtractSelection.h"
 
 #include <vtkCamera.h>
 #include <vtkHyperTreeGrid.h>
@@ -22,6 +24,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,7 +36,9 @@ struct Run
   int repetitions = 21;
   std::string only;
 
-  void time(vtkAlgorithm* filter, vtkPolyData* out, const std::string& name) const
+  /// `before`: what happens, untimed, before each execution (a new input).
+  void time(vtkAlgorithm* filter, vtkPolyData* out, const std::string& name,
+            const std::function<void()>& before = {}) const
   {
     if (!only.empty() && name.find(only) == std::string::npos)
     {
@@ -44,6 +49,10 @@ struct Run
     for (int r = 0; r < repetitions; ++r)
     {
       filter->Modified();
+      if (before)
+      {
+        before();
+      }
       const auto start = std::chrono::steady_clock::now();
       filter->Update();
       times.push_back(
@@ -115,6 +124,28 @@ int main(int argc, char** argv)
     run.time(surface, surface->GetPolyDataOutput(), "3D surface 1024x768, 1 px");
     surface->SetLevelOfDetail(false);
     run.time(surface, surface->GetPolyDataOutput(), "3D surface 1024x768, every leaf");
+    // The region a pipeline selects (slice_image.py's: the front's shell, with
+    // density >= 3), its mask made again before each execution as at each
+    // step: the surface's topology memos start empty every time.
+    vtkNew<vtkCanopyExtractSelection> shell;
+    shell->SetInputData(htg);
+    shell->SetSelectionMode(vtkCanopyExtractSelection::VALUE_RANGE);
+    shell->SetValueArrayName("density");
+    shell->SetValueRange(3, 1e30);
+    shell->PreserveTopologyOn();
+    vtkNew<vtkCanopyAdaptiveSurface> region;
+    region->SetInputConnection(shell->GetOutputPort());
+    region->SetCamera(camera);
+    region->SetViewportSize(1024, 768);
+    const auto newMask = [&]
+    {
+      shell->Modified();
+      shell->Update();
+    };
+    run.time(region, region->GetPolyDataOutput(), "3D region surface, new mask, 1 px", newMask);
+    region->SetLevelOfDetail(false);
+    run.time(region, region->GetPolyDataOutput(), "3D region surface, new mask, every leaf",
+             newMask);
     vtkNew<vtkCanopyAdaptiveSlice> slices;
     slices->SetInputData(htg);
     slices->AddXPlane(0.013);

@@ -205,6 +205,9 @@ private:
   vtkCanopyExtractSelection(const vtkCanopyExtractSelection&) = delete;
   void operator=(const vtkCanopyExtractSelection&) = delete;
 
+  /// The Last* values as before any selection (what a failed execution leaves).
+  void ResetLastReport();
+
   /// The input's topology read once while it is unchanged (a value range that
   /// changes every step re-reads nothing but the values).
   std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
