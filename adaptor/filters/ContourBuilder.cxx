@@ -1,0 +1,101 @@
+#include "ContourBuilder.h"
+
+#include "DualCellContour.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace canopy
+{
+
+namespace
+{
+
+/// Tasks per chunk: a fixed split (not per thread), so that the output order is
+/// the same on any number of threads.
+constexpr vtkIdType ChunkTasks = 16;
+
+} // namespace
+
+ContourBuilder::ContourBuilder(const HyperTreeAccess& grid, const ContourField& field,
+                               const std::vector<double>& values)
+    : Grid(grid), Field(field), Values(values), Dual(grid)
+{
+}
+
+bool ContourBuilder::run(const ProgressShare& progress)
+{
+  const vtkIdType tasks = Dual.numberOfTasks();
+  const vtkIdType chunks = (tasks + ChunkTasks - 1) / ChunkTasks;
+  Pieces.assign(static_cast<std::size_t>(chunks), ContourPiece{});
+  std::vector<std::size_t> visited(static_cast<std::size_t>(chunks), 0);
+  std::vector<std::size_t> cells(static_cast<std::size_t>(chunks), 0);
+  const bool done = forEachTree(progress, chunks,
+                                [&](vtkIdType chunk)
+                                {
+                                  const std::size_t c = static_cast<std::size_t>(chunk);
+                                  DualCellContour contour(Grid, Dual, Field, Values, Pieces[c]);
+                                  const vtkIdType end = std::min(tasks, (chunk + 1) * ChunkTasks);
+                                  for (vtkIdType t = chunk * ChunkTasks; t < end; ++t)
+                                  {
+                                    Dual.runTask(t, contour);
+                                  }
+                                  visited[c] = contour.visited();
+                                  cells[c] = contour.dualCells();
+                                });
+  Visited = 0;
+  DualCells = 0;
+  for (std::size_t c = 0; c < visited.size(); ++c)
+  {
+    Visited += visited[c];
+    DualCells += cells[c];
+  }
+  return done;
+}
+
+ContourResult ContourBuilder::merge() const
+{
+  ContourResult result;
+  result.verticesPerCell = Dual.dimension() == 2 ? 2 : 3;
+  std::size_t points = 0;
+  std::size_t cells = 0;
+  for (const ContourPiece& piece : Pieces)
+  {
+    points += piece.points.size();
+    cells += piece.cells.size();
+  }
+  // Points on dual edges near a chunk's border are made by both chunks: one
+  // map over all keys (no geometric search) merges them.
+  std::unordered_map<ContourPointKey, vtkIdType, ContourPointKeyHash> merged;
+  merged.reserve(points);
+  result.points.reserve(points);
+  result.contours.reserve(points);
+  result.leaves.reserve(points);
+  result.weights.reserve(points);
+  result.cells.reserve(cells);
+  std::vector<vtkIdType> local;
+  for (const ContourPiece& piece : Pieces)
+  {
+    local.resize(piece.points.size());
+    for (std::size_t p = 0; p < piece.points.size(); ++p)
+    {
+      const auto inserted =
+          merged.emplace(piece.keys[p], static_cast<vtkIdType>(result.points.size()));
+      local[p] = inserted.first->second;
+      if (inserted.second)
+      {
+        result.points.push_back(piece.points[p]);
+        result.contours.push_back(piece.keys[p].contour);
+        result.leaves.push_back(piece.leaves[p]);
+        result.weights.push_back(piece.weights[p]);
+      }
+    }
+    for (vtkIdType id : piece.cells)
+    {
+      result.cells.push_back(local[static_cast<std::size_t>(id)]);
+    }
+  }
+  return result;
+}
+
+} // namespace canopy

@@ -1,0 +1,57 @@
+// A contour of a grid: the dual traversal's tasks run in parallel in fixed
+// chunks (DualTraversal.h, DualCellContour.h), each into its own ContourPiece,
+// and the pieces merged by their points' keys into one output, in chunk order:
+// the output does not depend on the number of threads.
+#pragma once
+
+#include "ContourField.h"
+#include "ContourPiece.h"
+#include "DualTraversal.h"
+#include "TreeProgress.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace canopy
+{
+
+/// The merged contour: points, cells, and what the output's arrays are made of.
+struct ContourResult
+{
+  std::vector<std::array<double, 3>> points;
+  std::vector<std::uint32_t> contours;          ///< per point: the index of its contour value
+  std::vector<std::array<vtkIdType, 2>> leaves; ///< per point: its edge's leaves
+  std::vector<double> weights;                  ///< per point: the second leaf's weight
+  int verticesPerCell = 2;                      ///< 2: segments (2D), 3: triangles (3D)
+  std::vector<vtkIdType> cells;
+};
+
+class ContourBuilder
+{
+public:
+  /// Everything is borrowed and must outlive the builder.
+  ContourBuilder(const HyperTreeAccess& grid, const ContourField& field,
+                 const std::vector<double>& values);
+
+  /// Runs the traversal (false: stopped by `progress`; the result is then partial).
+  bool run(const ProgressShare& progress);
+  /// The pieces merged (after run).
+  ContourResult merge() const;
+
+  /// Groups descended and dual cells met by the last run.
+  std::size_t visited() const { return Visited; }
+  std::size_t dualCells() const { return DualCells; }
+
+private:
+  const HyperTreeAccess& Grid;
+  const ContourField& Field;
+  const std::vector<double>& Values;
+  DualTraversal Dual;
+  std::vector<ContourPiece> Pieces;
+  std::size_t Visited = 0;
+  std::size_t DualCells = 0;
+};
+
+} // namespace canopy

@@ -1,0 +1,91 @@
+// What one part of a contour's traversal produces: points keyed by the dual edge
+// they lie on, and the cells (segments or triangles) joining them. Neighbouring
+// cells share their points through the key, not through a geometric locator;
+// parts are merged by the same key (ContourBuilder.h).
+#pragma once
+
+#include <vtkType.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace canopy
+{
+
+/// A dual vertex: a visible leaf's centre, or its projection onto the domain's
+/// boundary (DualCellContour.h), with its field value.
+struct DualVertex
+{
+  /// The leaf's global index times 64, plus, for a boundary vertex, the sides
+  /// it was projected onto (2 bits per active axis: below, above).
+  std::uint64_t key = 0;
+  std::array<double, 3> x{{0, 0, 0}};
+  double value = 0;
+  vtkIdType leaf = 0; ///< the leaf's global index
+};
+
+/// A contour point: the dual edge (its vertices' keys, lower first) and the
+/// contour value's index.
+struct ContourPointKey
+{
+  std::uint64_t low = 0;
+  std::uint64_t high = 0;
+  std::uint32_t contour = 0;
+  bool operator==(const ContourPointKey& o) const
+  {
+    return low == o.low && high == o.high && contour == o.contour;
+  }
+};
+
+struct ContourPointKeyHash
+{
+  std::size_t operator()(const ContourPointKey& k) const
+  {
+    std::uint64_t h = k.low * 0x9E3779B97F4A7C15ull;
+    h ^= (k.high + 0x632BE59BD9B4E019ull + (h << 6) + (h >> 2)) * 0xBF58476D1CE4E5B9ull;
+    h ^= k.contour + (h >> 29);
+    return static_cast<std::size_t>(h ^ (h >> 32));
+  }
+};
+
+struct ContourPiece
+{
+  std::vector<std::array<double, 3>> points;
+  std::vector<ContourPointKey> keys;
+  /// Per point: the leaves at its edge's ends (lower key first) and the
+  /// weight of the second one (the point is at (1 - t) x_low + t x_high).
+  std::vector<std::array<vtkIdType, 2>> leaves;
+  std::vector<double> weights;
+  /// Cells: verticesPerCell local point ids each (2: segments, 3: triangles).
+  std::vector<vtkIdType> cells;
+  std::unordered_map<ContourPointKey, vtkIdType, ContourPointKeyHash> index;
+
+  /// The point where contour `contour` (value `value`) crosses the edge from
+  /// `a` to `b` (their values on either side of it), made once.
+  vtkIdType point(const DualVertex& a, const DualVertex& b, std::uint32_t contour, double value)
+  {
+    const DualVertex& lo = a.key < b.key ? a : b;
+    const DualVertex& hi = a.key < b.key ? b : a;
+    const ContourPointKey key{lo.key, hi.key, contour};
+    const auto found = index.find(key);
+    if (found != index.end())
+    {
+      return found->second;
+    }
+    // From the lower key, whichever cell asks: the same bits every time.
+    const double t = (value - lo.value) / (hi.value - lo.value);
+    const vtkIdType id = static_cast<vtkIdType>(points.size());
+    points.push_back({{lo.x[0] + t * (hi.x[0] - lo.x[0]), lo.x[1] + t * (hi.x[1] - lo.x[1]),
+                       lo.x[2] + t * (hi.x[2] - lo.x[2])}});
+    keys.push_back(key);
+    leaves.push_back({{lo.leaf, hi.leaf}});
+    weights.push_back(t);
+    index.emplace(key, id);
+    return id;
+  }
+};
+
+} // namespace canopy

@@ -1,0 +1,85 @@
+// Contours one dual cell (DualTraversal.h) at a time: its dual vertices, its
+// split into triangles (2D) or tetrahedra (3D), and marching triangles or
+// tetrahedra on each, into a ContourPiece.
+//
+// Dual vertices: a visible leaf's centre and value; an Outside slot (a vertex on
+// the domain's boundary) becomes the boundary vertex of the leaf it mirrors (the
+// slot with the outside bits flipped): that leaf's centre projected onto the
+// boundary sides, its value extrapolated linearly with the leaf's gradient
+// (LeafGradient.h), so a linear field stays linear up to the boundary. A cell
+// with a Hidden slot is not contoured (the contour ends there).
+//
+// The split: every simplex contains the cell's diagonal from slot 0 (all lower
+// sides) to slot 2^d - 1 (all upper sides), which passes through the grid
+// vertex the cell surrounds (Kuhn's split: 2 triangles, 6 tetrahedra). A face
+// shared by two 3D cells is the 4 leaves around a grid edge, seen by both cells
+// with the same slots along the two other axes, so both split it by the same
+// diagonal (the one from the lower-lower to the upper-upper leaf): the
+// tetrahedra of neighbouring cells meet face to face and marching tetrahedra
+// leaves no crack and has no ambiguous case. (The brief's rule, the diagonal
+// through the face's smallest leaf id, is consistent too but needs 12
+// tetrahedra around a centroid to be realizable in every cell; this one needs
+// neither ids nor a centroid.) Within a tree all leaves have one aspect ratio,
+// their centres lie on the diagonals through the vertex (scaled), and every
+// such simplex is positively oriented; where trees of other aspect ratios meet,
+// a quad can be non-convex: in 2D, where no other cell shares its diagonal, the
+// other diagonal is then taken (the one inside it). Simplices with a repeated vertex (a leaf
+// filling several slots) have no volume and are dropped; their two faces without the repeated edge
+// are the same triangle, which the neighbouring simplices share.
+//
+// Orientation: 2D segments run with the higher values on their left; 3D
+// triangles' normals (right-hand rule) point towards lower values.
+#pragma once
+
+#include "ContourField.h"
+#include "ContourPiece.h"
+#include "DualTraversal.h"
+#include "LeafGradient.h"
+
+#include <array>
+#include <cstddef>
+#include <unordered_map>
+#include <vector>
+
+namespace canopy
+{
+
+class DualCellContour
+{
+public:
+  /// Everything is borrowed and must outlive this; `values`: the contour
+  /// values, their index the points' `contour`; `out`: where cells go.
+  DualCellContour(const HyperTreeAccess& grid, const DualTraversal& dual, const ContourField& field,
+                  const std::vector<double>& values, ContourPiece& out);
+
+  /// DualTraversal's visitor.
+  bool enter(const DualGroup&, unsigned)
+  {
+    ++Visited;
+    return true;
+  }
+  void cell(const DualGroup& group);
+
+  /// Groups descended and dual cells met (contoured or not).
+  std::size_t visited() const { return Visited; }
+  std::size_t dualCells() const { return DualCells; }
+
+private:
+  /// Slot s's dual vertex; false when the cell is not contoured (Hidden).
+  bool vertex(const DualGroup& group, unsigned s, DualVertex& v);
+  void triangle(const DualVertex& a, const DualVertex& b, const DualVertex& c);
+  void tetrahedron(const DualVertex* v[4]);
+
+  const HyperTreeAccess& Grid;
+  const DualTraversal& Dual;
+  const ContourField& Field;
+  const std::vector<double>& Values;
+  ContourPiece& Out;
+  LeafGradient Gradient;
+  /// Gradients of the boundary leaves already met (each is met by several cells).
+  std::unordered_map<vtkIdType, std::array<double, 3>> Gradients;
+  std::size_t Visited = 0;
+  std::size_t DualCells = 0;
+};
+
+} // namespace canopy

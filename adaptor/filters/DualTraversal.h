@@ -1,0 +1,266 @@
+// The dual of a tree grid, cell by cell: the recursive octree dual traversal of
+// Schaefer and Warren ("Dual Marching Cubes", 2004), for 2D and 3D grids, branch
+// factor 2 or 3, across root trees, extended to the domain's boundary.
+//
+// A dual cell joins the 2^d leaves around one vertex of the grid (every corner
+// of any leaf): slot s of a cell holds the leaf on the upper side of the vertex
+// along active axis i when bit i of s is set. Where levels differ a leaf fills
+// several slots (the cell is degenerate). Schaefer and Warren's cellProc,
+// faceProc, edgeProc and vertProc are one procedure here: proc(nodes, axes)
+// takes the 2^|axes| nodes that meet across a shared element (nothing shared:
+// one node, cellProc; one axis: two nodes across a face, faceProc; ...), and,
+// while one of them is refined, replaces each by its children touching that
+// element and calls itself on every group of those children that meets across
+// a smaller element (with the same axes and every larger set). With branch
+// factor f a node has f children per axis, so there are f - 1 inner boundaries
+// per axis where binary trees have one; the recursion is otherwise the same.
+// When every node of a group with all d axes is a leaf, the group is a dual cell.
+//
+// Trees: the root grid is one more level of the same recursion (neighbouring
+// roots meet across faces, edges and vertices). Boundary: the root grid is
+// ringed by Outside nodes, so the vertices on the domain's boundary get dual
+// cells too; an Outside slot is later replaced by the boundary dual vertex of
+// the leaf it mirrors (DualCellContour.h). Masked nodes, other ranks' parts and
+// root cells without a tree are Hidden: never descended, and a dual cell with a
+// Hidden slot is not contoured.
+//
+// The work is split into tasks, one per cell of the ringed root grid: task P
+// runs every top-level group whose lowest cell is P. Tasks are independent (they
+// read the grid only) and deterministic.
+#pragma once
+
+#include "HyperTreeAccess.h"
+
+#include <array>
+#include <cstdint>
+
+namespace canopy
+{
+
+/// A node as the dual traversal sees it.
+struct DualNode
+{
+  enum Kind : unsigned char
+  {
+    Inner,  ///< refined, visible: descended
+    Leaf,   ///< a visible leaf: a dual vertex at its centre
+    Hidden, ///< masked, absent or without a tree: cells touching it are dropped
+    Outside ///< beyond the domain's boundary
+  };
+  const TreeAccess* tree = nullptr;
+  vtkIdType node = 0; ///< local index in `tree`
+  int level = 0;
+  std::array<std::int64_t, 3> ijk{{0, 0, 0}}; ///< integer position at `level`
+  Kind kind = Outside;
+  /// Outside only: bit 2i, below the domain along active axis i; bit 2i + 1, above.
+  unsigned char outside = 0;
+};
+
+/// 2^d nodes, slot s's bit i the side along active axis i (only the slots of
+/// the axes a group spans are used).
+using DualGroup = std::array<DualNode, 8>;
+
+class DualTraversal
+{
+public:
+  /// `grid` is borrowed and must outlive the traversal. 2D and 3D grids only.
+  explicit DualTraversal(const HyperTreeAccess& grid);
+
+  int dimension() const { return D; }
+  /// Tasks: cells of the root grid ringed by one layer of Outside cells (its
+  /// lowest ring layer only: the groups of a task extend upwards).
+  vtkIdType numberOfTasks() const { return Tasks; }
+
+  /// Runs task `task`. The visitor's `bool enter(const DualGroup&, unsigned
+  /// axes)` is called on every group with a refined node before it is
+  /// descended (false: not descended; pruning); `void cell(const DualGroup&)`
+  /// on every dual cell (all d axes, all slots terminal).
+  template <typename Visitor>
+  void runTask(vtkIdType task, Visitor& visitor) const;
+
+  /// The 3D axis of active axis i.
+  int axis(int i) const { return Axes[static_cast<std::size_t>(i)]; }
+
+private:
+  DualNode classify(const TreeAccess& tree, vtkIdType node, int level,
+                    const std::array<std::int64_t, 3>& ijk) const
+  {
+    DualNode n;
+    n.tree = &tree;
+    n.node = node;
+    n.level = level;
+    n.ijk = ijk;
+    const vtkIdType global = tree.globalIndex(node);
+    n.kind = Grid.isMasked(global) || Grid.isAbsent(global)
+                 ? DualNode::Hidden
+                 : (tree.isLeaf(node) ? DualNode::Leaf : DualNode::Inner);
+    return n;
+  }
+
+  /// The child of `n` with digit digits[i] along active axis i (n itself when
+  /// it is not refined).
+  DualNode child(const DualNode& n, const std::array<int, 3>& digits) const
+  {
+    if (n.kind != DualNode::Inner)
+    {
+      return n;
+    }
+    int c = 0;
+    for (int i = D; i-- > 0;)
+    {
+      c = c * F + digits[static_cast<std::size_t>(i)];
+    }
+    return classify(*n.tree, n.tree->firstChild(n.node) + c, n.level + 1,
+                    Grid.childPosition(n.ijk, c));
+  }
+
+  /// The root node at ringed root position p (per active axis, -1 .. n).
+  DualNode root(const std::array<long, 3>& p) const;
+
+  template <typename Visitor>
+  void proc(const DualGroup& n, unsigned axes, Visitor& visitor) const;
+
+  const HyperTreeAccess& Grid;
+  int D = 0;
+  int F = 2;
+  std::array<int, 3> Axes{{0, 1, 2}};
+  std::array<long, 3> Roots{{1, 1, 1}}; ///< root cells per active axis
+  vtkIdType Tasks = 0;
+};
+
+template <typename Visitor>
+void DualTraversal::runTask(vtkIdType task, Visitor& visitor) const
+{
+  // Task -> its cell P in the ringed grid (-1 .. n - 1 per axis), first axis fastest.
+  std::array<long, 3> p{{0, 0, 0}};
+  vtkIdType rest = task;
+  for (int i = 0; i < D; ++i)
+  {
+    const long ringed = Roots[static_cast<std::size_t>(i)] + 1;
+    p[static_cast<std::size_t>(i)] = static_cast<long>(rest % ringed) - 1;
+    rest /= ringed;
+  }
+  const unsigned full = (1u << D) - 1;
+  for (unsigned span = 0; span <= full; ++span)
+  {
+    // A group extends from P upwards along the axes it spans; along the others
+    // P must be inside the root grid (else the whole group is outside).
+    bool inside = true;
+    for (int i = 0; i < D; ++i)
+    {
+      inside = inside && ((span >> i) & 1 || p[static_cast<std::size_t>(i)] >= 0);
+    }
+    if (!inside)
+    {
+      continue;
+    }
+    DualGroup group;
+    bool anyInside = false;
+    for (unsigned s = 0; s <= full; ++s)
+    {
+      if ((s & ~span) != 0)
+      {
+        continue;
+      }
+      std::array<long, 3> q = p;
+      for (int i = 0; i < D; ++i)
+      {
+        q[static_cast<std::size_t>(i)] += (s >> i) & 1;
+      }
+      group[s] = root(q);
+      anyInside = anyInside || group[s].kind != DualNode::Outside;
+    }
+    if (anyInside)
+    {
+      proc(group, span, visitor);
+    }
+  }
+}
+
+template <typename Visitor>
+void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) const
+{
+  const unsigned full = (1u << D) - 1;
+  const unsigned free = full & ~axes;
+  bool refined = false;
+  for (unsigned s = 0; s <= full && !refined; ++s)
+  {
+    refined = (s & free) == 0 && n[s].kind == DualNode::Inner;
+  }
+  if (!refined)
+  {
+    if (axes == full)
+    {
+      visitor.cell(n);
+    }
+    return;
+  }
+  if (!visitor.enter(n, axes))
+  {
+    return;
+  }
+  // Every set of free axes the children's groups add, the empty set first
+  // (the same element, one level down), then each larger one.
+  for (unsigned added = 0; added <= free; ++added)
+  {
+    if ((added & ~free) != 0)
+    {
+      continue;
+    }
+    const unsigned spans = axes | added;
+    // Position of the group among the children along each free axis: an
+    // added axis has f - 1 inner boundaries, any other free axis f children.
+    std::array<int, 3> at{{0, 0, 0}};
+    for (;;)
+    {
+      DualGroup m;
+      for (unsigned s = 0; s <= full; ++s)
+      {
+        if ((s & ~spans) != 0)
+        {
+          continue;
+        }
+        std::array<int, 3> digits{{0, 0, 0}};
+        for (int i = 0; i < D; ++i)
+        {
+          const unsigned bit = 1u << i;
+          const std::size_t ui = static_cast<std::size_t>(i);
+          if (axes & bit)
+          {
+            // The children touching the shared element: the last along the
+            // axis on its lower side, the first on its upper side.
+            digits[ui] = (s & bit) ? 0 : F - 1;
+          }
+          else
+          {
+            digits[ui] = at[ui] + ((added & bit) && (s & bit) ? 1 : 0);
+          }
+        }
+        m[s] = child(n[s & axes], digits);
+      }
+      proc(m, spans, visitor);
+      // Next position (first free axis fastest).
+      int i = 0;
+      for (; i < D; ++i)
+      {
+        const unsigned bit = 1u << i;
+        if (!(free & bit))
+        {
+          continue;
+        }
+        const int limit = (added & bit) ? F - 1 : F;
+        if (++at[static_cast<std::size_t>(i)] < limit)
+        {
+          break;
+        }
+        at[static_cast<std::size_t>(i)] = 0;
+      }
+      if (i == D)
+      {
+        break;
+      }
+    }
+  }
+}
+
+} // namespace canopy

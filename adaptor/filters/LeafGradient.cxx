@@ -1,0 +1,159 @@
+#include "LeafGradient.h"
+
+#include <cmath>
+
+namespace canopy
+{
+
+DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper) const
+{
+  DualNode none;
+  const int a = Dual.axis(i);
+  const std::size_t ua = static_cast<std::size_t>(a);
+  const std::int64_t cells = Grid.cellsPerRootAt(leaf.level);
+  std::array<std::int64_t, 3> target = leaf.ijk;
+  std::array<long, 3> rootIJK{{static_cast<long>(leaf.tree->rootIJK[0]),
+                               static_cast<long>(leaf.tree->rootIJK[1]),
+                               static_cast<long>(leaf.tree->rootIJK[2])}};
+  target[ua] += upper ? 1 : -1;
+  if (target[ua] < 0 || target[ua] >= cells)
+  {
+    // In the next tree along the axis, at the matching position.
+    rootIJK[ua] += upper ? 1 : -1;
+    target[ua] = upper ? 0 : cells - 1;
+    const auto& roots = Grid.rootCells();
+    if (rootIJK[ua] < 0 || rootIJK[ua] >= static_cast<long>(roots[ua]))
+    {
+      return none; // the domain's boundary
+    }
+  }
+  const TreeAccess* tree = Grid.treeAt(rootIJK[0], rootIJK[1], rootIJK[2]);
+  if (tree == nullptr)
+  {
+    none.kind = DualNode::Hidden;
+    return none;
+  }
+  vtkIdType node = 0;
+  int level = 0;
+  std::array<std::int64_t, 3> ijk{{0, 0, 0}};
+  for (;;)
+  {
+    const vtkIdType global = tree->globalIndex(node);
+    if (Grid.isMasked(global) || Grid.isAbsent(global))
+    {
+      none.kind = DualNode::Hidden;
+      return none;
+    }
+    if (tree->isLeaf(node))
+    {
+      DualNode n;
+      n.tree = tree;
+      n.node = node;
+      n.level = level;
+      n.ijk = ijk;
+      n.kind = DualNode::Leaf;
+      return n;
+    }
+    int c = 0;
+    if (level < leaf.level)
+    {
+      c = Grid.childToward(level, leaf.level, target);
+    }
+    else
+    {
+      // Finer than the leaf: the child against the shared face (at its lowest
+      // corner along the face: any child touching the face would do).
+      int weight = 1;
+      for (int j = 0; j < Dual.dimension(); ++j)
+      {
+        c += (j == i && !upper ? Grid.branchFactor() - 1 : 0) * weight;
+        weight *= Grid.branchFactor();
+      }
+    }
+    ijk = Grid.childPosition(ijk, c);
+    node = tree->firstChild(node) + c;
+    ++level;
+  }
+}
+
+std::array<double, 3> LeafGradient::at(const DualNode& leaf) const
+{
+  const int d = Dual.dimension();
+  const std::array<double, 3> c = nodeCentre(Grid, leaf);
+  const double f = Field(leaf.tree->globalIndex(leaf.node));
+  // Normal equations in the active axes: A g = b.
+  double A[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  double b[3] = {0, 0, 0};
+  for (int i = 0; i < d; ++i)
+  {
+    for (bool upper : {false, true})
+    {
+      const DualNode n = across(leaf, i, upper);
+      if (n.kind != DualNode::Leaf)
+      {
+        continue;
+      }
+      const std::array<double, 3> cn = nodeCentre(Grid, n);
+      const double df = Field(n.tree->globalIndex(n.node)) - f;
+      double off[3];
+      for (int j = 0; j < d; ++j)
+      {
+        off[j] =
+            cn[static_cast<std::size_t>(Dual.axis(j))] - c[static_cast<std::size_t>(Dual.axis(j))];
+      }
+      for (int j = 0; j < d; ++j)
+      {
+        b[j] += off[j] * df;
+        for (int k = 0; k < d; ++k)
+        {
+          A[j][k] += off[j] * off[k];
+        }
+      }
+    }
+  }
+  double g[3] = {0, 0, 0};
+  // Cramer's rule; a (nearly) singular system: the neighbours do not span the
+  // dimension, constant extrapolation.
+  if (d == 2)
+  {
+    const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    if (std::abs(det) > 1e-12 * A[0][0] * A[1][1] && det != 0)
+    {
+      g[0] = (b[0] * A[1][1] - A[0][1] * b[1]) / det;
+      g[1] = (A[0][0] * b[1] - b[0] * A[1][0]) / det;
+    }
+  }
+  else
+  {
+    auto det3 = [](const double m[3][3])
+    {
+      return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+             m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+             m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    };
+    const double det = det3(A);
+    if (std::abs(det) > 1e-12 * A[0][0] * A[1][1] * A[2][2] && det != 0)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        double m[3][3];
+        for (int r = 0; r < 3; ++r)
+        {
+          for (int k = 0; k < 3; ++k)
+          {
+            m[r][k] = k == j ? b[r] : A[r][k];
+          }
+        }
+        g[j] = det3(m) / det;
+      }
+    }
+  }
+  std::array<double, 3> gradient{{0, 0, 0}};
+  for (int j = 0; j < d; ++j)
+  {
+    gradient[static_cast<std::size_t>(Dual.axis(j))] = g[j];
+  }
+  return gradient;
+}
+
+} // namespace canopy

@@ -1,0 +1,324 @@
+#include "vtkCanopyContour.h"
+
+#include "ContourBuilder.h"
+#include "ContourField.h"
+#include "HyperTreeAccessCache.h"
+#include "TreeProgress.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkContourValues.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+vtkStandardNewMacro(vtkCanopyContour);
+
+vtkCanopyContour::vtkCanopyContour()
+    : ContourValues(vtkSmartPointer<vtkContourValues>::New()),
+      Topology(std::make_unique<canopy::HyperTreeAccessCache>())
+{
+  this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
+                               vtkDataSetAttributes::SCALARS);
+}
+
+vtkCanopyContour::~vtkCanopyContour() = default;
+
+void vtkCanopyContour::SetValue(int i, double value)
+{
+  this->ContourValues->SetValue(i, value);
+}
+
+double vtkCanopyContour::GetValue(int i)
+{
+  return this->ContourValues->GetValue(i);
+}
+
+double* vtkCanopyContour::GetValues()
+{
+  return this->ContourValues->GetValues();
+}
+
+void vtkCanopyContour::SetNumberOfContours(int number)
+{
+  this->ContourValues->SetNumberOfContours(number);
+}
+
+int vtkCanopyContour::GetNumberOfContours()
+{
+  return this->ContourValues->GetNumberOfContours();
+}
+
+void vtkCanopyContour::GenerateValues(int number, double range[2])
+{
+  this->ContourValues->GenerateValues(number, range);
+}
+
+void vtkCanopyContour::GenerateValues(int number, double first, double last)
+{
+  this->ContourValues->GenerateValues(number, first, last);
+}
+
+void vtkCanopyContour::AddInterpolatedField(const char* name)
+{
+  if (name && std::find(this->InterpolatedFields.begin(), this->InterpolatedFields.end(), name) ==
+                  this->InterpolatedFields.end())
+  {
+    this->InterpolatedFields.emplace_back(name);
+    this->Modified();
+  }
+}
+
+void vtkCanopyContour::ClearInterpolatedFields()
+{
+  if (!this->InterpolatedFields.empty())
+  {
+    this->InterpolatedFields.clear();
+    this->Modified();
+  }
+}
+
+vtkMTimeType vtkCanopyContour::GetMTime()
+{
+  return std::max(this->Superclass::GetMTime(), this->ContourValues->GetMTime());
+}
+
+int vtkCanopyContour::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkHyperTreeGrid");
+  return 1;
+}
+
+namespace
+{
+
+/// The contoured cell array: by name, or the active scalars.
+vtkDataArray* contouredArray(vtkHyperTreeGrid* input, vtkInformation* selection)
+{
+  vtkCellData* cells = input->GetCellData();
+  if (selection && selection->Has(vtkDataObject::FIELD_NAME()))
+  {
+    return cells->GetArray(selection->Get(vtkDataObject::FIELD_NAME()));
+  }
+  return cells->GetScalars();
+}
+
+/// Area-weighted mean of the adjacent triangles' unit normals, per point.
+vtkSmartPointer<vtkDoubleArray> pointNormals(const canopy::ContourResult& result)
+{
+  auto normals = vtkSmartPointer<vtkDoubleArray>::New();
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(static_cast<vtkIdType>(result.points.size()));
+  double* n = normals->GetPointer(0);
+  std::fill(n, n + 3 * result.points.size(), 0.0);
+  for (std::size_t c = 0; c + 2 < result.cells.size(); c += 3)
+  {
+    const auto& a = result.points[static_cast<std::size_t>(result.cells[c])];
+    const auto& b = result.points[static_cast<std::size_t>(result.cells[c + 1])];
+    const auto& d = result.points[static_cast<std::size_t>(result.cells[c + 2])];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    // Twice the area times the unit normal: the area weight comes for free.
+    const double w[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                         u[0] * v[1] - u[1] * v[0]};
+    for (std::size_t k = 0; k < 3; ++k)
+    {
+      double* at = n + 3 * static_cast<std::size_t>(result.cells[c + k]);
+      at[0] += w[0];
+      at[1] += w[1];
+      at[2] += w[2];
+    }
+  }
+  for (std::size_t p = 0; p < result.points.size(); ++p)
+  {
+    double* at = n + 3 * p;
+    const double length = std::sqrt(at[0] * at[0] + at[1] * at[1] + at[2] * at[2]);
+    if (length > 0)
+    {
+      at[0] /= length;
+      at[1] /= length;
+      at[2] /= length;
+    }
+  }
+  return normals;
+}
+
+} // namespace
+
+int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputVector,
+                                  vtkInformationVector* outputVector)
+{
+  this->LastVisited = 0;
+  this->LastDualCells = 0;
+  vtkHyperTreeGrid* input = vtkHyperTreeGrid::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  if (!input || !output)
+  {
+    vtkErrorMacro("the input must be a vtkHyperTreeGrid");
+    return 0;
+  }
+  output->Initialize();
+  vtkDataArray* array = contouredArray(input, this->GetInputArrayInformation(0));
+  if (!array)
+  {
+    vtkErrorMacro("no cell field to contour: select one with SetInputArrayToProcess");
+    return 0;
+  }
+  if (this->ArrayComponent < 0 || this->ArrayComponent >= array->GetNumberOfComponents())
+  {
+    vtkErrorMacro("component " << this->ArrayComponent << " of " << array->GetName()
+                               << ", which has " << array->GetNumberOfComponents());
+    return 0;
+  }
+  std::vector<vtkDataArray*> interpolated;
+  for (const std::string& name : this->InterpolatedFields)
+  {
+    vtkDataArray* other = input->GetCellData()->GetArray(name.c_str());
+    if (!other)
+    {
+      vtkErrorMacro("no cell field " << name << " to interpolate");
+      return 0;
+    }
+    interpolated.push_back(other);
+  }
+  const std::vector<double> values(this->ContourValues->GetValues(),
+                                   this->ContourValues->GetValues() +
+                                       this->ContourValues->GetNumberOfContours());
+  if (values.empty())
+  {
+    return 1;
+  }
+
+  canopy::ContourResult result;
+  try
+  {
+    // No index tables, no masked-descendant flags: a contour reads only the
+    // nodes its traversal reaches.
+    const auto access = this->Topology->get(input, false, false);
+    auto tooShort = [&](vtkDataArray* a)
+    { return a->GetNumberOfTuples() < access->numberOfCells(); };
+    if (tooShort(array) || std::any_of(interpolated.begin(), interpolated.end(), tooShort))
+    {
+      vtkErrorMacro("a field has fewer values than the grid has cells");
+      return 0;
+    }
+    const canopy::ContourField field(array, this->ArrayComponent);
+    canopy::ContourBuilder builder(*access, field, values);
+    canopy::TreeProgress progress(this);
+    const bool done = builder.run({&progress});
+    this->LastVisited = static_cast<vtkIdType>(builder.visited());
+    this->LastDualCells = static_cast<vtkIdType>(builder.dualCells());
+    if (!done)
+    {
+      return 1; // aborted: the output stays empty
+    }
+    result = builder.merge();
+  }
+  catch (const std::exception& e)
+  {
+    this->Topology->clear();
+    vtkErrorMacro("cannot contour: " << e.what());
+    return 0;
+  }
+
+  const vtkIdType points = static_cast<vtkIdType>(result.points.size());
+  vtkNew<vtkDoubleArray> coordinates;
+  coordinates->SetNumberOfComponents(3);
+  coordinates->SetNumberOfTuples(points);
+  double* xyz = coordinates->GetPointer(0);
+  for (const auto& x : result.points)
+  {
+    xyz = std::copy(x.begin(), x.end(), xyz);
+  }
+  vtkNew<vtkPoints> outputPoints;
+  outputPoints->SetData(coordinates);
+  output->SetPoints(outputPoints);
+
+  const vtkIdType per = result.verticesPerCell;
+  const vtkIdType cells = static_cast<vtkIdType>(result.cells.size()) / per;
+  vtkNew<vtkIdTypeArray> offsets;
+  offsets->SetNumberOfTuples(cells + 1);
+  for (vtkIdType c = 0; c <= cells; ++c)
+  {
+    offsets->SetValue(c, c * per);
+  }
+  vtkNew<vtkIdTypeArray> connectivity;
+  connectivity->SetNumberOfTuples(static_cast<vtkIdType>(result.cells.size()));
+  std::copy(result.cells.begin(), result.cells.end(), connectivity->GetPointer(0));
+  vtkNew<vtkCellArray> cellArray;
+  cellArray->SetData(offsets, connectivity);
+  if (per == 2)
+  {
+    output->SetLines(cellArray);
+  }
+  else
+  {
+    output->SetPolys(cellArray);
+  }
+
+  vtkPointData* pointData = output->GetPointData();
+  if (this->ComputeScalars)
+  {
+    vtkNew<vtkDoubleArray> scalars;
+    scalars->SetName(array->GetName() ? array->GetName() : "ContourValue");
+    scalars->SetNumberOfTuples(points);
+    for (vtkIdType p = 0; p < points; ++p)
+    {
+      scalars->SetValue(p, values[result.contours[static_cast<std::size_t>(p)]]);
+    }
+    pointData->SetScalars(scalars);
+  }
+  if (this->ComputeNormals && per == 3)
+  {
+    pointData->SetNormals(pointNormals(result));
+  }
+  for (vtkDataArray* other : interpolated)
+  {
+    vtkNew<vtkDoubleArray> out;
+    out->SetName(other->GetName());
+    const int components = other->GetNumberOfComponents();
+    out->SetNumberOfComponents(components);
+    out->SetNumberOfTuples(points);
+    for (vtkIdType p = 0; p < points; ++p)
+    {
+      const std::size_t up = static_cast<std::size_t>(p);
+      const double t = result.weights[up];
+      for (int c = 0; c < components; ++c)
+      {
+        out->SetTypedComponent(p, c,
+                               (1 - t) * other->GetComponent(result.leaves[up][0], c) +
+                                   t * other->GetComponent(result.leaves[up][1], c));
+      }
+    }
+    pointData->AddArray(out);
+  }
+  return 1;
+}
+
+void vtkCanopyContour::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  this->ContourValues->PrintSelf(os, indent.GetNextIndent());
+  os << indent << "ArrayComponent: " << this->ArrayComponent << "\n";
+  os << indent << "ComputeScalars: " << this->ComputeScalars << "\n";
+  os << indent << "ComputeNormals: " << this->ComputeNormals << "\n";
+  os << indent << "InterpolatedFields:";
+  for (const std::string& name : this->InterpolatedFields)
+  {
+    os << " " << name;
+  }
+  os << "\n" << indent << "LastVisited: " << this->LastVisited << "\n";
+  os << indent << "LastDualCells: " << this->LastDualCells << "\n";
+}

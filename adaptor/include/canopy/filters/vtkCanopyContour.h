@@ -1,0 +1,140 @@
+/**
+ * @class vtkCanopyContour
+ * @brief Isolines (2D) and isosurfaces (3D) of a cell field of a
+ * vtkHyperTreeGrid, crack-free across refinement levels and trees, reaching
+ * the domain's boundary.
+ *
+ * The field's values sit at the leaves' centres (a hypertree grid has no point
+ * data). The filter contours the dual of the grid: one dual cell per vertex of
+ * the grid, joining the centres of the 2^d leaves around it (fewer, distinct,
+ * where levels differ), found by the recursive octree dual traversal across
+ * trees, branch factor 2 or 3. Each dual cell is split into triangles (2D) or
+ * tetrahedra (3D) through its diagonal from the all-lower to the all-upper leaf,
+ * so neighbouring cells split their shared faces alike, and contoured by
+ * marching triangles or tetrahedra: every contour edge (3D) or point (2D) not on
+ * the domain's or a hidden region's boundary is shared by exactly two triangles
+ * (segments). Along the domain's boundary the dual is extended by boundary
+ * vertices (a leaf's centre projected onto the boundary, its value extrapolated
+ * with the leaf's least-squares gradient from its face neighbours), so the
+ * contour reaches the boundary and a linear field's contour is exact there too.
+ * Points are computed from their dual edge alone, in one order, and shared
+ * through the edge's key: no geometric point locator.
+ *
+ * Masked cells, other processes' parts of split trees (absent cells) and root
+ * cells without a tree are hidden: a dual cell touching one is not contoured,
+ * so the contour stops (open) at a hidden region. Grids split between processes
+ * are not yet exchanged: each process contours its own part, leaving a gap of
+ * one dual cell along its parts' borders (docs/filters.md).
+ *
+ * Field: the cell array selected with SetInputArrayToProcess(0, 0, 0,
+ * vtkDataObject::FIELD_ASSOCIATION_CELLS, name) (default: the cell data's
+ * active scalars), component ArrayComponent. Values: as vtkContourFilter's
+ * (SetValue, SetNumberOfContours, GenerateValues).
+ *
+ * Output: vtkPolyData of double-precision points; 2D: VTK_LINE segments (higher
+ * values on their left in the grid's plane), 3D: triangles whose normals point
+ * towards lower values. Point data: the contour value (a double array named
+ * after the field; ComputeScalars), "Normals" (3D, ComputeNormals: the
+ * area-weighted mean of the adjacent triangles' unit normals), and each field
+ * added with AddInterpolatedField, interpolated along the point's dual edge
+ * (a boundary vertex takes its leaf's value). Contours in the order of their
+ * values' indices within each part of the grid.
+ *
+ * An execution reports its progress and checks for an abort between parts of
+ * the grid; aborted, it leaves an empty output.
+ */
+#pragma once
+
+#include "CanopyFiltersModule.h"
+
+#include <vtkPolyDataAlgorithm.h>
+#include <vtkSmartPointer.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+class vtkContourValues;
+namespace canopy
+{
+class HyperTreeAccessCache;
+} // namespace canopy
+
+class CANOPYFILTERS_EXPORT vtkCanopyContour : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkCanopyContour* New();
+  vtkTypeMacro(vtkCanopyContour, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Contour values, as vtkContourFilter's.
+  void SetValue(int i, double value);
+  double GetValue(int i);
+  /// The values (owned by the filter, valid until they change).
+  double* GetValues();
+  void SetNumberOfContours(int number);
+  int GetNumberOfContours();
+  /// `number` values spread evenly over [range[0], range[1]], both included.
+  void GenerateValues(int number, double range[2]);
+  void GenerateValues(int number, double first, double last);
+  ///@}
+
+  ///@{
+  /// The component of the field contoured (default 0).
+  vtkSetMacro(ArrayComponent, int);
+  vtkGetMacro(ArrayComponent, int);
+  ///@}
+
+  ///@{
+  /// Other cell fields interpolated onto the contour (point data of the same
+  /// name and components, as doubles). `name` is copied; unknown names are an
+  /// error when the filter runs.
+  void AddInterpolatedField(const char* name);
+  void ClearInterpolatedFields();
+  ///@}
+
+  ///@{
+  /// The contour value as a point array named after the field (default on).
+  vtkSetMacro(ComputeScalars, bool);
+  vtkGetMacro(ComputeScalars, bool);
+  vtkBooleanMacro(ComputeScalars, bool);
+  ///@}
+
+  ///@{
+  /// "Normals" on 3D contours (default on).
+  vtkSetMacro(ComputeNormals, bool);
+  vtkGetMacro(ComputeNormals, bool);
+  vtkBooleanMacro(ComputeNormals, bool);
+  ///@}
+
+  /// What the last execution did: groups of nodes the dual traversal descended
+  /// into, and dual cells it met (contoured or not).
+  vtkGetMacro(LastVisited, vtkIdType);
+  vtkGetMacro(LastDualCells, vtkIdType);
+
+  /// Includes the contour values' modification time.
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkCanopyContour();
+  ~vtkCanopyContour() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  vtkSmartPointer<vtkContourValues> ContourValues;
+  int ArrayComponent = 0;
+  bool ComputeScalars = true;
+  bool ComputeNormals = true;
+  std::vector<std::string> InterpolatedFields;
+  vtkIdType LastVisited = 0;
+  vtkIdType LastDualCells = 0;
+  /// The input's topology as read last time (kept while it holds).
+  std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
+
+private:
+  vtkCanopyContour(const vtkCanopyContour&) = delete;
+  void operator=(const vtkCanopyContour&) = delete;
+};

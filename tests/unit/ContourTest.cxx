@@ -1,0 +1,766 @@
+// vtkCanopyContour against oracles that share none of its code: grids are built
+// and walked with VTK's own cursors, fields are computed at the leaves' centres
+// from formulas, and the output is checked for what a correct contour must be:
+// watertight inside the domain (every 2D segment end shared by exactly two
+// segments, every 3D triangle edge by exactly two triangles), exact for linear
+// fields (on the line or plane, of the length or area of its intersection with
+// the domain: no crack and no uncovered boundary strip), and, on uniform
+// forests, through the same edge crossings as VTK's contour of an image of the
+// leaf centres.
+#include "vtkCanopyContour.h"
+
+#include "RandomForest.h"
+#include "canopy/HtgBuilder.h"
+
+#include <gtest/gtest.h>
+#include <vtkBitArray.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkContourFilter.h>
+#include <vtkDoubleArray.h>
+#include <vtkHyperTree.h>
+#include <vtkHyperTreeGrid.h>
+#include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
+#include <vtkIdList.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace canopy::testing
+{
+namespace
+{
+
+using Point = std::array<double, 3>;
+
+struct Box
+{
+  Point lo;
+  Point hi;
+};
+
+/// VTK's cursors compute a node's box from its parent's: its faces can miss the
+/// neighbours' (and the domain's) by rounding. The oracles allow for that.
+constexpr double Slack = 1e-10;
+
+/// Closed boxes that share at least a point (to rounding).
+bool touch(const Box& a, const Box& b)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    if (a.hi[k] < b.lo[k] - Slack || b.hi[k] < a.lo[k] - Slack)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// In the closed box (to rounding).
+bool inside(const Box& b, const Point& x)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    if (x[k] < b.lo[k] - Slack || x[k] > b.hi[k] + Slack)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// Strictly inside along the axes where the box has extent.
+bool strictlyInside(const Box& b, const Point& x)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    if (b.hi[k] > b.lo[k] && !(x[k] > b.lo[k] && x[k] < b.hi[k]))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+using Field = std::function<double(const Point&)>;
+
+/// What a test knows of a grid, from VTK's cursors.
+struct TestGrid
+{
+  vtkSmartPointer<vtkHyperTreeGrid> htg;
+  Box domain;
+  std::vector<Box> leaves; ///< visible leaves
+  std::vector<Box> hidden; ///< masked nodes and root cells without a tree
+  int deepest = 0;
+};
+
+Box cursorBox(vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
+{
+  double b[6];
+  cursor->GetBounds(b);
+  return {{{b[0], b[2], b[4]}}, {{b[1], b[3], b[5]}}};
+}
+
+/// Adds cell field "f" (and "g" = 2 f + 1) at every node's centre and records
+/// the leaves and hidden regions, walking with VTK's cursors (never below a
+/// masked node: they assert there).
+void describe(TestGrid& grid, const Field& field)
+{
+  vtkHyperTreeGrid* htg = grid.htg;
+  vtkNew<vtkDoubleArray> f;
+  f->SetName("f");
+  f->SetNumberOfTuples(htg->GetNumberOfCells());
+  f->Fill(std::nan(""));
+  vtkNew<vtkDoubleArray> g;
+  g->SetName("g");
+  g->SetNumberOfTuples(htg->GetNumberOfCells());
+  double bounds[6];
+  htg->GetBounds(bounds);
+  grid.domain = {{{bounds[0], bounds[2], bounds[4]}}, {{bounds[1], bounds[3], bounds[5]}}};
+  unsigned int dims[3];
+  htg->GetDimensions(dims);
+  vtkDataArray* coords[3] = {htg->GetXCoordinates(), htg->GetYCoordinates(),
+                             htg->GetZCoordinates()};
+  const unsigned cells[3] = {std::max(1u, dims[0] - 1), std::max(1u, dims[1] - 1),
+                             std::max(1u, dims[2] - 1)};
+  vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
+  for (unsigned k = 0; k < cells[2]; ++k)
+  {
+    for (unsigned j = 0; j < cells[1]; ++j)
+    {
+      for (unsigned i = 0; i < cells[0]; ++i)
+      {
+        const vtkIdType index = i + cells[0] * (j + cells[1] * k);
+        if (htg->GetTree(index) == nullptr)
+        {
+          const unsigned at[3] = {i, j, k};
+          Box b;
+          for (int a = 0; a < 3; ++a)
+          {
+            b.lo[a] = coords[a]->GetComponent(at[a], 0);
+            b.hi[a] = coords[a]->GetComponent(dims[a] > 1 ? at[a] + 1 : 0, 0);
+          }
+          grid.hidden.push_back(b);
+          continue;
+        }
+        htg->InitializeNonOrientedGeometryCursor(cursor, index);
+        auto walk = [&](auto& self, int level) -> void
+        {
+          const Box box = cursorBox(cursor);
+          const Point centre{{0.5 * (box.lo[0] + box.hi[0]), 0.5 * (box.lo[1] + box.hi[1]),
+                              0.5 * (box.lo[2] + box.hi[2])}};
+          const vtkIdType id = cursor->GetGlobalNodeIndex();
+          f->SetValue(id, field(centre));
+          g->SetValue(id, 2 * field(centre) + 1);
+          if (cursor->IsMasked())
+          {
+            grid.hidden.push_back(box);
+            return;
+          }
+          if (cursor->IsLeaf())
+          {
+            grid.leaves.push_back(box);
+            grid.deepest = std::max(grid.deepest, level);
+            return;
+          }
+          for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
+          {
+            cursor->ToChild(c);
+            self(self, level + 1);
+            cursor->ToParent();
+          }
+        };
+        walk(walk, 0);
+      }
+    }
+  }
+  htg->GetCellData()->AddArray(f);
+  htg->GetCellData()->AddArray(g);
+}
+
+/// A grid built with VTK's API alone: `refine` and `mask` decide per node.
+struct GridSpec
+{
+  int dimension = 2;
+  int branchFactor = 2;
+  std::array<int, 3> roots{{3, 2, 1}};
+  bool irregular = true; ///< root sides that no binary or ternary fraction gives
+  int maxLevel = 5;
+  std::function<bool(int, const Box&)> refine;
+  std::function<bool(int, const Box&)> mask;
+  std::vector<vtkIdType> missingTrees;
+};
+
+TestGrid makeGrid(const GridSpec& spec, const Field& field)
+{
+  TestGrid grid;
+  grid.htg = vtkSmartPointer<vtkHyperTreeGrid>::New();
+  vtkHyperTreeGrid* htg = grid.htg;
+  htg->SetBranchFactor(spec.branchFactor);
+  const int roots[3] = {spec.roots[0], spec.roots[1], spec.dimension == 3 ? spec.roots[2] : 0};
+  htg->SetDimensions(roots[0] + 1, roots[1] + 1, roots[2] + 1);
+  vtkNew<vtkDoubleArray> coords[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    double x = a == 0 ? -1.25 : 0.5 * a;
+    coords[a]->InsertNextValue(x);
+    for (int i = 0; i < roots[a]; ++i)
+    {
+      x += spec.irregular ? 0.7 + 0.6 * ((i * 7 + a * 3) % 10) / 9.0 + 1e-3 / 3.0 : 1.0;
+      coords[a]->InsertNextValue(x);
+    }
+  }
+  htg->SetXCoordinates(coords[0]);
+  htg->SetYCoordinates(coords[1]);
+  htg->SetZCoordinates(coords[2]);
+  const vtkIdType trees = spec.roots[0] * spec.roots[1] * (spec.dimension == 3 ? spec.roots[2] : 1);
+  vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
+  vtkIdType offset = 0;
+  for (vtkIdType t = 0; t < trees; ++t)
+  {
+    if (std::find(spec.missingTrees.begin(), spec.missingTrees.end(), t) != spec.missingTrees.end())
+    {
+      continue;
+    }
+    htg->InitializeNonOrientedGeometryCursor(cursor, t, true);
+    cursor->SetGlobalIndexStart(offset);
+    auto build = [&](auto& self, int level) -> void
+    {
+      if (level < spec.maxLevel && spec.refine(level, cursorBox(cursor)))
+      {
+        cursor->SubdivideLeaf();
+        for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
+        {
+          cursor->ToChild(c);
+          self(self, level + 1);
+          cursor->ToParent();
+        }
+      }
+    };
+    build(build, 0);
+    offset += cursor->GetTree()->GetNumberOfVertices();
+  }
+  if (spec.mask)
+  {
+    vtkNew<vtkBitArray> bits;
+    bits->SetNumberOfTuples(offset);
+    bits->Fill(0);
+    for (vtkIdType t = 0; t < trees; ++t)
+    {
+      if (htg->GetTree(t) == nullptr)
+      {
+        continue;
+      }
+      htg->InitializeNonOrientedGeometryCursor(cursor, t);
+      auto walk = [&](auto& self, int level) -> void
+      {
+        if (spec.mask(level, cursorBox(cursor)))
+        {
+          bits->SetValue(cursor->GetGlobalNodeIndex(), 1);
+          return;
+        }
+        if (cursor->IsLeaf())
+        {
+          return;
+        }
+        for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
+        {
+          cursor->ToChild(c);
+          self(self, level + 1);
+          cursor->ToParent();
+        }
+      };
+      walk(walk, 0);
+    }
+    htg->SetMask(bits);
+  }
+  describe(grid, field);
+  return grid;
+}
+
+/// A reproducible coin per node.
+double coin(std::uint64_t seed, int level, const Box& b)
+{
+  std::uint64_t x = seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(level);
+  for (int k = 0; k < 3; ++k)
+  {
+    x ^= static_cast<std::uint64_t>(std::llround(b.lo[k] * 1e6)) + 0x632BE59BD9B4E019ull +
+         (x << 6) + (x >> 2);
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  }
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  x ^= x >> 31;
+  return static_cast<double>(x >> 11) / 9007199254740992.0;
+}
+
+/// Random refinement, and deep refinement around one point: neighbours differ
+/// by one level and by several.
+GridSpec randomSpec(int dimension, int branchFactor, std::uint64_t seed)
+{
+  GridSpec spec;
+  spec.dimension = dimension;
+  spec.branchFactor = branchFactor;
+  spec.roots = dimension == 2 ? std::array<int, 3>{{3, 2, 1}} : std::array<int, 3>{{2, 2, 2}};
+  spec.maxLevel = branchFactor == 2 ? (dimension == 2 ? 6 : 4) : (dimension == 2 ? 4 : 3);
+  const Point hot{{0.1 + 0.05 * static_cast<double>(seed % 3), 1.3, 1.4}};
+  spec.refine = [seed, hot, dimension](int level, const Box& b)
+  {
+    Box probe = b;
+    if (dimension == 2)
+    {
+      probe.lo[2] = probe.hi[2] = hot[2];
+    }
+    if (inside(probe, hot))
+    {
+      return true;
+    }
+    return coin(seed, level, b) < (level == 0 ? 0.8 : 0.4);
+  };
+  return spec;
+}
+
+vtkSmartPointer<vtkPolyData> contour(vtkHyperTreeGrid* htg, const std::vector<double>& values,
+                                     const std::vector<std::string>& interpolate = {})
+{
+  vtkNew<vtkCanopyContour> filter;
+  filter->SetInputData(htg);
+  filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    filter->SetValue(static_cast<int>(i), values[i]);
+  }
+  for (const auto& name : interpolate)
+  {
+    filter->AddInterpolatedField(name.c_str());
+  }
+  filter->Update();
+  return filter->GetOutput();
+}
+
+Point pointOf(vtkPolyData* out, vtkIdType id)
+{
+  Point x;
+  out->GetPoint(id, x.data());
+  return x;
+}
+
+/// Cells of the output as lists of point ids.
+std::vector<std::vector<vtkIdType>> cellsOf(vtkCellArray* cells)
+{
+  std::vector<std::vector<vtkIdType>> result;
+  vtkNew<vtkIdList> ids;
+  cells->InitTraversal();
+  while (cells->GetNextCell(ids))
+  {
+    result.emplace_back(ids->begin(), ids->end());
+  }
+  return result;
+}
+
+/// Whether x lies in a visible leaf that touches a hidden region: where a
+/// contour may end inside the domain.
+bool nextToHidden(const TestGrid& grid, const Point& x)
+{
+  for (const Box& leaf : grid.leaves)
+  {
+    if (!inside(leaf, x))
+    {
+      continue;
+    }
+    for (const Box& h : grid.hidden)
+    {
+      if (touch(leaf, h))
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+/// 2D: every segment end strictly inside the domain is shared by exactly two
+/// segments, except next to a hidden region (one); never more. Returns the
+/// number of segments.
+std::size_t expectWatertight2D(vtkPolyData* out, const TestGrid& grid, const std::string& what)
+{
+  EXPECT_EQ(out->GetNumberOfPolys(), 0) << what;
+  const auto segments = cellsOf(out->GetLines());
+  std::vector<int> uses(static_cast<std::size_t>(out->GetNumberOfPoints()), 0);
+  for (const auto& s : segments)
+  {
+    EXPECT_EQ(s.size(), 2u) << what;
+    EXPECT_NE(s[0], s[1]) << what;
+    for (vtkIdType id : s)
+    {
+      ++uses[static_cast<std::size_t>(id)];
+    }
+  }
+  int failures = 0;
+  for (vtkIdType p = 0; p < out->GetNumberOfPoints() && failures < 5; ++p)
+  {
+    const int n = uses[static_cast<std::size_t>(p)];
+    const Point x = pointOf(out, p);
+    const bool interior = strictlyInside(grid.domain, x);
+    const bool ok = n == 2 || (n == 1 && (!interior || nextToHidden(grid, x)));
+    if (!ok)
+    {
+      ++failures;
+      ADD_FAILURE() << what << ": point " << p << " at (" << x[0] << ", " << x[1] << ", " << x[2]
+                    << ") ends " << n << " segments";
+    }
+  }
+  return segments.size();
+}
+
+/// 3D: every triangle edge strictly inside the domain is shared by exactly
+/// two triangles, except next to a hidden region (one); never more. Returns
+/// the number of triangles.
+[[maybe_unused]] std::size_t expectWatertight3D(vtkPolyData* out, const TestGrid& grid,
+                                                const std::string& what)
+{
+  EXPECT_EQ(out->GetNumberOfLines(), 0) << what;
+  const auto triangles = cellsOf(out->GetPolys());
+  std::map<std::pair<vtkIdType, vtkIdType>, int> uses;
+  for (const auto& t : triangles)
+  {
+    EXPECT_EQ(t.size(), 3u) << what;
+    EXPECT_TRUE(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) << what;
+    for (int k = 0; k < 3; ++k)
+    {
+      const vtkIdType a = t[static_cast<std::size_t>(k)];
+      const vtkIdType b = t[static_cast<std::size_t>((k + 1) % 3)];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  int failures = 0;
+  for (const auto& [edge, n] : uses)
+  {
+    const Point a = pointOf(out, edge.first);
+    const Point b = pointOf(out, edge.second);
+    const Point mid{{0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])}};
+    // An edge on the boundary has both ends on the same boundary plane.
+    bool onBoundary = false;
+    for (int k = 0; k < 3; ++k)
+    {
+      for (double side : {grid.domain.lo[k], grid.domain.hi[k]})
+      {
+        onBoundary = onBoundary || (a[k] == side && b[k] == side);
+      }
+    }
+    const bool ok =
+        n == 2 || (n == 1 && (onBoundary || (nextToHidden(grid, a) && nextToHidden(grid, b)) ||
+                              nextToHidden(grid, mid)));
+    if (!ok && failures++ < 5)
+    {
+      ADD_FAILURE() << what << ": edge (" << a[0] << ", " << a[1] << ", " << a[2] << ") - (" << b[0]
+                    << ", " << b[1] << ", " << b[2] << ") in " << n << " triangles";
+    }
+  }
+  return triangles.size();
+}
+
+/// Whether no leaf containing x touches the domain's boundary (so x is on a
+/// dual edge between two leaves' centres, not one to a boundary vertex).
+bool awayFromBoundary(const TestGrid& grid, const Point& x)
+{
+  bool found = false;
+  for (const Box& leaf : grid.leaves)
+  {
+    if (!inside(leaf, x))
+    {
+      continue;
+    }
+    found = true;
+    for (int k = 0; k < 3; ++k)
+    {
+      if (leaf.hi[k] > leaf.lo[k] && (std::abs(leaf.lo[k] - grid.domain.lo[k]) < Slack ||
+                                      std::abs(leaf.hi[k] - grid.domain.hi[k]) < Slack))
+      {
+        return false;
+      }
+    }
+  }
+  return found;
+}
+
+double length(const Point& a, const Point& b)
+{
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                   (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/// Length of the line {x : a.x = c} (2D, axes 0 and 1) inside the box.
+double lineLengthInBox(const std::array<double, 2>& a, double c, const Box& box)
+{
+  // A point of the line and its direction, clipped (Liang-Barsky).
+  const double n2 = a[0] * a[0] + a[1] * a[1];
+  const Point p{{a[0] * c / n2, a[1] * c / n2, 0}};
+  const Point d{{-a[1], a[0], 0}};
+  double t0 = -1e300;
+  double t1 = 1e300;
+  for (int k = 0; k < 2; ++k)
+  {
+    if (d[k] == 0)
+    {
+      if (p[k] < box.lo[k] || p[k] > box.hi[k])
+      {
+        return 0;
+      }
+      continue;
+    }
+    double ta = (box.lo[k] - p[k]) / d[k];
+    double tb = (box.hi[k] - p[k]) / d[k];
+    t0 = std::max(t0, std::min(ta, tb));
+    t1 = std::min(t1, std::max(ta, tb));
+  }
+  return t1 > t0 ? (t1 - t0) * std::sqrt(n2) : 0;
+}
+
+// ---- 2D -------------------------------------------------------------------
+
+double wavy(const Point& x)
+{
+  return std::sin(1.3 * x[0] + 0.2) * std::cos(0.9 * x[1] - 0.4) + 0.25 * x[0];
+}
+
+TEST(Contour2D, WatertightOnRandomAdaptiveForests)
+{
+  for (std::uint64_t seed = 1; seed <= 8; ++seed)
+  {
+    for (int branch : {2, 3})
+    {
+      const std::string what =
+          "seed " + std::to_string(seed) + ", branch factor " + std::to_string(branch);
+      TestGrid grid = makeGrid(randomSpec(2, branch, seed), wavy);
+      auto out = contour(grid.htg, {-0.6, -0.1, 0.0, 0.35, 0.8});
+      const std::size_t segments = expectWatertight2D(out, grid, what);
+      EXPECT_GT(segments, 20u) << what;
+      EXPECT_GE(grid.deepest, branch == 2 ? 5 : 3) << what;
+    }
+  }
+}
+
+TEST(Contour2D, WatertightAroundMasksAndMissingTrees)
+{
+  for (std::uint64_t seed = 1; seed <= 6; ++seed)
+  {
+    for (int branch : {2, 3})
+    {
+      const std::string what =
+          "seed " + std::to_string(seed) + ", branch factor " + std::to_string(branch);
+      GridSpec spec = randomSpec(2, branch, seed);
+      spec.mask = [seed](int level, const Box& b) { return coin(seed + 99, level, b) < 0.12; };
+      spec.missingTrees = {static_cast<vtkIdType>(seed % 6)};
+      TestGrid grid = makeGrid(spec, wavy);
+      ASSERT_FALSE(grid.hidden.empty());
+      auto out = contour(grid.htg, {-0.6, -0.1, 0.0, 0.35, 0.8});
+      expectWatertight2D(out, grid, what);
+      // Nothing inside a hidden region.
+      for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+      {
+        const Point x = pointOf(out, p);
+        for (const Box& h : grid.hidden)
+        {
+          ASSERT_FALSE(strictlyInside(h, x)) << what;
+        }
+      }
+    }
+  }
+}
+
+TEST(Contour2D, LinearFieldIsExactUpToTheBoundary)
+{
+  // Every vertex on the line, and the length of the line inside the domain:
+  // a crack, an overlap or an uncovered boundary strip would change it.
+  const std::array<double, 2> a{{0.37, -0.81}};
+  const double b = 0.05;
+  auto linear = [&](const Point& x) { return a[0] * x[0] + a[1] * x[1] + b; };
+  for (std::uint64_t seed = 1; seed <= 6; ++seed)
+  {
+    for (int branch : {2, 3})
+    {
+      const std::string what =
+          "seed " + std::to_string(seed) + ", branch factor " + std::to_string(branch);
+      TestGrid grid = makeGrid(randomSpec(2, branch, seed), linear);
+      const std::vector<double> values{-1.2, -0.77, -0.3, 0.0123, 0.4};
+      auto out = contour(grid.htg, values);
+      vtkDataArray* contourValue = out->GetPointData()->GetArray("f");
+      ASSERT_NE(contourValue, nullptr);
+      std::vector<double> total(values.size(), 0.0);
+      for (const auto& s : cellsOf(out->GetLines()))
+      {
+        const Point p = pointOf(out, s[0]);
+        const Point q = pointOf(out, s[1]);
+        const double c = contourValue->GetComponent(s[0], 0);
+        EXPECT_EQ(c, contourValue->GetComponent(s[1], 0));
+        EXPECT_NEAR(linear(p), c, 1e-12) << what;
+        EXPECT_NEAR(linear(q), c, 1e-12) << what;
+        const auto k = std::find(values.begin(), values.end(), c) - values.begin();
+        total[static_cast<std::size_t>(k)] += length(p, q);
+      }
+      for (std::size_t k = 0; k < values.size(); ++k)
+      {
+        const double expected = lineLengthInBox(a, values[k] - b, grid.domain);
+        EXPECT_NEAR(total[k], expected, 1e-11 * (1 + expected)) << what << ", value " << values[k];
+      }
+      EXPECT_GT(total[2], 1.0) << what;
+    }
+  }
+}
+
+TEST(Contour2D, UniformForestCrossesImageEdgesLikeVtk)
+{
+  // Every leaf at one level: the leaf centres are an image. VTK's contour of
+  // that image crosses its edges where this contour crosses the same
+  // (axis-aligned) dual edges; this one also crosses each quad's diagonal and
+  // covers the boundary strip outside the image.
+  for (int branch : {2, 3})
+  {
+    const int level = branch == 2 ? 4 : 2;
+    GridSpec spec;
+    spec.branchFactor = branch;
+    spec.roots = {{3, 2, 1}};
+    spec.irregular = false;
+    spec.maxLevel = level;
+    spec.refine = [](int, const Box&) { return true; };
+    auto circle = [](const Point& x)
+    { return std::hypot(x[0] - 0.3, x[1] - 1.4) + 0.1 * std::sin(3 * x[0]); };
+    TestGrid grid = makeGrid(spec, circle);
+    const std::vector<double> values{0.45, 0.9, 1.3};
+    auto out = contour(grid.htg, values);
+
+    const int per = level == 4 ? 16 : 9;
+    const double h = 1.0 / per;
+    vtkNew<vtkImageData> image;
+    image->SetDimensions(3 * per, 2 * per, 1);
+    image->SetSpacing(h, h, 1);
+    image->SetOrigin(grid.domain.lo[0] + h / 2, grid.domain.lo[1] + h / 2, grid.domain.lo[2]);
+    vtkNew<vtkDoubleArray> scalars;
+    scalars->SetName("f");
+    scalars->SetNumberOfTuples(image->GetNumberOfPoints());
+    for (vtkIdType p = 0; p < image->GetNumberOfPoints(); ++p)
+    {
+      Point x;
+      image->GetPoint(p, x.data());
+      scalars->SetValue(p, circle(x));
+    }
+    image->GetPointData()->SetScalars(scalars);
+    vtkNew<vtkContourFilter> reference;
+    reference->SetInputData(image);
+    for (std::size_t i = 0; i < values.size(); ++i)
+    {
+      reference->SetValue(static_cast<int>(i), values[i]);
+    }
+    reference->Update();
+    vtkPolyData* vtk = reference->GetOutput();
+    ASSERT_GT(vtk->GetNumberOfPoints(), 50);
+
+    // Our points on the image's edges: inside its box, one coordinate on a
+    // row or column of centres.
+    Box imageBox;
+    double ib[6];
+    image->GetBounds(ib);
+    imageBox = {{{ib[0], ib[2], ib[4]}}, {{ib[1], ib[3], ib[5]}}};
+    auto onLine = [&](double x, int axis)
+    {
+      const double i = (x - imageBox.lo[axis]) / h;
+      return std::abs(i - std::round(i)) < 1e-9;
+    };
+    std::vector<Point> ours;
+    for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+    {
+      const Point x = pointOf(out, p);
+      if (inside(imageBox, x) && (onLine(x[0], 0) || onLine(x[1], 1)))
+      {
+        ours.push_back(x);
+      }
+    }
+    std::vector<Point> theirs;
+    for (vtkIdType p = 0; p < vtk->GetNumberOfPoints(); ++p)
+    {
+      theirs.push_back(pointOf(vtk, p));
+    }
+    auto sorted = [](std::vector<Point> v)
+    {
+      std::sort(v.begin(), v.end());
+      return v;
+    };
+    ours = sorted(ours);
+    theirs = sorted(theirs);
+    ASSERT_EQ(ours.size(), theirs.size()) << "branch factor " << branch;
+    // Matched greedily by nearest (coordinates agree to rounding).
+    std::vector<bool> used(ours.size(), false);
+    for (const Point& x : theirs)
+    {
+      double best = 1e300;
+      std::size_t at = 0;
+      for (std::size_t i = 0; i < ours.size(); ++i)
+      {
+        if (!used[i] && length(ours[i], x) < best)
+        {
+          best = length(ours[i], x);
+          at = i;
+        }
+      }
+      // VTK's 2D image contours write float points.
+      ASSERT_LT(best, 1e-6) << "branch factor " << branch;
+      used[at] = true;
+    }
+    expectWatertight2D(out, grid, "uniform, branch factor " + std::to_string(branch));
+  }
+}
+
+TEST(Contour2D, InterpolatedFieldAndCanopyBuiltForests)
+{
+  // A forest as a simulation describes it (Canopy's builder, depth-first
+  // storage, masks): still watertight; "g" = 2 f + 1 interpolated on the
+  // contour of f is 2 c + 1 wherever the contour is not extrapolated.
+  for (std::uint64_t seed = 1; seed <= 4; ++seed)
+  {
+    RandomForestOptions o;
+    o.dimension = 2;
+    o.branchFactor = seed % 2 ? 2 : 3;
+    o.rootCells = {{3, 3, 1}};
+    o.maxLevels = o.branchFactor == 2 ? 6 : 4;
+    o.refineProbability = 0.45;
+    o.maskProbability = seed > 2 ? 0.1 : 0.0;
+    o.order = StorageOrder::DepthFirst;
+    o.seed = seed;
+    RandomForest forest(o);
+    TestGrid grid;
+    grid.htg = buildHyperTreeGrid(forest.description());
+    describe(grid, wavy);
+    auto out = contour(grid.htg, {-0.2, 0.3}, {"g"});
+    const std::string what = "random forest " + std::to_string(seed);
+    EXPECT_GT(expectWatertight2D(out, grid, what), 10u) << what;
+    vtkDataArray* g = out->GetPointData()->GetArray("g");
+    vtkDataArray* f = out->GetPointData()->GetArray("f");
+    ASSERT_TRUE(g && f) << what;
+    for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+    {
+      if (awayFromBoundary(grid, pointOf(out, p)))
+      {
+        // Both edge ends are leaves: no extrapolation.
+        EXPECT_NEAR(g->GetComponent(p, 0), 2 * f->GetComponent(p, 0) + 1, 1e-12)
+            << what << " at " << pointOf(out, p)[0] << " " << pointOf(out, p)[1] << " domain "
+            << grid.domain.lo[0] << " " << grid.domain.hi[0] << " " << grid.domain.lo[1] << " "
+            << grid.domain.hi[1];
+      }
+    }
+  }
+}
+
+} // namespace
+} // namespace canopy::testing
