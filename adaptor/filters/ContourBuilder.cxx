@@ -28,6 +28,10 @@ bool ContourBuilder::run(const ProgressShare& progress)
   const vtkIdType tasks = Dual.numberOfTasks();
   const vtkIdType chunks = (tasks + ChunkTasks - 1) / ChunkTasks;
   Pieces.assign(static_cast<std::size_t>(chunks), ContourPiece{});
+  for (std::size_t c = 0; c < Pieces.size(); ++c)
+  {
+    Pieces[c].id = static_cast<std::uint32_t>(c);
+  }
   std::vector<std::size_t> visited(static_cast<std::size_t>(chunks), 0);
   std::vector<std::size_t> cells(static_cast<std::size_t>(chunks), 0);
   const bool done = forEachTree(progress, chunks,
@@ -76,6 +80,8 @@ ContourResult ContourBuilder::merge() const
   std::vector<vtkIdType> local;
   for (const ContourPiece& piece : Pieces)
   {
+    const vtkIdType centroidOffset = static_cast<vtkIdType>(result.centroids.size());
+    result.centroids.insert(result.centroids.end(), piece.centroids.begin(), piece.centroids.end());
     local.resize(piece.points.size());
     for (std::size_t p = 0; p < piece.points.size(); ++p)
     {
@@ -86,7 +92,12 @@ ContourResult ContourBuilder::merge() const
       {
         result.points.push_back(piece.points[p]);
         result.contours.push_back(piece.keys[p].contour);
-        result.leaves.push_back(piece.leaves[p]);
+        auto leaves = piece.leaves[p];
+        for (vtkIdType& leaf : leaves)
+        {
+          leaf = leaf < 0 ? leaf - centroidOffset : leaf;
+        }
+        result.leaves.push_back(leaves);
         result.weights.push_back(piece.weights[p]);
       }
     }
@@ -94,6 +105,8 @@ ContourResult ContourBuilder::merge() const
     {
       result.cells.push_back(local[static_cast<std::size_t>(id)]);
     }
+    result.cellNormals.insert(result.cellNormals.end(), piece.cellNormals.begin(),
+                              piece.cellNormals.end());
   }
   return result;
 }

@@ -21,11 +21,14 @@ namespace canopy
 struct ContourResult
 {
   std::vector<std::array<double, 3>> points;
-  std::vector<std::uint32_t> contours;          ///< per point: the index of its contour value
-  std::vector<std::array<vtkIdType, 2>> leaves; ///< per point: its edge's leaves
-  std::vector<double> weights;                  ///< per point: the second leaf's weight
-  int verticesPerCell = 2;                      ///< 2: segments (2D), 3: triangles (3D)
+  std::vector<std::uint32_t> contours; ///< per point: the index of its contour value
+  /// Per point: its edge's leaves (a centroid: -(k + 1), k in `centroids`).
+  std::vector<std::array<vtkIdType, 2>> leaves;
+  std::vector<ContourPiece::Centroid> centroids; ///< per centroid: its leaves
+  std::vector<double> weights;                   ///< per point: the second leaf's weight
+  int verticesPerCell = 2;                       ///< 2: segments (2D), 3: triangles (3D)
   std::vector<vtkIdType> cells;
+  std::vector<std::array<double, 3>> cellNormals; ///< 3D: per triangle (ContourPiece)
 };
 
 class ContourBuilder

@@ -24,7 +24,9 @@ struct DualVertex
   std::uint64_t key = 0;
   std::array<double, 3> x{{0, 0, 0}};
   double value = 0;
-  vtkIdType leaf = 0; ///< the leaf's global index
+  /// The leaf's global index; a cell's centroid (DualCellContour.h): -(k + 1),
+  /// k its index in the piece's `centroids`.
+  vtkIdType leaf = 0;
 };
 
 /// A contour point: the dual edge (its vertices' keys, lower first) and the
@@ -53,6 +55,16 @@ struct ContourPointKeyHash
 
 struct ContourPiece
 {
+  /// The piece's number: what makes its centroids' keys unique.
+  std::uint32_t id = 0;
+  /// A centroid's leaves (DualCellContour.h): its value is their weighted sum.
+  struct Centroid
+  {
+    std::array<vtkIdType, 8> leaves{};
+    std::array<double, 8> weights{};
+    int count = 0;
+  };
+  std::vector<Centroid> centroids;
   std::vector<std::array<double, 3>> points;
   std::vector<ContourPointKey> keys;
   /// Per point: the leaves at its edge's ends (lower key first) and the
@@ -61,7 +73,18 @@ struct ContourPiece
   std::vector<double> weights;
   /// Cells: verticesPerCell local point ids each (2: segments, 3: triangles).
   std::vector<vtkIdType> cells;
+  /// 3D: per triangle, the unit vector against the field's gradient in its
+  /// tetrahedron (the linear interpolant's): what the points' normals average.
+  std::vector<std::array<double, 3>> cellNormals;
   std::unordered_map<ContourPointKey, vtkIdType, ContourPointKeyHash> index;
+
+  /// The key of the next centroid: above every leaf's (bit 63), unique over
+  /// the pieces.
+  std::uint64_t centroidKey() const
+  {
+    return (std::uint64_t{1} << 63) | (static_cast<std::uint64_t>(id) << 32) |
+           static_cast<std::uint64_t>(centroids.size());
+  }
 
   /// The point where contour `contour` (value `value`) crosses the edge from
   /// `a` to `b` (their values on either side of it), made once.

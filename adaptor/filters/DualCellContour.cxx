@@ -1,6 +1,7 @@
 #include "DualCellContour.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace canopy
@@ -102,6 +103,18 @@ void DualCellContour::cell(const DualGroup& group)
       return;
     }
   }
+  double low = v[0].value;
+  double high = v[0].value;
+  for (unsigned s = 1; s < corners; ++s)
+  {
+    low = std::min(low, v[s].value);
+    high = std::max(high, v[s].value);
+  }
+  if (std::none_of(Values.begin(), Values.end(),
+                   [&](double value) { return value > low && value <= high; }))
+  {
+    return; // no contour crosses the cell
+  }
   if (Dual.dimension() == 2)
   {
     // Leaves of trees with other aspect ratios can make the quad non-convex
@@ -121,13 +134,281 @@ void DualCellContour::cell(const DualGroup& group)
     triangle(v[0], v[3], v[2]);
     return;
   }
-  // Kuhn: one tetrahedron per order of the axes, along the path 0 -> 7.
+  // Kuhn: one tetrahedron per order of the axes, along the path 0 -> 7; the
+  // sign its volume has in a cube (odd orders are negative).
   static const unsigned paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
-  for (const auto& path : paths)
+  static const double signs[6] = {1, -1, -1, 1, 1, -1};
+  bool folded = false;
+  for (std::size_t k = 0; k < 6 && !folded; ++k)
   {
-    const DualVertex* t[4] = {&v[0], &v[path[0]], &v[path[1]], &v[7]};
-    tetrahedron(t);
+    const DualVertex& a = v[0];
+    const DualVertex& b = v[paths[k][0]];
+    const DualVertex& c = v[paths[k][1]];
+    const DualVertex& d = v[7];
+    if (a.key == b.key || a.key == c.key || a.key == d.key || b.key == c.key || b.key == d.key ||
+        c.key == d.key)
+    {
+      continue; // no volume: dropped
+    }
+    folded = signs[k] * dot(minus(b.x, a.x), cross(minus(c.x, a.x), minus(d.x, a.x))) < 0;
   }
+  if (!folded || !centroidFan(v))
+  {
+    for (const auto& path : paths)
+    {
+      const DualVertex* t[4] = {&v[0], &v[path[0]], &v[path[1]], &v[7]};
+      tetrahedron(t);
+    }
+  }
+}
+
+bool DualCellContour::centroidFan(const std::array<DualVertex, 8>& v)
+{
+  // The cell's boundary: each face's triangles (split by Kuhn's diagonal, as
+  // the neighbouring cell splits the face) without the degenerate ones; a
+  // triangle met twice (two faces folded onto each other where leaves repeat)
+  // is inside the cell and both copies go.
+  std::array<std::array<const DualVertex*, 3>, 12> faces;
+  // +1: wound outwards (an upper face), -1: inwards (a lower face).
+  std::array<double, 12> winding{};
+  double adding = 1;
+  std::size_t count = 0;
+  auto add = [&](const DualVertex* a, const DualVertex* b, const DualVertex* c)
+  {
+    if (a->key == b->key || b->key == c->key || a->key == c->key)
+    {
+      return;
+    }
+    std::array<std::uint64_t, 3> keys{{a->key, b->key, c->key}};
+    std::sort(keys.begin(), keys.end());
+    for (std::size_t f = 0; f < count; ++f)
+    {
+      std::array<std::uint64_t, 3> other{{faces[f][0]->key, faces[f][1]->key, faces[f][2]->key}};
+      std::sort(other.begin(), other.end());
+      if (other == keys)
+      {
+        winding[f] = winding[count - 1];
+        faces[f] = faces[--count];
+        return;
+      }
+    }
+    winding[count] = adding;
+    faces[count++] = {{a, b, c}};
+  };
+  for (int i = 0; i < 3; ++i)
+  {
+    const unsigned u = 1u << ((i + 1) % 3);
+    const unsigned w = 1u << ((i + 2) % 3);
+    for (unsigned side : {0u, 1u << i})
+    {
+      adding = side ? 1 : -1;
+      add(&v[side], &v[side | u], &v[side | u | w]);
+      add(&v[side], &v[side | u | w], &v[side | w]);
+    }
+  }
+  if (count == 0)
+  {
+    return true; // no volume
+  }
+  // How many triangles use each triangle's edges.
+  auto uses = [&](std::uint64_t p, std::uint64_t q, const std::size_t* among, std::size_t n)
+  {
+    int found = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const auto& g = faces[among ? among[i] : i];
+      for (std::size_t h = 0; h < 3; ++h)
+      {
+        const std::uint64_t r = g[h]->key;
+        const std::uint64_t t = g[(h + 1) % 3]->key;
+        found += (r == p && t == q) || (r == q && t == p);
+      }
+    }
+    return found;
+  };
+  // Where leaves repeat the boundary can pinch: two wedges sharing an edge
+  // (used by four triangles). Triangles joined across edges used exactly twice
+  // are one part; each part must be closed (its edges used twice within it)
+  // and gets its own fan, else nothing is done here.
+  std::array<std::size_t, 12> part;
+  for (std::size_t f = 0; f < count; ++f)
+  {
+    part[f] = f;
+  }
+  auto root = [&](std::size_t f)
+  {
+    while (part[f] != f)
+    {
+      f = part[f];
+    }
+    return f;
+  };
+  for (std::size_t f = 0; f < count; ++f)
+  {
+    for (std::size_t e = 0; e < 3; ++e)
+    {
+      const std::uint64_t p = faces[f][e]->key;
+      const std::uint64_t q = faces[f][(e + 1) % 3]->key;
+      if (uses(p, q, nullptr, count) != 2)
+      {
+        continue;
+      }
+      for (std::size_t g = 0; g < count; ++g)
+      {
+        if (g != f && uses(p, q, &g, 1) == 1)
+        {
+          part[root(g)] = root(f);
+        }
+      }
+    }
+  }
+  std::array<std::array<std::size_t, 12>, 12> members;
+  std::array<std::size_t, 12> sizes{};
+  for (std::size_t f = 0; f < count; ++f)
+  {
+    const std::size_t r = root(f);
+    members[r][sizes[r]++] = f;
+  }
+  for (std::size_t r = 0; r < count; ++r)
+  {
+    for (std::size_t i = 0; i < sizes[r]; ++i)
+    {
+      const auto& f = faces[members[r][i]];
+      for (std::size_t e = 0; e < 3; ++e)
+      {
+        if (uses(f[e]->key, f[(e + 1) % 3]->key, members[r].data(), sizes[r]) != 2)
+        {
+          return false;
+        }
+      }
+    }
+  }
+  for (std::size_t r = 0; r < count; ++r)
+  {
+    if (sizes[r] == 0)
+    {
+      continue;
+    }
+    // The part's distinct vertices, and how many slots each fills.
+    std::array<const DualVertex*, 8> corners;
+    std::array<double, 8> slots{};
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < sizes[r]; ++i)
+    {
+      for (const DualVertex* x : faces[members[r][i]])
+      {
+        bool seen = false;
+        for (std::size_t j = 0; j < n && !seen; ++j)
+        {
+          seen = corners[j]->key == x->key;
+        }
+        if (!seen && n < corners.size())
+        {
+          corners[n++] = x;
+        }
+      }
+    }
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      for (const DualVertex& x : v)
+      {
+        slots[j] += x.key == corners[j]->key ? 1 : 0;
+      }
+    }
+    // The fan's apex: a point inside the part from which every triangle is
+    // seen from inside (no folded tetrahedron). Candidates, each a convex
+    // combination of the part's vertices, its value the same combination of
+    // theirs (exact for a linear field): their mean, their mean weighted by
+    // the slots they fill, and each vertex itself (a fan from a vertex skips
+    // the triangles it is on). The first without a fold, else the one folding
+    // the least volume.
+    auto folds = [&](const std::array<double, 3>& apex, const DualVertex* skip)
+    {
+      double folded = 0;
+      for (std::size_t i = 0; i < sizes[r]; ++i)
+      {
+        const std::size_t f = members[r][i];
+        const auto& t = faces[f];
+        if (skip && (t[0] == skip || t[1] == skip || t[2] == skip))
+        {
+          continue;
+        }
+        const double volume = winding[f] * dot(minus(t[0]->x, apex),
+                                               cross(minus(t[1]->x, apex), minus(t[2]->x, apex)));
+        folded += volume < 0 ? -volume : 0;
+      }
+      return folded;
+    };
+    auto mean = [&](bool weighted)
+    {
+      std::array<double, 3> x{{0, 0, 0}};
+      double total = 0;
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        total += weighted ? slots[j] : 1;
+      }
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        const double w = (weighted ? slots[j] : 1) / total;
+        for (std::size_t a = 0; a < 3; ++a)
+        {
+          x[a] += w * corners[j]->x[a];
+        }
+      }
+      return x;
+    };
+    int best = 0; // 0, 1: the means; 2 + j: vertex j
+    double least = folds(mean(false), nullptr);
+    for (int candidate = 1; candidate < 2 + static_cast<int>(n) && least > 0; ++candidate)
+    {
+      const double folded = candidate == 1
+                                ? folds(mean(true), nullptr)
+                                : folds(corners[static_cast<std::size_t>(candidate - 2)]->x,
+                                        corners[static_cast<std::size_t>(candidate - 2)]);
+      if (folded < least)
+      {
+        least = folded;
+        best = candidate;
+      }
+    }
+    if (best >= 2)
+    {
+      const DualVertex* apex = corners[static_cast<std::size_t>(best - 2)];
+      for (std::size_t i = 0; i < sizes[r]; ++i)
+      {
+        const auto& f = faces[members[r][i]];
+        const DualVertex* t[4] = {apex, f[0], f[1], f[2]};
+        tetrahedron(t); // the triangles on the apex: dropped there
+      }
+      continue;
+    }
+    DualVertex centroid;
+    centroid.key = Out.centroidKey();
+    centroid.leaf = -static_cast<vtkIdType>(Out.centroids.size()) - 1;
+    centroid.x = mean(best == 1);
+    ContourPiece::Centroid record;
+    record.count = static_cast<int>(n);
+    double total = 0;
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      total += best == 1 ? slots[j] : 1;
+    }
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      const double w = (best == 1 ? slots[j] : 1) / total;
+      centroid.value += w * corners[j]->value;
+      record.leaves[j] = corners[j]->leaf;
+      record.weights[j] = w;
+    }
+    Out.centroids.push_back(record);
+    for (std::size_t i = 0; i < sizes[r]; ++i)
+    {
+      const auto& f = faces[members[r][i]];
+      const DualVertex* t[4] = {&centroid, f[0], f[1], f[2]};
+      tetrahedron(t);
+    }
+  }
+  return true;
 }
 
 void DualCellContour::triangle(const DualVertex& a, const DualVertex& b, const DualVertex& c)
@@ -191,6 +472,41 @@ void DualCellContour::tetrahedron(const DualVertex* v[4])
     low = std::min(low, v[i]->value);
     high = std::max(high, v[i]->value);
   }
+  // Gradient of the linear interpolant: sum of df_i (e_j x e_k) / volume.
+  const auto e1 = minus(v[1]->x, v[0]->x);
+  const auto e2 = minus(v[2]->x, v[0]->x);
+  const auto e3 = minus(v[3]->x, v[0]->x);
+  const auto c23 = cross(e2, e3);
+  const auto c31 = cross(e3, e1);
+  const auto c12 = cross(e1, e2);
+  const double volume = dot(e1, c23);
+  const double d1 = v[1]->value - v[0]->value;
+  const double d2 = v[2]->value - v[0]->value;
+  const double d3 = v[3]->value - v[0]->value;
+  std::array<double, 3> against{{0, 0, 0}};
+  for (std::size_t a = 0; a < 3; ++a)
+  {
+    against[a] = -(d1 * c23[a] + d2 * c31[a] + d3 * c12[a]);
+  }
+  if (volume < 0)
+  {
+    against = {{-against[0], -against[1], -against[2]}};
+  }
+  // A flat tetrahedron's gradient means nothing: its triangles (of no area
+  // either) get no normal, and their points take their neighbours'.
+  double longest = 0;
+  for (const auto& e : {e1, e2, e3})
+  {
+    longest = std::max(longest, dot(e, e));
+  }
+  if (std::abs(volume) <= 1e-9 * longest * std::sqrt(longest))
+  {
+    against = {{0, 0, 0}};
+  }
+  const double size = std::sqrt(dot(against, against));
+  const std::array<double, 3> unitAgainst =
+      size > 0 ? std::array<double, 3>{{against[0] / size, against[1] / size, against[2] / size}}
+               : against;
   for (std::size_t k = 0; k < Values.size(); ++k)
   {
     const double value = Values[k];
@@ -214,20 +530,21 @@ void DualCellContour::tetrahedron(const DualVertex* v[4])
         down[downs++] = v[i];
       }
     }
-    // Normals towards lower values: away from an above vertex.
-    const DualVertex& reference = *up[0];
+    // The field's gradient in the tetrahedron (its linear interpolant): the
+    // triangles' normals point against it (towards lower values).
     auto emit = [&](vtkIdType p0, vtkIdType p1, vtkIdType p2)
     {
       const auto& x0 = Out.points[static_cast<std::size_t>(p0)];
       const auto normal = cross(minus(Out.points[static_cast<std::size_t>(p1)], x0),
                                 minus(Out.points[static_cast<std::size_t>(p2)], x0));
-      if (dot(normal, minus(reference.x, x0)) > 0)
+      if (dot(normal, against) < 0)
       {
         std::swap(p1, p2);
       }
       Out.cells.push_back(p0);
       Out.cells.push_back(p1);
       Out.cells.push_back(p2);
+      Out.cellNormals.push_back(unitAgainst);
     };
     if (ups == 1 || downs == 1)
     {

@@ -9,23 +9,38 @@
 // (LeafGradient.h), so a linear field stays linear up to the boundary. A cell
 // with a Hidden slot is not contoured (the contour ends there).
 //
-// The split: every simplex contains the cell's diagonal from slot 0 (all lower
-// sides) to slot 2^d - 1 (all upper sides), which passes through the grid
-// vertex the cell surrounds (Kuhn's split: 2 triangles, 6 tetrahedra). A face
-// shared by two 3D cells is the 4 leaves around a grid edge, seen by both cells
-// with the same slots along the two other axes, so both split it by the same
-// diagonal (the one from the lower-lower to the upper-upper leaf): the
-// tetrahedra of neighbouring cells meet face to face and marching tetrahedra
-// leaves no crack and has no ambiguous case. (The brief's rule, the diagonal
-// through the face's smallest leaf id, is consistent too but needs 12
-// tetrahedra around a centroid to be realizable in every cell; this one needs
-// neither ids nor a centroid.) Within a tree all leaves have one aspect ratio,
-// their centres lie on the diagonals through the vertex (scaled), and every
-// such simplex is positively oriented; where trees of other aspect ratios meet,
-// a quad can be non-convex: in 2D, where no other cell shares its diagonal, the
-// other diagonal is then taken (the one inside it). Simplices with a repeated vertex (a leaf
-// filling several slots) have no volume and are dropped; their two faces without the repeated edge
-// are the same triangle, which the neighbouring simplices share.
+// The split: Kuhn's. Every simplex contains the cell's diagonal from slot 0
+// (all lower sides) to slot 2^d - 1 (all upper sides), which passes through
+// the grid vertex the cell surrounds: 2 triangles, 6 tetrahedra. A face shared
+// by two 3D cells is the 4 leaves around a grid edge, seen by both cells with
+// the same slots along the two other axes, so both split it by the same
+// diagonal (lower-lower to upper-upper leaf): the tetrahedra of neighbouring
+// cells meet face to face, and marching tetrahedra leaves no crack and has no
+// ambiguous case. (The brief's rule, the diagonal through the face's smallest
+// leaf id, is consistent too but needs tetrahedra around a centroid in every
+// cell; Kuhn's needs neither ids nor a centroid where it does not fold.)
+// Simplices with a repeated vertex (a leaf filling several slots) have no
+// volume and are dropped; their two faces without the repeated edge are the
+// same triangle, which the neighbouring simplices share.
+//
+// Folds. Within a tree all leaves have one aspect ratio and, where all 2^d
+// leaves are distinct, their centres lie on the (scaled) diagonals through the
+// vertex: every Kuhn simplex is positively oriented. A leaf filling several
+// slots can have its centre far off that diagonal, and trees of other shapes
+// can meet: then a Kuhn simplex can be inverted (it folds over its neighbours:
+// still watertight, but the contour overlaps itself there). 2D: the quad's
+// other diagonal, inside it (no other cell shares a 2D cell's diagonal). 3D:
+// the cell's boundary (its faces' Kuhn triangles, the degenerate ones dropped,
+// a triangle met twice, inside the cell, dropped both times), cut into parts
+// where it pinches (two wedges sharing an edge), each part a fan of
+// tetrahedra from one apex: the mean of its vertices, their mean weighted by
+// the slots they fill, or one of them (the first that folds nothing, else the
+// least folding one; a point inside has as value the same combination of its
+// vertices' values: exact for a linear field). A part that is not closed:
+// Kuhn's simplices (their boundary is the same). Graded forests (level jumps
+// of one) come out fold-free in the tests (a linear field's area exact);
+// around jumps of several levels some dual cells are not star-shaped from any
+// candidate and still fold a little (docs/filters.md).
 //
 // Orientation: 2D segments run with the higher values on their left; 3D
 // triangles' normals (right-hand rule) point towards lower values.
@@ -69,6 +84,10 @@ private:
   bool vertex(const DualGroup& group, unsigned s, DualVertex& v);
   void triangle(const DualVertex& a, const DualVertex& b, const DualVertex& c);
   void tetrahedron(const DualVertex* v[4]);
+  /// A 3D cell as tetrahedra from centroids to its boundary's triangles, one
+  /// centroid per part of the boundary that pinches; false (nothing done)
+  /// when a part is not closed.
+  bool centroidFan(const std::array<DualVertex, 8>& v);
 
   const HyperTreeAccess& Grid;
   const DualTraversal& Dual;

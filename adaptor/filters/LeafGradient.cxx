@@ -5,7 +5,7 @@
 namespace canopy
 {
 
-DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper) const
+DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper, bool farCorner) const
 {
   DualNode none;
   const int a = Dual.axis(i);
@@ -61,12 +61,13 @@ DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper) const
     }
     else
     {
-      // Finer than the leaf: the child against the shared face (at its lowest
-      // corner along the face: any child touching the face would do).
+      // Finer than the leaf: the child against the shared face, at the
+      // face's lowest or highest corner.
+      const int last = Grid.branchFactor() - 1;
       int weight = 1;
       for (int j = 0; j < Dual.dimension(); ++j)
       {
-        c += (j == i && !upper ? Grid.branchFactor() - 1 : 0) * weight;
+        c += (j == i ? (upper ? 0 : last) : (farCorner ? last : 0)) * weight;
         weight *= Grid.branchFactor();
       }
     }
@@ -86,10 +87,15 @@ std::array<double, 3> LeafGradient::at(const DualNode& leaf) const
   double b[3] = {0, 0, 0};
   for (int i = 0; i < d; ++i)
   {
-    for (bool upper : {false, true})
+    for (int side = 0; side < 4; ++side)
     {
-      const DualNode n = across(leaf, i, upper);
-      if (n.kind != DualNode::Leaf)
+      // Each face's leaf at the face's lowest corner, and, where finer leaves
+      // meet the face, the one at its highest corner too (finer leaves alone
+      // can lie in one plane with the coarser ones: ternary trees do).
+      const bool upper = side & 1;
+      const bool farCorner = side & 2;
+      const DualNode n = across(leaf, i, upper, farCorner);
+      if (n.kind != DualNode::Leaf || (farCorner && n.level <= leaf.level))
       {
         continue;
       }

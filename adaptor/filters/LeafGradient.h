@@ -2,10 +2,10 @@
 // boundary dual vertex's value is extrapolated with (DualCellContour.h).
 //
 // Least squares over the visible face neighbours (the leaf across each face at
-// the face's centre, in the same tree or the next one, coarser, as large or
-// finer): g minimises sum (f_n - f_leaf - g . (c_n - c_leaf))^2. A linear field
-// is reproduced exactly (to rounding) whenever the neighbours' offsets span the
-// grid's dimension, which a leaf has unless masks or missing trees surround it;
+// the face's lowest corner, and at its highest where finer leaves meet it; in
+// the same tree or the next one, coarser, as large or finer): g minimises sum (f_n - f_leaf - g .
+// (c_n - c_leaf))^2. A linear field is reproduced exactly (to rounding) whenever the neighbours'
+// offsets span the grid's dimension, which a leaf has unless masks or missing trees surround it;
 // then the gradient is 0 (constant extrapolation).
 #pragma once
 
@@ -39,8 +39,9 @@ public:
   std::array<double, 3> at(const DualNode& leaf) const;
 
   /// The visible leaf across `leaf`'s face normal to active axis i on side
-  /// `upper`, touching the face's centre; kind Outside or Hidden when there is none.
-  DualNode across(const DualNode& leaf, int i, bool upper) const;
+  /// `upper` that touches the face's lowest corner (`farCorner`: its highest);
+  /// kind Outside or Hidden when there is none.
+  DualNode across(const DualNode& leaf, int i, bool upper, bool farCorner) const;
 
 private:
   const HyperTreeAccess& Grid;

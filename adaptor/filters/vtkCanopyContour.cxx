@@ -114,15 +114,17 @@ vtkDataArray* contouredArray(vtkHyperTreeGrid* input, vtkInformation* selection)
   return cells->GetScalars();
 }
 
-/// Area-weighted mean of the adjacent triangles' unit normals, per point.
+/// Per point, the area-weighted mean of its triangles' normals (each the unit
+/// vector against the gradient in its tetrahedron). A point whose triangles
+/// all have no area (the contour through a dual vertex, or a flat
+/// tetrahedron's, whose gradient means nothing) takes a neighbour's.
 vtkSmartPointer<vtkDoubleArray> pointNormals(const canopy::ContourResult& result)
 {
   auto normals = vtkSmartPointer<vtkDoubleArray>::New();
   normals->SetName("Normals");
   normals->SetNumberOfComponents(3);
   normals->SetNumberOfTuples(static_cast<vtkIdType>(result.points.size()));
-  double* n = normals->GetPointer(0);
-  std::fill(n, n + 3 * result.points.size(), 0.0);
+  std::vector<std::array<double, 3>> sums(result.points.size(), {{0, 0, 0}});
   for (std::size_t c = 0; c + 2 < result.cells.size(); c += 3)
   {
     const auto& a = result.points[static_cast<std::size_t>(result.cells[c])];
@@ -130,27 +132,51 @@ vtkSmartPointer<vtkDoubleArray> pointNormals(const canopy::ContourResult& result
     const auto& d = result.points[static_cast<std::size_t>(result.cells[c + 2])];
     const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     const double v[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-    // Twice the area times the unit normal: the area weight comes for free.
     const double w[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
                          u[0] * v[1] - u[1] * v[0]};
+    const double area = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    const auto& n = result.cellNormals[c / 3];
     for (std::size_t k = 0; k < 3; ++k)
     {
-      double* at = n + 3 * static_cast<std::size_t>(result.cells[c + k]);
-      at[0] += w[0];
-      at[1] += w[1];
-      at[2] += w[2];
+      auto& sum = sums[static_cast<std::size_t>(result.cells[c + k])];
+      for (std::size_t i = 0; i < 3; ++i)
+      {
+        sum[i] += area * n[i];
+      }
+    }
+  }
+  auto unset = [&](std::size_t p) { return sums[p][0] == 0 && sums[p][1] == 0 && sums[p][2] == 0; };
+  // Neighbours' normals across triangles, a few rounds (a run of points without
+  // area is short).
+  for (int round = 0; round < 4; ++round)
+  {
+    bool changed = false;
+    for (std::size_t c = 0; c + 2 < result.cells.size(); c += 3)
+    {
+      for (std::size_t k = 0; k < 3; ++k)
+      {
+        const std::size_t p = static_cast<std::size_t>(result.cells[c + k]);
+        const std::size_t q = static_cast<std::size_t>(result.cells[c + (k + 1) % 3]);
+        if (unset(p) && !unset(q))
+        {
+          sums[p] = sums[q];
+          changed = true;
+        }
+      }
+    }
+    if (!changed)
+    {
+      break;
     }
   }
   for (std::size_t p = 0; p < result.points.size(); ++p)
   {
-    double* at = n + 3 * p;
-    const double length = std::sqrt(at[0] * at[0] + at[1] * at[1] + at[2] * at[2]);
-    if (length > 0)
-    {
-      at[0] /= length;
-      at[1] /= length;
-      at[2] /= length;
-    }
+    const auto& sum = sums[p];
+    const double length = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+    const double scale = length > 0 ? 1 / length : 0;
+    normals->SetTypedTuple(
+        static_cast<vtkIdType>(p),
+        std::array<double, 3>{{sum[0] * scale, sum[1] * scale, sum[2] * scale}}.data());
   }
   return normals;
 }
@@ -291,6 +317,21 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
     const int components = other->GetNumberOfComponents();
     out->SetNumberOfComponents(components);
     out->SetNumberOfTuples(points);
+    // A leaf's value, or a centroid's: its leaves' weighted sum.
+    auto valueAt = [&](vtkIdType leaf, int c)
+    {
+      if (leaf >= 0)
+      {
+        return other->GetComponent(leaf, c);
+      }
+      const auto& centroid = result.centroids[static_cast<std::size_t>(-leaf - 1)];
+      double sum = 0;
+      for (std::size_t j = 0; j < static_cast<std::size_t>(centroid.count); ++j)
+      {
+        sum += centroid.weights[j] * other->GetComponent(centroid.leaves[j], c);
+      }
+      return sum;
+    };
     for (vtkIdType p = 0; p < points; ++p)
     {
       const std::size_t up = static_cast<std::size_t>(p);
@@ -298,8 +339,8 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
       for (int c = 0; c < components; ++c)
       {
         out->SetTypedComponent(p, c,
-                               (1 - t) * other->GetComponent(result.leaves[up][0], c) +
-                                   t * other->GetComponent(result.leaves[up][1], c));
+                               (1 - t) * valueAt(result.leaves[up][0], c) +
+                                   t * valueAt(result.leaves[up][1], c));
       }
     }
     pointData->AddArray(out);
