@@ -3,6 +3,7 @@
 #include "DualCellContour.h"
 
 #include <algorithm>
+#include <memory>
 #include <unordered_map>
 
 namespace canopy
@@ -23,8 +24,14 @@ ContourBuilder::ContourBuilder(const HyperTreeAccess& grid, const ContourField& 
 {
 }
 
-bool ContourBuilder::run(const ProgressShare& progress)
+bool ContourBuilder::run(const ProgressShare& progress, bool prune)
 {
+  std::unique_ptr<NodeRanges> ranges;
+  if (prune)
+  {
+    ranges = std::make_unique<NodeRanges>(Grid, Dual, Field, progress.part(0, 0.3));
+  }
+  const ProgressShare walk = prune ? progress.part(0.3, 1) : progress;
   const vtkIdType tasks = Dual.numberOfTasks();
   const vtkIdType chunks = (tasks + ChunkTasks - 1) / ChunkTasks;
   Pieces.assign(static_cast<std::size_t>(chunks), ContourPiece{});
@@ -34,24 +41,29 @@ bool ContourBuilder::run(const ProgressShare& progress)
   }
   std::vector<std::size_t> visited(static_cast<std::size_t>(chunks), 0);
   std::vector<std::size_t> cells(static_cast<std::size_t>(chunks), 0);
-  const bool done = forEachTree(progress, chunks,
-                                [&](vtkIdType chunk)
-                                {
-                                  const std::size_t c = static_cast<std::size_t>(chunk);
-                                  DualCellContour contour(Grid, Dual, Field, Values, Pieces[c]);
-                                  const vtkIdType end = std::min(tasks, (chunk + 1) * ChunkTasks);
-                                  for (vtkIdType t = chunk * ChunkTasks; t < end; ++t)
-                                  {
-                                    Dual.runTask(t, contour);
-                                  }
-                                  visited[c] = contour.visited();
-                                  cells[c] = contour.dualCells();
-                                });
+  std::vector<std::size_t> pruned(static_cast<std::size_t>(chunks), 0);
+  const bool done =
+      forEachTree(walk, chunks,
+                  [&](vtkIdType chunk)
+                  {
+                    const std::size_t c = static_cast<std::size_t>(chunk);
+                    DualCellContour contour(Grid, Dual, Field, Values, Pieces[c], ranges.get());
+                    const vtkIdType end = std::min(tasks, (chunk + 1) * ChunkTasks);
+                    for (vtkIdType t = chunk * ChunkTasks; t < end; ++t)
+                    {
+                      Dual.runTask(t, contour);
+                    }
+                    visited[c] = contour.visited();
+                    cells[c] = contour.dualCells();
+                    pruned[c] = contour.pruned();
+                  });
   Visited = 0;
+  Pruned = 0;
   DualCells = 0;
   for (std::size_t c = 0; c < visited.size(); ++c)
   {
     Visited += visited[c];
+    Pruned += pruned[c];
     DualCells += cells[c];
   }
   return done;

@@ -38,13 +38,17 @@ public:
   ContourBuilder(const HyperTreeAccess& grid, const ContourField& field,
                  const std::vector<double>& values);
 
-  /// Runs the traversal (false: stopped by `progress`; the result is then partial).
-  bool run(const ProgressShare& progress);
+  /// Runs the traversal (false: stopped by `progress`; the result is then
+  /// partial). `prune`: first the nodes' value ranges (NodeRanges.h), then
+  /// only the groups whose ranges hold a contour value are descended (the
+  /// same output).
+  bool run(const ProgressShare& progress, bool prune = true);
   /// The pieces merged (after run).
   ContourResult merge() const;
 
-  /// Groups descended and dual cells met by the last run.
+  /// Groups descended, groups pruned and dual cells met by the last run.
   std::size_t visited() const { return Visited; }
+  std::size_t pruned() const { return Pruned; }
   std::size_t dualCells() const { return DualCells; }
 
 private:
@@ -54,6 +58,7 @@ private:
   DualTraversal Dual;
   std::vector<ContourPiece> Pieces;
   std::size_t Visited = 0;
+  std::size_t Pruned = 0;
   std::size_t DualCells = 0;
 };
 

@@ -29,9 +29,37 @@ double dot(const std::array<double, 3>& a, const std::array<double, 3>& b)
 
 DualCellContour::DualCellContour(const HyperTreeAccess& grid, const DualTraversal& dual,
                                  const ContourField& field, const std::vector<double>& values,
-                                 ContourPiece& out)
-    : Grid(grid), Dual(dual), Field(field), Values(values), Out(out), Gradient(grid, dual, field)
+                                 ContourPiece& out, const NodeRanges* ranges)
+    : Grid(grid), Dual(dual), Field(field), Values(values), Out(out), Gradient(grid, dual, field),
+      Ranges(ranges)
 {
+}
+
+bool DualCellContour::enter(const DualGroup& group, unsigned axes)
+{
+  if (Ranges)
+  {
+    // Outside slots add nothing: their boundary vertices' values are in their
+    // mirrored leaves' ranges (NodeRanges.h).
+    const unsigned corners = 1u << Dual.dimension();
+    ValueRange range;
+    for (unsigned s = 0; s < corners; ++s)
+    {
+      const DualNode& n = group[s];
+      if ((s & ~axes) == 0 && (n.kind == DualNode::Inner || n.kind == DualNode::Leaf))
+      {
+        range.add(Ranges->at(static_cast<std::size_t>(n.tree - Grid.trees().data()), n.node));
+      }
+    }
+    if (std::none_of(Values.begin(), Values.end(),
+                     [&](double value) { return value > range.low && value <= range.high; }))
+    {
+      ++Pruned;
+      return false;
+    }
+  }
+  ++Visited;
+  return true;
 }
 
 bool DualCellContour::vertex(const DualGroup& group, unsigned s, DualVertex& v)

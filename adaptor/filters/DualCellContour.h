@@ -50,6 +50,7 @@
 #include "ContourPiece.h"
 #include "DualTraversal.h"
 #include "LeafGradient.h"
+#include "NodeRanges.h"
 
 #include <array>
 #include <cstddef>
@@ -63,20 +64,22 @@ class DualCellContour
 {
 public:
   /// Everything is borrowed and must outlive this; `values`: the contour
-  /// values, their index the points' `contour`; `out`: where cells go.
+  /// values, their index the points' `contour`; `out`: where cells go;
+  /// `ranges`: the nodes' value ranges to prune with (nullptr: no pruning).
   DualCellContour(const HyperTreeAccess& grid, const DualTraversal& dual, const ContourField& field,
-                  const std::vector<double>& values, ContourPiece& out);
+                  const std::vector<double>& values, ContourPiece& out,
+                  const NodeRanges* ranges = nullptr);
 
-  /// DualTraversal's visitor.
-  bool enter(const DualGroup&, unsigned)
-  {
-    ++Visited;
-    return true;
-  }
+  /// DualTraversal's visitor. A group is not descended when the union of its
+  /// nodes' ranges holds no contour value: every dual cell below it joins
+  /// leaves of those nodes' subtrees only (and their boundary vertices, whose
+  /// values the ranges cover).
+  bool enter(const DualGroup& group, unsigned axes);
   void cell(const DualGroup& group);
 
-  /// Groups descended and dual cells met (contoured or not).
+  /// Groups descended, groups pruned, and dual cells met (contoured or not).
   std::size_t visited() const { return Visited; }
+  std::size_t pruned() const { return Pruned; }
   std::size_t dualCells() const { return DualCells; }
 
 private:
@@ -97,7 +100,9 @@ private:
   LeafGradient Gradient;
   /// Gradients of the boundary leaves already met (each is met by several cells).
   std::unordered_map<vtkIdType, std::array<double, 3>> Gradients;
+  const NodeRanges* Ranges = nullptr;
   std::size_t Visited = 0;
+  std::size_t Pruned = 0;
   std::size_t DualCells = 0;
 };
 

@@ -187,6 +187,7 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
                                   vtkInformationVector* outputVector)
 {
   this->LastVisited = 0;
+  this->LastPruned = 0;
   this->LastDualCells = 0;
   vtkHyperTreeGrid* input = vtkHyperTreeGrid::GetData(inputVector[0], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
@@ -243,8 +244,9 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
     const canopy::ContourField field(array, this->ArrayComponent);
     canopy::ContourBuilder builder(*access, field, values);
     canopy::TreeProgress progress(this);
-    const bool done = builder.run({&progress});
+    const bool done = builder.run({&progress}, this->Pruning);
     this->LastVisited = static_cast<vtkIdType>(builder.visited());
+    this->LastPruned = static_cast<vtkIdType>(builder.pruned());
     this->LastDualCells = static_cast<vtkIdType>(builder.dualCells());
     if (!done)
     {
@@ -355,11 +357,13 @@ void vtkCanopyContour::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ArrayComponent: " << this->ArrayComponent << "\n";
   os << indent << "ComputeScalars: " << this->ComputeScalars << "\n";
   os << indent << "ComputeNormals: " << this->ComputeNormals << "\n";
+  os << indent << "Pruning: " << this->Pruning << "\n";
   os << indent << "InterpolatedFields:";
   for (const std::string& name : this->InterpolatedFields)
   {
     os << " " << name;
   }
   os << "\n" << indent << "LastVisited: " << this->LastVisited << "\n";
+  os << indent << "LastPruned: " << this->LastPruned << "\n";
   os << indent << "LastDualCells: " << this->LastDualCells << "\n";
 }

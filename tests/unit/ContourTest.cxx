@@ -1151,5 +1151,109 @@ TEST(Contour3D, UniformForestCrossesImageEdgesLikeVtk)
   }
 }
 
+// ---- Pruning ----------------------------------------------------------------
+
+/// Both outputs alike, bit for bit: points, cells, point arrays.
+void expectSameOutput(vtkPolyData* a, vtkPolyData* b, const std::string& what)
+{
+  ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints()) << what;
+  for (vtkIdType p = 0; p < a->GetNumberOfPoints(); ++p)
+  {
+    ASSERT_EQ(pointOf(a, p), pointOf(b, p)) << what;
+  }
+  for (auto cells :
+       {std::make_pair(a->GetLines(), b->GetLines()), std::make_pair(a->GetPolys(), b->GetPolys())})
+  {
+    ASSERT_EQ(cellsOf(cells.first), cellsOf(cells.second)) << what;
+  }
+  ASSERT_EQ(a->GetPointData()->GetNumberOfArrays(), b->GetPointData()->GetNumberOfArrays());
+  for (int i = 0; i < a->GetPointData()->GetNumberOfArrays(); ++i)
+  {
+    vtkDataArray* x = a->GetPointData()->GetArray(i);
+    vtkDataArray* y = b->GetPointData()->GetArray(x->GetName());
+    ASSERT_NE(y, nullptr) << what;
+    for (vtkIdType t = 0; t < x->GetNumberOfTuples(); ++t)
+    {
+      for (int c = 0; c < x->GetNumberOfComponents(); ++c)
+      {
+        ASSERT_EQ(x->GetComponent(t, c), y->GetComponent(t, c)) << what;
+      }
+    }
+  }
+}
+
+TEST(ContourPruning, SameOutputLessWorkOnASphere)
+{
+  // A forest refined everywhere and more around a sphere, as a simulation
+  // refines around a front; the sphere's distance field contoured at its
+  // radius. Pruned, only the nodes along the surface are descended.
+  for (int dimension : {2, 3})
+  {
+    for (int branch : {2, 3})
+    {
+      const std::string what =
+          std::to_string(dimension) + "D, branch factor " + std::to_string(branch);
+      const Point centre{{0.25, 2.0, 2.5}}; // the domain's middle
+      auto distance = [&](const Point& x)
+      {
+        double d2 = 0;
+        for (int k = 0; k < dimension; ++k)
+        {
+          d2 += (x[k] - centre[k]) * (x[k] - centre[k]);
+        }
+        return std::sqrt(d2);
+      };
+      const double radius = 0.45;
+      GridSpec spec;
+      spec.dimension = dimension;
+      spec.branchFactor = branch;
+      spec.irregular = false;
+      spec.roots = {{3, 3, 3}};
+      spec.maxLevel = branch == 2 ? (dimension == 2 ? 7 : 5) : (dimension == 2 ? 5 : 3);
+      const int uniform = spec.maxLevel - (branch == 2 ? 2 : 1);
+      spec.refine = [&](int level, const Box& b)
+      {
+        // Refined everywhere to a level, and deeper where the box comes within
+        // its own size of the sphere: most nodes are far from the surface.
+        if (level < uniform)
+        {
+          return true;
+        }
+        Point mid;
+        double size = 0;
+        for (int k = 0; k < 3; ++k)
+        {
+          mid[k] = 0.5 * (b.lo[k] + b.hi[k]);
+          size = std::max(size, b.hi[k] - b.lo[k]);
+        }
+        return std::abs(distance(mid) - radius) < size;
+      };
+      spec.mask = [](int level, const Box& b) { return level > 1 && coin(7, level, b) < 0.05; };
+      TestGrid grid = makeGrid(spec, distance);
+      vtkIdType visited[2] = {0, 0};
+      vtkSmartPointer<vtkPolyData> outputs[2];
+      for (int prune : {0, 1})
+      {
+        vtkNew<vtkCanopyContour> filter;
+        filter->SetInputData(grid.htg);
+        filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+        filter->SetValue(0, radius);
+        filter->SetValue(1, radius * 0.97);
+        filter->AddInterpolatedField("g");
+        filter->SetPruning(prune != 0);
+        filter->Update();
+        outputs[prune] = filter->GetOutput();
+        visited[prune] = filter->GetLastVisited();
+        EXPECT_EQ(filter->GetLastPruned() > 0, prune != 0) << what;
+      }
+      EXPECT_GT(outputs[0]->GetNumberOfCells(), 50) << what;
+      expectSameOutput(outputs[0], outputs[1], what);
+      std::cout << what << ": groups descended " << visited[0] << " without pruning, " << visited[1]
+                << " with\n";
+      EXPECT_LT(3 * visited[1], visited[0]) << what;
+    }
+  }
+}
+
 } // namespace
 } // namespace canopy::testing

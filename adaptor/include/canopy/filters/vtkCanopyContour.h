@@ -108,9 +108,21 @@ public:
   vtkBooleanMacro(ComputeNormals, bool);
   ///@}
 
+  ///@{
+  /// Skip the parts of the dual whose nodes' values all lie on one side of
+  /// every contour value (default on): one pass over the nodes computes each
+  /// node's range of leaf values, then the traversal descends a group of nodes
+  /// only when the union of their ranges holds a contour value. The output is
+  /// the same; the work follows the contour rather than the forest.
+  vtkSetMacro(Pruning, bool);
+  vtkGetMacro(Pruning, bool);
+  vtkBooleanMacro(Pruning, bool);
+  ///@}
+
   /// What the last execution did: groups of nodes the dual traversal descended
-  /// into, and dual cells it met (contoured or not).
+  /// into, groups it pruned, and dual cells it met (contoured or not).
   vtkGetMacro(LastVisited, vtkIdType);
+  vtkGetMacro(LastPruned, vtkIdType);
   vtkGetMacro(LastDualCells, vtkIdType);
 
   /// Includes the contour values' modification time.
@@ -128,8 +140,10 @@ protected:
   int ArrayComponent = 0;
   bool ComputeScalars = true;
   bool ComputeNormals = true;
+  bool Pruning = true;
   std::vector<std::string> InterpolatedFields;
   vtkIdType LastVisited = 0;
+  vtkIdType LastPruned = 0;
   vtkIdType LastDualCells = 0;
   /// The input's topology as read last time (kept while it holds).
   std::unique_ptr<canopy::HyperTreeAccessCache> Topology;

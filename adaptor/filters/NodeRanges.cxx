@@ -1,0 +1,145 @@
+#include "NodeRanges.h"
+
+#include "LeafGradient.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace canopy
+{
+
+namespace
+{
+
+struct Pending
+{
+  vtkIdType node;
+  int level;
+  std::array<std::int64_t, 3> ijk;
+  bool childrenDone;
+};
+
+} // namespace
+
+NodeRanges::NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual,
+                       const ContourField& field, const ProgressShare& progress)
+    : Ranges(grid.trees().size())
+{
+  const auto& trees = grid.trees();
+  const LeafGradient gradient(grid, dual, field);
+  forEachTree(progress, static_cast<vtkIdType>(trees.size()),
+              [&](vtkIdType t)
+              {
+                const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
+                auto& ranges = Ranges[static_cast<std::size_t>(t)];
+                ranges.assign(static_cast<std::size_t>(tree.numberOfVertices), ValueRange{});
+                // Post-order without recursion: a node's range once its children's are
+                // known (VTK's numbering is not relied on).
+                std::vector<Pending> stack{{0, 0, {{0, 0, 0}}, false}};
+                while (!stack.empty())
+                {
+                  const Pending p = stack.back();
+                  stack.pop_back();
+                  const vtkIdType global = tree.globalIndex(p.node);
+                  if (grid.isMasked(global) || grid.isAbsent(global))
+                  {
+                    continue; // hidden: empty
+                  }
+                  ValueRange& range = ranges[static_cast<std::size_t>(p.node)];
+                  if (tree.isLeaf(p.node))
+                  {
+                    range.low = range.high = field(global);
+                    widenAtBoundary(grid, dual, gradient, tree, p.node, p.level, p.ijk, range);
+                    continue;
+                  }
+                  const vtkIdType first = tree.firstChild(p.node);
+                  if (p.childrenDone)
+                  {
+                    for (int c = 0; c < grid.childrenPerNode(); ++c)
+                    {
+                      range.add(ranges[static_cast<std::size_t>(first + c)]);
+                    }
+                    continue;
+                  }
+                  stack.push_back({p.node, p.level, p.ijk, true});
+                  for (int c = 0; c < grid.childrenPerNode(); ++c)
+                  {
+                    stack.push_back({first + c, p.level + 1, grid.childPosition(p.ijk, c), false});
+                  }
+                }
+              });
+  if (progress.stopped())
+  {
+    // Partial ranges could prune what they have not seen: prune nothing.
+    for (auto& tree : Ranges)
+    {
+      for (ValueRange& range : tree)
+      {
+        range.low = -std::numeric_limits<double>::infinity();
+        range.high = std::numeric_limits<double>::infinity();
+      }
+    }
+  }
+}
+
+void NodeRanges::widenAtBoundary(const HyperTreeAccess& grid, const DualTraversal& dual,
+                                 const LeafGradient& gradient, const TreeAccess& tree,
+                                 vtkIdType node, int level, const std::array<std::int64_t, 3>& ijk,
+                                 ValueRange& range)
+{
+  // The sides of the domain the leaf touches, per active axis.
+  const std::int64_t cells = grid.cellsPerRootAt(level);
+  bool touches = false;
+  std::array<std::array<bool, 2>, 3> sides{};
+  for (int i = 0; i < dual.dimension(); ++i)
+  {
+    const std::size_t a = static_cast<std::size_t>(dual.axis(i));
+    const long roots = static_cast<long>(grid.rootCells()[a]);
+    sides[a][0] = tree.rootIJK[a] == 0 && ijk[a] == 0;
+    sides[a][1] = static_cast<long>(tree.rootIJK[a]) == roots - 1 && ijk[a] == cells - 1;
+    touches = touches || sides[a][0] || sides[a][1];
+  }
+  if (!touches)
+  {
+    return;
+  }
+  // Its boundary vertices: the centre moved onto any of those sides, the
+  // value extrapolated as DualCellContour does; their extremes are
+  // separable per axis.
+  DualNode leaf;
+  leaf.tree = &tree;
+  leaf.node = node;
+  leaf.level = level;
+  leaf.ijk = ijk;
+  leaf.kind = DualNode::Leaf;
+  const std::array<double, 3> g = gradient.at(leaf);
+  std::array<double, 3> lo;
+  std::array<double, 3> hi;
+  grid.nodeBounds(tree, level, ijk, lo, hi);
+  double low = range.low;
+  double high = range.high;
+  for (std::size_t a = 0; a < 3; ++a)
+  {
+    const double centre = 0.5 * (lo[a] + hi[a]);
+    double down = 0;
+    double up = 0;
+    for (int side = 0; side < 2; ++side)
+    {
+      if (sides[a][static_cast<std::size_t>(side)])
+      {
+        const double change = g[a] * ((side ? hi[a] : lo[a]) - centre);
+        down = std::min(down, change);
+        up = std::max(up, change);
+      }
+    }
+    low += down;
+    high += up;
+  }
+  // Outwards by a little more than the rounding of the contour's own sum.
+  range.low = low - 1e-12 * std::abs(low);
+  range.high = high + 1e-12 * std::abs(high);
+}
+
+} // namespace canopy

@@ -1,0 +1,62 @@
+// Per node, the range of a field over the visible leaves below it: what lets
+// the contour skip every part of the dual whose nodes' values all lie on one
+// side of every contour value (DualCellContour::enter).
+//
+// One pass over the nodes per execution (the field's values may change from
+// step to step), trees in parallel, each tree bottom-up. A hidden node (masked
+// or absent) has an empty range: its cells are never contoured. A leaf on the
+// domain's boundary also covers its boundary vertices' extrapolated values
+// (its gradient computed as the contour computes it), so a group of nodes
+// along the boundary is pruned like any other.
+#pragma once
+
+#include "ContourField.h"
+#include "DualTraversal.h"
+#include "HyperTreeAccess.h"
+#include "TreeProgress.h"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace canopy
+{
+
+class LeafGradient;
+
+struct ValueRange
+{
+  double low = std::numeric_limits<double>::infinity();
+  double high = -std::numeric_limits<double>::infinity();
+  bool empty() const { return low > high; }
+  void add(const ValueRange& o)
+  {
+    low = o.low < low ? o.low : low;
+    high = o.high > high ? o.high : high;
+  }
+};
+
+class NodeRanges
+{
+public:
+  /// `grid`, `dual` and `field` are borrowed (only during the construction).
+  /// Stopped by `progress`, it leaves ranges that prune nothing.
+  NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual, const ContourField& field,
+             const ProgressShare& progress);
+
+  /// The range below `node` of the tree at position `tree` in grid.trees().
+  const ValueRange& at(std::size_t tree, vtkIdType node) const
+  {
+    return Ranges[tree][static_cast<std::size_t>(node)];
+  }
+
+private:
+  static void widenAtBoundary(const HyperTreeAccess& grid, const DualTraversal& dual,
+                              const LeafGradient& gradient, const TreeAccess& tree, vtkIdType node,
+                              int level, const std::array<std::int64_t, 3>& ijk, ValueRange& range);
+
+  std::vector<std::vector<ValueRange>> Ranges;
+};
+
+} // namespace canopy
