@@ -231,9 +231,10 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
   canopy::ContourResult result;
   try
   {
-    // No index tables, no masked-descendant flags: a contour reads only the
-    // nodes its traversal reaches.
-    const auto access = this->Topology->get(input, false, false);
+    // Explicit global indices read once into tables (kept with the access
+    // while the topology holds): the traversal asks for one per node, and the
+    // pruning pass for every node. No masked-descendant flags.
+    const auto access = this->Topology->get(input, true, false);
     auto tooShort = [&](vtkDataArray* a)
     { return a->GetNumberOfTuples() < access->numberOfCells(); };
     if (tooShort(array) || std::any_of(interpolated.begin(), interpolated.end(), tooShort))
