@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <memory>
-#include <unordered_map>
 
 namespace canopy
 {
@@ -82,7 +81,7 @@ ContourResult ContourBuilder::merge() const
   }
   // Points on dual edges near a chunk's border are made by both chunks: one
   // map over all keys (no geometric search) merges them.
-  std::unordered_map<ContourPointKey, vtkIdType, ContourPointKeyHash> merged;
+  ContourPointIndex merged;
   merged.reserve(points);
   result.points.reserve(points);
   result.contours.reserve(points);
@@ -99,7 +98,7 @@ ContourResult ContourBuilder::merge() const
     {
       const auto inserted =
           merged.emplace(piece.keys[p], static_cast<vtkIdType>(result.points.size()));
-      local[p] = inserted.first->second;
+      local[p] = inserted.first;
       if (inserted.second)
       {
         result.points.push_back(piece.points[p]);

@@ -6,10 +6,11 @@
 
 #include <vtkType.h>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace canopy
@@ -53,6 +54,70 @@ struct ContourPointKeyHash
   }
 };
 
+/// Key -> point id, open addressing (linear probing) in two flat arrays: no
+/// allocation per point, which a node-based map pays for every crossing.
+class ContourPointIndex
+{
+public:
+  /// The id of `key`, inserting `id` when it is new (second: whether it was).
+  std::pair<vtkIdType, bool> emplace(const ContourPointKey& key, vtkIdType id)
+  {
+    if (2 * (Count + 1) > Ids.size())
+    {
+      grow();
+    }
+    std::size_t at = ContourPointKeyHash{}(key) & (Ids.size() - 1);
+    while (Ids[at] >= 0)
+    {
+      if (Keys[at] == key)
+      {
+        return {Ids[at], false};
+      }
+      at = (at + 1) & (Ids.size() - 1);
+    }
+    Keys[at] = key;
+    Ids[at] = id;
+    ++Count;
+    return {id, true};
+  }
+
+  /// Room for `count` keys without growing.
+  void reserve(std::size_t count)
+  {
+    while (2 * count > Ids.size())
+    {
+      grow();
+    }
+  }
+
+private:
+  void grow()
+  {
+    std::vector<ContourPointKey> keys(std::max<std::size_t>(64, 2 * Ids.size()));
+    std::vector<vtkIdType> ids(keys.size(), -1);
+    const std::size_t mask = keys.size() - 1;
+    for (std::size_t i = 0; i < Ids.size(); ++i)
+    {
+      if (Ids[i] >= 0)
+      {
+        std::size_t at = ContourPointKeyHash{}(Keys[i]) & mask;
+        while (ids[at] >= 0)
+        {
+          at = (at + 1) & mask;
+        }
+        keys[at] = Keys[i];
+        ids[at] = Ids[i];
+      }
+    }
+    Keys.swap(keys);
+    Ids.swap(ids);
+  }
+
+  std::vector<ContourPointKey> Keys;
+  std::vector<vtkIdType> Ids;
+  std::size_t Count = 0;
+};
+
 struct ContourPiece
 {
   /// The piece's number: what makes its centroids' keys unique.
@@ -76,7 +141,7 @@ struct ContourPiece
   /// 3D: per triangle, the unit vector against the field's gradient in its
   /// tetrahedron (the linear interpolant's): what the points' normals average.
   std::vector<std::array<double, 3>> cellNormals;
-  std::unordered_map<ContourPointKey, vtkIdType, ContourPointKeyHash> index;
+  ContourPointIndex index;
 
   /// The key of the next centroid: above every leaf's (bit 63), unique over
   /// the pieces.
@@ -93,20 +158,19 @@ struct ContourPiece
     const DualVertex& lo = a.key < b.key ? a : b;
     const DualVertex& hi = a.key < b.key ? b : a;
     const ContourPointKey key{lo.key, hi.key, contour};
-    const auto found = index.find(key);
-    if (found != index.end())
+    const auto found = index.emplace(key, static_cast<vtkIdType>(points.size()));
+    if (!found.second)
     {
-      return found->second;
+      return found.first;
     }
     // From the lower key, whichever cell asks: the same bits every time.
     const double t = (value - lo.value) / (hi.value - lo.value);
-    const vtkIdType id = static_cast<vtkIdType>(points.size());
+    const vtkIdType id = found.first;
     points.push_back({{lo.x[0] + t * (hi.x[0] - lo.x[0]), lo.x[1] + t * (hi.x[1] - lo.x[1]),
                        lo.x[2] + t * (hi.x[2] - lo.x[2])}});
     keys.push_back(key);
     leaves.push_back({{lo.leaf, hi.leaf}});
     weights.push_back(t);
-    index.emplace(key, id);
     return id;
   }
 };

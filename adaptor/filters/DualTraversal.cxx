@@ -29,7 +29,7 @@ DualTraversal::DualTraversal(const HyperTreeAccess& grid) : Grid(grid)
 
 DualNode DualTraversal::root(const std::array<long, 3>& p) const
 {
-  DualNode n;
+  DualNode n{};
   unsigned char outside = 0;
   std::array<long, 3> ijk{{0, 0, 0}};
   for (int i = 0; i < D; ++i)

@@ -37,7 +37,9 @@
 namespace canopy
 {
 
-/// A node as the dual traversal sees it.
+/// A node as the dual traversal sees it. No member initializers: the
+/// traversal fills arrays of them at every step (value-initialize, DualNode{},
+/// for zeros).
 struct DualNode
 {
   enum Kind : unsigned char
@@ -47,13 +49,13 @@ struct DualNode
     Hidden, ///< masked, absent or without a tree: cells touching it are dropped
     Outside ///< beyond the domain's boundary
   };
-  const TreeAccess* tree = nullptr;
-  vtkIdType node = 0; ///< local index in `tree`
-  int level = 0;
-  std::array<std::int64_t, 3> ijk{{0, 0, 0}}; ///< integer position at `level`
-  Kind kind = Outside;
+  const TreeAccess* tree;
+  vtkIdType node; ///< local index in `tree`
+  int level;
+  std::array<std::int64_t, 3> ijk; ///< integer position at `level`
+  Kind kind;
   /// Outside only: bit 2i, below the domain along active axis i; bit 2i + 1, above.
-  unsigned char outside = 0;
+  unsigned char outside;
 };
 
 /// 2^d nodes, slot s's bit i the side along active axis i (only the slots of
@@ -85,7 +87,7 @@ private:
   DualNode classify(const TreeAccess& tree, vtkIdType node, int level,
                     const std::array<std::int64_t, 3>& ijk) const
   {
-    DualNode n;
+    DualNode n{};
     n.tree = &tree;
     n.node = node;
     n.level = level;
@@ -199,6 +201,45 @@ void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) co
   {
     return;
   }
+  // The children the groups below are made of, classified once: of each
+  // refined node, those touching the shared element (f^|free| of them).
+  // Indexed in mixed radix: per axis the side bit (shared axes) or the digit
+  // (free axes), first axis fastest.
+  std::array<int, 3> stride{{0, 0, 0}};
+  int size = 1;
+  for (int i = 0; i < D; ++i)
+  {
+    stride[static_cast<std::size_t>(i)] = size;
+    size *= (axes >> i) & 1 ? 2 : F;
+  }
+  std::array<DualNode, 27> children;
+  for (int at = 0; at < size; ++at)
+  {
+    unsigned s = 0;
+    std::array<int, 3> digits{{0, 0, 0}};
+    int rest = at;
+    for (int i = 0; i < D; ++i)
+    {
+      const int radix = (axes >> i) & 1 ? 2 : F;
+      const int code = rest % radix;
+      rest /= radix;
+      if ((axes >> i) & 1)
+      {
+        s |= static_cast<unsigned>(code) << i;
+        // The children touching the shared element: the last along the axis
+        // on its lower side, the first on its upper side.
+        digits[static_cast<std::size_t>(i)] = code ? 0 : F - 1;
+      }
+      else
+      {
+        digits[static_cast<std::size_t>(i)] = code;
+      }
+    }
+    if (n[s].kind == DualNode::Inner)
+    {
+      children[static_cast<std::size_t>(at)] = child(n[s], digits);
+    }
+  }
   // Every set of free axes the children's groups add, the empty set first
   // (the same element, one level down), then each larger one.
   for (unsigned added = 0; added <= free; ++added)
@@ -220,23 +261,22 @@ void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) co
         {
           continue;
         }
-        std::array<int, 3> digits{{0, 0, 0}};
+        const DualNode& parent = n[s & axes];
+        if (parent.kind != DualNode::Inner)
+        {
+          m[s] = parent;
+          continue;
+        }
+        int index = 0;
         for (int i = 0; i < D; ++i)
         {
           const unsigned bit = 1u << i;
           const std::size_t ui = static_cast<std::size_t>(i);
-          if (axes & bit)
-          {
-            // The children touching the shared element: the last along the
-            // axis on its lower side, the first on its upper side.
-            digits[ui] = (s & bit) ? 0 : F - 1;
-          }
-          else
-          {
-            digits[ui] = at[ui] + ((added & bit) && (s & bit) ? 1 : 0);
-          }
+          const int code =
+              (axes & bit) ? ((s & bit) ? 1 : 0) : at[ui] + ((added & bit) && (s & bit) ? 1 : 0);
+          index += code * stride[ui];
         }
-        m[s] = child(n[s & axes], digits);
+        m[s] = children[static_cast<std::size_t>(index)];
       }
       proc(m, spans, visitor);
       // Next position (first free axis fastest).

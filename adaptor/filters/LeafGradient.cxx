@@ -7,7 +7,8 @@ namespace canopy
 
 DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper, bool farCorner) const
 {
-  DualNode none;
+  DualNode none{};
+  none.kind = DualNode::Outside;
   const int a = Dual.axis(i);
   const std::size_t ua = static_cast<std::size_t>(a);
   const std::int64_t cells = Grid.cellsPerRootAt(leaf.level);
@@ -46,7 +47,7 @@ DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper, bool farC
     }
     if (tree->isLeaf(node))
     {
-      DualNode n;
+      DualNode n{};
       n.tree = tree;
       n.node = node;
       n.level = level;

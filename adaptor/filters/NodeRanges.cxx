@@ -108,7 +108,7 @@ void NodeRanges::widenAtBoundary(const HyperTreeAccess& grid, const DualTraversa
   // Its boundary vertices: the centre moved onto any of those sides, the
   // value extrapolated as DualCellContour does; their extremes are
   // separable per axis.
-  DualNode leaf;
+  DualNode leaf{};
   leaf.tree = &tree;
   leaf.node = node;
   leaf.level = level;
