@@ -2,7 +2,7 @@
 // a shell refined around a spherical front) at one value, by vtkCanopyContour
 // (pruning on and off) and by ParaView 5.11's vtkHyperTreeGridContour, both on
 // one thread: time per execution (the first, and the fastest of the repeated
-// ones that follow, as a step whose values changed), triangles, and the open
+// ones that follow, as a step whose values changed), cells (triangles, segments), the open
 // edges inside the domain (edges of one triangle whose ends are not both on
 // the domain's boundary: cracks, hidden cells' borders, or a boundary strip the
 // contour does not reach).
@@ -166,7 +166,7 @@ int main(int argc, char** argv)
     forests.push_back({{3, 7, 6}});
   }
   vtkSMPTools::Initialize(threads);
-  std::printf("forest,leaves,filter,first_s,steady_s,triangles,open_edges,groups_visited\n");
+  std::printf("forest,leaves,filter,first_s,steady_s,cells,open_edges,groups_visited\n");
   for (const auto& f : forests)
   {
     canopy::tools::SyntheticForestOptions options;
@@ -189,7 +189,7 @@ int main(int argc, char** argv)
       canopy->SetComputeNormals(true);
       canopy->SetPruning(prune != 0);
       Result r = timeFilter(canopy.GetPointer(), repetitions);
-      r.triangles = canopy->GetOutput()->GetNumberOfPolys();
+      r.triangles = canopy->GetOutput()->GetNumberOfCells();
       r.open = f[0] == 3 ? openEdges(canopy->GetOutput(), bounds) : 0;
       std::printf("%s,%zu,canopy%s,%.4f,%.4f,%lld,%zu,%lld\n", name.c_str(),
                   forest.numberOfLeaves(), prune ? "" : "_no_pruning", r.first, r.best,
@@ -207,7 +207,7 @@ int main(int argc, char** argv)
     vtk->SetValue(0, value);
     Result r = timeFilter(vtk.GetPointer(), std::min(repetitions, 1));
     vtkPolyData* out = vtkPolyData::SafeDownCast(vtk->GetOutputDataObject(0));
-    r.triangles = out ? out->GetNumberOfPolys() : 0;
+    r.triangles = out ? out->GetNumberOfCells() : 0;
     r.open = out && f[0] == 3 ? openEdges(out, bounds) : 0;
     std::printf("%s,%zu,vtkHyperTreeGridContour,%.4f,%.4f,%lld,%zu,\n", name.c_str(),
                 forest.numberOfLeaves(), r.first, r.best, static_cast<long long>(r.triangles),
