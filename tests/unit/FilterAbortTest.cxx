@@ -12,12 +12,15 @@
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSlice.h"
 #include "vtkCanopyAdaptiveSurface.h"
+#include "vtkCanopyContour.h"
 #include "vtkCanopyExtractSelection.h"
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>
 #include <vtkCallbackCommand.h>
+#include <vtkCellData.h>
 #include <vtkCommand.h>
+#include <vtkDoubleArray.h>
 #include <vtkHyperTree.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkNew.h>
@@ -231,6 +234,31 @@ TEST(FilterAbort, ExtractSelectionStopsPerTree)
             tree->Modified();
           }
         });
+  }
+}
+
+TEST(FilterAbort, ContourStopsPerChunk)
+{
+  for (int dimension : {2, 3})
+  {
+    const ManyTrees grid(dimension);
+    // A field that crosses its contour value in most dual cells.
+    vtkNew<vtkDoubleArray> field;
+    field->SetName("f");
+    field->SetNumberOfTuples(grid.htg->GetNumberOfCells());
+    for (vtkIdType c = 0; c < field->GetNumberOfTuples(); ++c)
+    {
+      field->SetValue(c, static_cast<double>((c * 2654435761u) % 1000) / 1000.0);
+    }
+    grid.htg->GetCellData()->AddArray(field);
+    vtkNew<vtkCanopyContour> filter;
+    filter->SetInputData(grid.htg);
+    filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+    filter->SetValue(0, 0.5);
+    expectAbortStopsEarly(
+        std::to_string(dimension) + "D contour", filter,
+        [&] { return filter->GetOutput()->GetNumberOfCells(); },
+        [&] { return filter->GetLastVisited() + filter->GetLastDualCells(); });
   }
 }
 
