@@ -1255,5 +1255,62 @@ TEST(ContourPruning, SameOutputLessWorkOnASphere)
   }
 }
 
+// ---- Zero copy ----------------------------------------------------------------
+
+TEST(ContourZeroCopy, FieldsAreReadInPlace)
+{
+  // A simulation's depth-first field (read through the cell -> slot table) and a
+  // strided one: contouring them and interpolating one onto the contour neither
+  // writes the simulation's memory nor detaches a copy (a later change of the
+  // simulation's values is seen through the grid, and by the next contour).
+  RandomForestOptions o;
+  o.dimension = 3;
+  o.rootCells = {{3, 2, 2}};
+  o.maxLevels = 4;
+  o.refineProbability = 0.5;
+  o.order = StorageOrder::DepthFirst;
+  o.seed = 5;
+  RandomForest forest(o);
+  const std::size_t n = forest.numberOfNodes();
+  struct Record
+  {
+    double value;
+    double other;
+  };
+  std::vector<Record> records(n);
+  for (std::size_t s = 0; s < n; ++s)
+  {
+    records[s] = {std::sin(0.37 * static_cast<double>(s)), static_cast<double>(s)};
+  }
+  auto& d = forest.description();
+  d.fields.push_back(FieldDescription::strided("value", &records[0].value, sizeof(Record), n));
+  d.fields.push_back(FieldDescription::strided("other", &records[0].other, sizeof(Record), n));
+  auto htg = buildHyperTreeGrid(d);
+  const std::uint64_t before = checksum(records.data(), n * sizeof(Record));
+  vtkNew<vtkCanopyContour> filter;
+  filter->SetInputData(htg);
+  filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "value");
+  filter->SetValue(0, 0.1);
+  filter->AddInterpolatedField("other");
+  filter->Update();
+  const vtkIdType first = filter->GetOutput()->GetNumberOfCells();
+  EXPECT_GT(first, 100);
+  EXPECT_EQ(checksum(records.data(), n * sizeof(Record)), before) << "simulation memory written";
+  // Every value moved above the contour value: seen through the grid's arrays
+  // (not detached), and the contour of the same grid is now empty.
+  for (Record& r : records)
+  {
+    r.value = 2.0;
+  }
+  vtkDataArray* value = htg->GetCellData()->GetArray("value");
+  for (vtkIdType c = 0; c < value->GetNumberOfTuples(); c += 7)
+  {
+    ASSERT_EQ(value->GetComponent(c, 0), 2.0) << "the field was copied";
+  }
+  htg->Modified();
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+}
+
 } // namespace
 } // namespace canopy::testing
