@@ -45,7 +45,7 @@ bool DualCellContour::enter(const DualGroup& group, unsigned axes)
     ValueRange range;
     for (unsigned s = 0; s < corners; ++s)
     {
-      const DualNode& n = group[s];
+      const DualNode& n = *group[s];
       if ((s & ~axes) == 0 && (n.kind == DualNode::Inner || n.kind == DualNode::Leaf))
       {
         range.add(Ranges->at(static_cast<std::size_t>(n.tree - Grid.trees().data()), n.node));
@@ -64,7 +64,7 @@ bool DualCellContour::enter(const DualGroup& group, unsigned axes)
 
 bool DualCellContour::vertex(const DualGroup& group, unsigned s, DualVertex& v)
 {
-  const DualNode* n = &group[s];
+  const DualNode* n = group[s];
   unsigned char sides = 0;
   if (n->kind == DualNode::Outside)
   {
@@ -78,7 +78,7 @@ bool DualCellContour::vertex(const DualGroup& group, unsigned s, DualVertex& v)
         mirror ^= 1u << i;
       }
     }
-    n = &group[mirror];
+    n = group[mirror];
   }
   if (n->kind != DualNode::Leaf)
   {
@@ -124,9 +124,19 @@ void DualCellContour::cell(const DualGroup& group)
   ++DualCells;
   const unsigned corners = 1u << Dual.dimension();
   std::array<DualVertex, 8> v;
+  // Values first: most cells met are not crossed, and a leaf's centre costs
+  // more than its value. Boundary vertices are made whole (their value needs
+  // their position).
   for (unsigned s = 0; s < corners; ++s)
   {
-    if (!vertex(group, s, v[s]))
+    const DualNode& n = *group[s];
+    if (n.kind == DualNode::Leaf)
+    {
+      v[s].leaf = n.tree->globalIndex(n.node);
+      v[s].key = static_cast<std::uint64_t>(v[s].leaf) * 64;
+      v[s].value = Field(v[s].leaf);
+    }
+    else if (!vertex(group, s, v[s]))
     {
       return;
     }
@@ -142,6 +152,13 @@ void DualCellContour::cell(const DualGroup& group)
                    [&](double value) { return value > low && value <= high; }))
   {
     return; // no contour crosses the cell
+  }
+  for (unsigned s = 0; s < corners; ++s)
+  {
+    if (group[s]->kind == DualNode::Leaf)
+    {
+      v[s].x = nodeCentre(Grid, *group[s]);
+    }
   }
   if (Dual.dimension() == 2)
   {

@@ -59,8 +59,10 @@ struct DualNode
 };
 
 /// 2^d nodes, slot s's bit i the side along active axis i (only the slots of
-/// the axes a group spans are used).
-using DualGroup = std::array<DualNode, 8>;
+/// the axes a group spans are used). Pointers into the traversal's own arrays,
+/// valid during the visitor's call only: a group is passed down without
+/// copying its nodes.
+using DualGroup = std::array<const DualNode*, 8>;
 
 class DualTraversal
 {
@@ -156,7 +158,8 @@ void DualTraversal::runTask(vtkIdType task, Visitor& visitor) const
     {
       continue;
     }
-    DualGroup group;
+    std::array<DualNode, 8> roots;
+    DualGroup group{};
     bool anyInside = false;
     for (unsigned s = 0; s <= full; ++s)
     {
@@ -169,8 +172,9 @@ void DualTraversal::runTask(vtkIdType task, Visitor& visitor) const
       {
         q[static_cast<std::size_t>(i)] += (s >> i) & 1;
       }
-      group[s] = root(q);
-      anyInside = anyInside || group[s].kind != DualNode::Outside;
+      roots[s] = root(q);
+      group[s] = &roots[s];
+      anyInside = anyInside || roots[s].kind != DualNode::Outside;
     }
     if (anyInside)
     {
@@ -187,7 +191,7 @@ void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) co
   bool refined = false;
   for (unsigned s = 0; s <= full && !refined; ++s)
   {
-    refined = (s & free) == 0 && n[s].kind == DualNode::Inner;
+    refined = (s & free) == 0 && n[s]->kind == DualNode::Inner;
   }
   if (!refined)
   {
@@ -235,9 +239,9 @@ void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) co
         digits[static_cast<std::size_t>(i)] = code;
       }
     }
-    if (n[s].kind == DualNode::Inner)
+    if (n[s]->kind == DualNode::Inner)
     {
-      children[static_cast<std::size_t>(at)] = child(n[s], digits);
+      children[static_cast<std::size_t>(at)] = child(*n[s], digits);
     }
   }
   // Every set of free axes the children's groups add, the empty set first
@@ -254,15 +258,15 @@ void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) co
     std::array<int, 3> at{{0, 0, 0}};
     for (;;)
     {
-      DualGroup m;
+      DualGroup m{};
       for (unsigned s = 0; s <= full; ++s)
       {
         if ((s & ~spans) != 0)
         {
           continue;
         }
-        const DualNode& parent = n[s & axes];
-        if (parent.kind != DualNode::Inner)
+        const DualNode* parent = n[s & axes];
+        if (parent->kind != DualNode::Inner)
         {
           m[s] = parent;
           continue;
@@ -276,7 +280,7 @@ void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) co
               (axes & bit) ? ((s & bit) ? 1 : 0) : at[ui] + ((added & bit) && (s & bit) ? 1 : 0);
           index += code * stride[ui];
         }
-        m[s] = children[static_cast<std::size_t>(index)];
+        m[s] = &children[static_cast<std::size_t>(index)];
       }
       proc(m, spans, visitor);
       // Next position (first free axis fastest).
