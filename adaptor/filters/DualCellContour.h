@@ -44,6 +44,12 @@
 //
 // Orientation: 2D segments run with the higher values on their left; 3D
 // triangles' normals (right-hand rule) point towards lower values.
+//
+// Tested by tests/unit/ContourTest.cxx: *.Watertight* (cracks), *.LinearField*
+// (every vertex on the plane, exact area on graded forests, normals),
+// ContourConvergence.SphereAreaAndVolume (second order; the enclosed volume by
+// the divergence theorem needs every triangle oriented alike), *.UniformForest*
+// (the same edge crossings as VTK's contour of an image).
 #pragma once
 
 #include "ContourField.h"

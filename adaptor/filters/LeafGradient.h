@@ -7,6 +7,9 @@
 // (c_n - c_leaf))^2. A linear field is reproduced exactly (to rounding) whenever the neighbours'
 // offsets span the grid's dimension, which a leaf has unless masks or missing trees surround it;
 // then the gradient is 0 (constant extrapolation).
+//
+// Tested through the contour: *.LinearField* in tests/unit/ContourTest.cxx (a
+// linear field's contour exact up to the domain's boundary, binary and ternary).
 #pragma once
 
 #include "ContourField.h"

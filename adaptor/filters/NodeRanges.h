@@ -8,6 +8,9 @@
 // domain's boundary also covers its boundary vertices' extrapolated values
 // (its gradient computed as the contour computes it), so a group of nodes
 // along the boundary is pruned like any other.
+//
+// Tested by ContourPruning.SameOutputLessWorkOnASphere (tests/unit/ContourTest.cxx):
+// the same output bit for bit with and without, far fewer groups descended.
 #pragma once
 
 #include "ContourField.h"

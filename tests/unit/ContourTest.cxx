@@ -1312,5 +1312,109 @@ TEST(ContourZeroCopy, FieldsAreReadInPlace)
   EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
 }
 
+// ---- Convergence ----------------------------------------------------------------
+
+TEST(ContourConvergence, SphereAreaAndVolume)
+{
+  // f = |x - c|, the forest refined around the sphere |x - c| = r (one level
+  // more at each step): the isosurface's area and enclosed volume (divergence
+  // theorem over the oriented triangles: it needs every triangle oriented
+  // alike) converge to 4 pi r^2 and 4 pi r^3 / 3; the observed order is
+  // printed and must be at least 1.5 (linear interpolation: 2). 2D: the
+  // circle's length and area.
+  const double pi = std::acos(-1.0);
+  for (int dimension : {2, 3})
+  {
+    const Point centre{{0.27, 2.03, 2.41}};
+    const double r = 0.61;
+    auto distance = [&](const Point& x)
+    {
+      double d2 = 0;
+      for (int k = 0; k < dimension; ++k)
+      {
+        d2 += (x[k] - centre[k]) * (x[k] - centre[k]);
+      }
+      return std::sqrt(d2);
+    };
+    std::vector<double> sizeErrors;
+    std::vector<double> volumeErrors;
+    const int first = 2;
+    const int last = dimension == 2 ? 7 : 5;
+    for (int levels = first; levels <= last; ++levels)
+    {
+      GridSpec spec;
+      spec.dimension = dimension;
+      spec.irregular = false;
+      spec.roots = {{3, 3, 3}};
+      spec.maxLevel = levels;
+      spec.refine = [&](int, const Box& b)
+      {
+        Point mid;
+        double size = 0;
+        for (int k = 0; k < 3; ++k)
+        {
+          mid[k] = 0.5 * (b.lo[k] + b.hi[k]);
+          size = std::max(size, b.hi[k] - b.lo[k]);
+        }
+        return std::abs(distance(mid) - r) < size;
+      };
+      TestGrid grid = makeGrid(spec, distance);
+      auto out = contour(grid.htg, {r});
+      double size = 0;   // length or area
+      double volume = 0; // area or volume, signed by orientation
+      if (dimension == 2)
+      {
+        for (const auto& seg : cellsOf(out->GetLines()))
+        {
+          const Point a = pointOf(out, seg[0]);
+          const Point b = pointOf(out, seg[1]);
+          size += length(a, b);
+          volume += 0.5 * ((a[0] - centre[0]) * (b[1] - centre[1]) -
+                           (b[0] - centre[0]) * (a[1] - centre[1]));
+        }
+      }
+      else
+      {
+        for (const auto& t : cellsOf(out->GetPolys()))
+        {
+          Point p[3];
+          for (int k = 0; k < 3; ++k)
+          {
+            p[k] = pointOf(out, t[static_cast<std::size_t>(k)]);
+            for (int a = 0; a < 3; ++a)
+            {
+              p[k][a] -= centre[a];
+            }
+          }
+          size += triangleArea(p[0], p[1], p[2]);
+          volume += (p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
+                     p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+                     p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0])) /
+                    6;
+        }
+      }
+      const double exactSize = dimension == 2 ? 2 * pi * r : 4 * pi * r * r;
+      const double exactVolume = dimension == 2 ? pi * r * r : 4 * pi * r * r * r / 3;
+      sizeErrors.push_back(std::abs(size - exactSize) / exactSize);
+      // Segments run with higher values on their left, normals point to lower
+      // values: the circle is clockwise, the sphere's normals point inwards.
+      volumeErrors.push_back(std::abs(-volume - exactVolume) / exactVolume);
+      std::cout << dimension << "D, " << levels << " levels: " << out->GetNumberOfCells()
+                << " cells, relative error of the " << (dimension == 2 ? "length " : "area ")
+                << sizeErrors.back() << ", of the " << (dimension == 2 ? "area " : "volume ")
+                << volumeErrors.back() << "\n";
+    }
+    for (const auto* errors : {&sizeErrors, &volumeErrors})
+    {
+      // Order over the last two refinements (each halves the cells).
+      const std::size_t n = errors->size();
+      const double order = std::log2((*errors)[n - 2] / (*errors)[n - 1]);
+      std::cout << dimension << "D observed order " << order << "\n";
+      EXPECT_GT(order, 1.5) << dimension << "D";
+      EXPECT_LT(errors->back(), dimension == 2 ? 1e-3 : 1e-2) << dimension << "D";
+    }
+  }
+}
+
 } // namespace
 } // namespace canopy::testing
