@@ -9,6 +9,7 @@
 // leaf centres.
 #include "vtkCanopyContour.h"
 
+#include "ErrorMessages.h"
 #include "RandomForest.h"
 #include "canopy/HtgBuilder.h"
 
@@ -1414,6 +1415,53 @@ TEST(ContourConvergence, SphereAreaAndVolume)
       EXPECT_LT(errors->back(), dimension == 2 ? 1e-3 : 1e-2) << dimension << "D";
     }
   }
+}
+
+// ---- Errors -----------------------------------------------------------------
+
+TEST(ContourErrors, EachProblemNamedAndAnEmptyOutput)
+{
+  GridSpec spec = randomSpec(2, 2, 3);
+  TestGrid grid = makeGrid(spec, wavy);
+  auto expectError = [](vtkCanopyContour* filter, const std::string& words)
+  {
+    const auto errors = errorsOfUpdate(filter);
+    ASSERT_EQ(errors.size(), 1u) << words;
+    EXPECT_NE(errors[0].find(words), std::string::npos) << errors[0];
+    EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0) << words;
+  };
+  vtkNew<vtkCanopyContour> filter;
+  filter->SetInputData(grid.htg);
+  filter->SetValue(0, 0.1);
+  filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "nothing");
+  expectError(filter, "no cell field to contour");
+  filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+  filter->SetArrayComponent(1);
+  expectError(filter, "component 1 of f");
+  filter->SetArrayComponent(0);
+  filter->AddInterpolatedField("missing");
+  expectError(filter, "no cell field missing");
+  filter->ClearInterpolatedFields();
+  EXPECT_TRUE(errorsOfUpdate(filter).empty());
+  EXPECT_GT(filter->GetOutput()->GetNumberOfCells(), 0);
+  // No values: nothing to draw, no error.
+  filter->SetNumberOfContours(0);
+  EXPECT_TRUE(errorsOfUpdate(filter).empty());
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
+
+  // A 1D grid has no contour lines to draw: said so.
+  RandomForestOptions line;
+  line.dimension = 1;
+  line.rootCells = {{4, 1, 1}};
+  RandomForest forest(line);
+  TestGrid lineGrid;
+  lineGrid.htg = buildHyperTreeGrid(forest.description());
+  describe(lineGrid, wavy);
+  vtkNew<vtkCanopyContour> onLine;
+  onLine->SetInputData(lineGrid.htg);
+  onLine->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+  onLine->SetValue(0, 0.1);
+  expectError(onLine, "2D or 3D grid");
 }
 
 } // namespace
