@@ -122,6 +122,7 @@ bool DualCellContour::vertex(const DualGroup& group, unsigned s, DualVertex& v)
 void DualCellContour::cell(const DualGroup& group)
 {
   ++DualCells;
+  Cached = 0;
   const unsigned corners = 1u << Dual.dimension();
   std::array<DualVertex, 8> v;
   // Values first: most cells met are not crossed, and a leaf's centre costs
@@ -479,8 +480,8 @@ void DualCellContour::triangle(const DualVertex& a, const DualVertex& b, const D
     const DualVertex& q = *v[(lone + 1) % 3];
     const DualVertex& r = *v[(lone + 2) % 3];
     const std::uint32_t contour = static_cast<std::uint32_t>(k);
-    vtkIdType from = Out.point(p, q, contour, value);
-    vtkIdType to = Out.point(p, r, contour, value);
+    vtkIdType from = point(p, q, contour, value);
+    vtkIdType to = point(p, r, contour, value);
     // Higher values on the left: the side of an above vertex, in the grid's plane.
     const DualVertex& high = above[lone] ? p : q;
     const std::size_t u = static_cast<std::size_t>(Dual.axis(0));
@@ -496,6 +497,25 @@ void DualCellContour::triangle(const DualVertex& a, const DualVertex& b, const D
     Out.cells.push_back(from);
     Out.cells.push_back(to);
   }
+}
+
+vtkIdType DualCellContour::point(const DualVertex& a, const DualVertex& b, std::uint32_t contour,
+                                 double value)
+{
+  for (std::size_t i = 0; i < Cached; ++i)
+  {
+    const CachedPoint& c = Cache[i];
+    if (c.contour == contour && ((c.a == a.key && c.b == b.key) || (c.a == b.key && c.b == a.key)))
+    {
+      return c.id;
+    }
+  }
+  const vtkIdType id = Out.point(a, b, contour, value);
+  if (Cached < Cache.size())
+  {
+    Cache[Cached++] = {a.key, b.key, contour, id};
+  }
+  return id;
 }
 
 void DualCellContour::tetrahedron(const DualVertex* v[4])
@@ -595,17 +615,16 @@ void DualCellContour::tetrahedron(const DualVertex* v[4])
     {
       const DualVertex* lone = ups == 1 ? up[0] : down[0];
       const DualVertex* const* others = ups == 1 ? down : up;
-      emit(Out.point(*lone, *others[0], contour, value),
-           Out.point(*lone, *others[1], contour, value),
-           Out.point(*lone, *others[2], contour, value));
+      emit(point(*lone, *others[0], contour, value), point(*lone, *others[1], contour, value),
+           point(*lone, *others[2], contour, value));
     }
     else
     {
       // Two and two: the quad a0-b0, a0-b1, a1-b1, a1-b0, as two triangles.
-      const vtkIdType p00 = Out.point(*up[0], *down[0], contour, value);
-      const vtkIdType p01 = Out.point(*up[0], *down[1], contour, value);
-      const vtkIdType p11 = Out.point(*up[1], *down[1], contour, value);
-      const vtkIdType p10 = Out.point(*up[1], *down[0], contour, value);
+      const vtkIdType p00 = point(*up[0], *down[0], contour, value);
+      const vtkIdType p01 = point(*up[0], *down[1], contour, value);
+      const vtkIdType p11 = point(*up[1], *down[1], contour, value);
+      const vtkIdType p10 = point(*up[1], *down[0], contour, value);
       emit(p00, p01, p11);
       emit(p00, p11, p10);
     }

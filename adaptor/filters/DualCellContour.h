@@ -93,6 +93,9 @@ private:
   bool vertex(const DualGroup& group, unsigned s, DualVertex& v);
   void triangle(const DualVertex& a, const DualVertex& b, const DualVertex& c);
   void tetrahedron(const DualVertex* v[4]);
+  /// Out.point, through a small cache of the current cell's edges (each edge
+  /// is in several of its tetrahedra).
+  vtkIdType point(const DualVertex& a, const DualVertex& b, std::uint32_t contour, double value);
   /// A 3D cell as tetrahedra from centroids to its boundary's triangles, one
   /// centroid per part of the boundary that pinches; false (nothing done)
   /// when a part is not closed.
@@ -107,6 +110,15 @@ private:
   /// Gradients of the boundary leaves already met (each is met by several cells).
   std::unordered_map<vtkIdType, std::array<double, 3>> Gradients;
   const NodeRanges* Ranges = nullptr;
+  struct CachedPoint
+  {
+    std::uint64_t a;
+    std::uint64_t b;
+    std::uint32_t contour;
+    vtkIdType id;
+  };
+  std::array<CachedPoint, 32> Cache;
+  std::size_t Cached = 0;
   std::size_t Visited = 0;
   std::size_t Pruned = 0;
   std::size_t DualCells = 0;

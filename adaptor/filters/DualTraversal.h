@@ -265,6 +265,7 @@ void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) co
     for (;;)
     {
       DualGroup m{};
+      bool inner = false;
       for (unsigned s = 0; s <= full; ++s)
       {
         if ((s & ~spans) != 0)
@@ -287,8 +288,17 @@ void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) co
           index += code * stride[ui];
         }
         m[s] = &children[static_cast<std::size_t>(index)];
+        inner = inner || m[s]->kind == DualNode::Inner;
       }
-      proc(m, spans, visitor);
+      // What proc would do with a group of leaves, without the call.
+      if (inner)
+      {
+        proc(m, spans, visitor);
+      }
+      else if (spans == full)
+      {
+        visitor.cell(m);
+      }
       // Next position (first free axis fastest).
       int i = 0;
       for (; i < D; ++i)
