@@ -345,21 +345,25 @@ def color_by(display, view, grid, field, fixed_range=None):
     if fixed_range is not None:
         low, high = fixed_range
     else:
-        data = _local_data(grid)
-        array = data.GetCellData().GetArray(field) if data is not None else None
-        local = (array.GetRange(-1 if array.GetNumberOfComponents() > 1 else 0)
-                 if array is not None and array.GetNumberOfTuples() > 0
-                 else (float("inf"), float("-inf")))
-        # Each rank has its own part: agree on the range, or each rank would color
-        # with its own.
-        low = _reduce([local[0]], "MIN_OP")[0]
-        high = _reduce([local[1]], "MAX_OP")[0]
+        low, high = field_range(grid, field)
     if not low <= high:
         return None
     low, high = zero_to_rounding(low, high)
     high = high if high > low else low + 1
     GetColorTransferFunction(field).RescaleTransferFunction(low, high)
     return (low, high)
+
+
+def field_range(grid, field):
+    """The range of a cell field of the grid (its magnitude for vectors) over
+    every rank, this step: (inf, -inf) where no rank has a value. Collective."""
+    data = _local_data(grid)
+    array = data.GetCellData().GetArray(field) if data is not None else None
+    local = (array.GetRange(-1 if array.GetNumberOfComponents() > 1 else 0)
+             if array is not None and array.GetNumberOfTuples() > 0
+             else (float("inf"), float("-inf")))
+    # Each rank has its own part: agree on the range, or each rank would use its own.
+    return _reduce([local[0]], "MIN_OP")[0], _reduce([local[1]], "MAX_OP")[0]
 
 
 EDGE_COLOR = [0.15, 0.15, 0.15]

@@ -15,15 +15,25 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   outline           draw the domain's outline (true)
   select_field, select_range, cut_away   also draw the surface of a selected region
                     (as surface_image.py; '' : no surface)
-  slice_extract     also write what was drawn: the slices, and the region's surface,
-                    as .pvtp with their cell fields (false)
+  contour_field     also draw the isosurfaces of this cell field (CanopyContour:
+                    crack-free across levels and trees, up to the domain's boundary;
+                    '' : none) ("")
+  contour_values    their values, e.g. '0.5' or '0.2,0.5' ("")
+  contour_count     without contour_values: this many values spread evenly inside the
+                    field's range this step (agreed over ranks) (1)
+  contour_opacity   the isosurfaces' opacity (1.0)
+  slice_extract     also write what was drawn: the slices, the region's surface and
+                    the isosurfaces, as .pvtp with their fields (false)
   file_prefix       the files' names: <prefix>_<step>.png, ... ("slices")
   frequency, start, image_size, color_by, fields, pixel_threshold, show_edges, edge_spacing,
   average_colors, camera_position, camera_focal_point, camera_view_up, parallel_scale, legend,
   time_label, color_range, png_compression, skip_back_faces   as surface_image.py
 
-Lighting: the slices are unlit (exactly the colour map); the region's surface as in
-surface_image.py.
+Lighting: the slices are unlit (exactly the colour map); the region's surface and the
+isosurfaces as surface_image.py's surface. The isosurfaces are coloured by color_by
+interpolated onto them (white without color_by). On several ranks each rank draws the
+isosurfaces of its own part: they do not yet meet across the parts' borders
+(docs/filters.md).
 
 Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI rank):
   <prefix>_<step>.png                           the image
@@ -31,14 +41,18 @@ Writes, in the output directory (<step>: the time step, 6 digits; <rank>: an MPI
   <prefix>_<step>/<prefix>_<step>_<rank>.vtp      one piece per rank
   <prefix>_region_<step>.pvtp                   slice_extract with a region: its surface
   <prefix>_region_<step>/<prefix>_region_<step>_<rank>.vtp
-Reports "<prefix> quads" (slice quads drawn, all ranks) and, with a region,
-"<prefix> region quads" in the step's StepReport::measures.
+  <prefix>_contour_<step>.pvtp                  slice_extract with contour_field: the
+  <prefix>_contour_<step>/<prefix>_contour_<step>_<rank>.vtp  isosurfaces
+Reports "<prefix> quads" (slice quads drawn, all ranks), with a region "<prefix> region
+quads", with contour_field "<prefix> contour triangles" in the step's StepReport::measures.
 """
 import canopy_catalyst as canopy
 from paraview import simple
 
 settings = canopy.settings(**dict(canopy.IMAGE_DEFAULTS, file_prefix="slices"),
-                           slices="center", outline=True, slice_extract=False)
+                           slices="center", outline=True, slice_extract=False,
+                           contour_field="", contour_values="", contour_count=1,
+                           contour_opacity=1.0)
 
 
 def planes(text):
@@ -69,6 +83,18 @@ if image.region is not image.grid:
         Input=image.region, PixelThreshold=settings.pixel_threshold, Fields=settings.list("fields"),
         SkipBackFaces=int(settings.skip_back_faces))
     image.show(region_surface)
+contour = None
+contour_display = None
+if settings.contour_field:
+    if settings.contour_count < 1 and not settings.contour_values:
+        raise ValueError("contour_count: at least 1 (got %d)" % settings.contour_count)
+    interpolated = [settings.color_by] if settings.color_by not in ("", settings.contour_field) \
+        else []
+    contour = simple.CanopyContour(Input=image.grid, ContourBy=["CELLS", settings.contour_field],
+                                   ContourValues=settings.list("contour_values", float),
+                                   InterpolatedFields=interpolated)
+    contour_display = image.show(contour, follows_view=False, colored=False)
+    contour_display.Opacity = settings.contour_opacity
 outline = None
 if settings.outline:
     outline = simple.Box()
@@ -82,10 +108,33 @@ if settings.slice_extract:
     if region_surface is not None:
         canopy.data_extractor("VTP", region_surface, "slices_region_data",
                               settings.file_prefix + "_region_{timestep:06d}.pvtp", settings)
+    if contour is not None:
+        canopy.data_extractor("VTP", contour, "slices_contour_data",
+                              settings.file_prefix + "_contour_{timestep:06d}.pvtp", settings)
 
 
 def RequestDataDescription(datadescription):
-    image.request_fields(datadescription)
+    canopy.request_fields(datadescription, settings,
+                          extra=image.fields() + [settings.contour_field],
+                          every_field_when_empty=False)
+
+
+def contour_step():
+    """This step's contour values (contour_count spread inside the field's range,
+    agreed over ranks) and colours. Collective."""
+    from paraview.simple import GetColorTransferFunction
+    if not settings.contour_values:
+        low, high = canopy.field_range(image.grid, settings.contour_field)
+        count = settings.contour_count
+        contour.ContourValues = ([low + (high - low) * (i + 1) / (count + 1) for i in range(count)]
+                                 if low <= high else [])
+    if settings.color_by:
+        # Point data (interpolated onto the isosurfaces), the slices' colour map.
+        contour_display.ColorArrayName = ["POINTS", settings.color_by]
+        contour_display.LookupTable = GetColorTransferFunction(settings.color_by)
+    else:
+        contour_display.ColorArrayName = ["POINTS", ""]
+        contour_display.AmbientColor = contour_display.DiffuseColor = [1.0, 1.0, 1.0]
 
 
 def place(bounds):
@@ -103,7 +152,11 @@ def place(bounds):
 def catalyst_execute(info):
     # Collective (bounds and colour ranges agree over ranks): every rank calls it.
     place(canopy.grid_bounds(image.grid))
+    if contour is not None:
+        contour_step()
     image.execute(info)
     canopy.report(settings.file_prefix + " quads", canopy.output_cells(slices))
     if region_surface is not None:
         canopy.report(settings.file_prefix + " region quads", canopy.output_cells(region_surface))
+    if contour is not None:
+        canopy.report(settings.file_prefix + " contour triangles", canopy.output_cells(contour))
