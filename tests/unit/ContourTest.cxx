@@ -11,6 +11,7 @@
 
 #include "ErrorMessages.h"
 #include "RandomForest.h"
+#include "RankPart.h"
 #include "canopy/HtgBuilder.h"
 
 #include <gtest/gtest.h>
@@ -387,6 +388,12 @@ Point pointOf(vtkPolyData* out, vtkIdType id)
   Point x;
   out->GetPoint(id, x.data());
   return x;
+}
+
+/// The output's segments (2D) or triangles (3D).
+vtkCellArray* drawnCells(vtkPolyData* out)
+{
+  return out->GetNumberOfPolys() > 0 ? out->GetPolys() : out->GetLines();
 }
 
 /// Cells of the output as lists of point ids.
@@ -1462,6 +1469,98 @@ TEST(ContourErrors, EachProblemNamedAndAnEmptyOutput)
   onLine->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
   onLine->SetValue(0, 0.1);
   expectError(onLine, "2D or 3D grid");
+}
+
+// ---- Split grids -------------------------------------------------------------
+
+TEST(ContourSplit, EachRankDrawsItsOwnPartNoOverlap)
+{
+  // A forest split between ranks (other ranks' parts absent): each rank's
+  // contour is part of the whole forest's (the same triangles, point for point,
+  // away from the domain's boundary, where a boundary vertex's gradient may
+  // miss another rank's leaves) and no triangle is drawn by two ranks: a dual
+  // cell touching another rank's part is left out (the gap the exchange of a
+  // later stage closes).
+  for (int dimension : {2, 3})
+  {
+    RandomForestOptions o;
+    o.dimension = dimension;
+    o.rootCells = dimension == 2 ? std::array<std::size_t, 3>{{4, 3, 1}}
+                                 : std::array<std::size_t, 3>{{2, 2, 2}};
+    o.maxLevels = dimension == 2 ? 6 : 4;
+    o.refineProbability = 0.55;
+    o.seed = 11;
+    RandomForest whole(o);
+    auto cellsAsPoints = [](vtkPolyData* out)
+    {
+      std::vector<std::vector<Point>> cells;
+      for (auto ids : cellsOf(drawnCells(out)))
+      {
+        std::vector<Point> c;
+        for (vtkIdType id : ids)
+        {
+          c.push_back(pointOf(out, id));
+        }
+        std::sort(c.begin(), c.end());
+        cells.push_back(c);
+      }
+      return cells;
+    };
+    auto contourOf = [](vtkHyperTreeGrid* htg)
+    {
+      vtkNew<vtkCanopyContour> filter;
+      filter->SetInputData(htg);
+      filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "hash");
+      filter->SetValue(0, 0.5);
+      filter->Update();
+      return vtkSmartPointer<vtkPolyData>(filter->GetOutput());
+    };
+    RankPart all(whole.description(), 0, 1, false);
+    TestGrid reference;
+    reference.htg = buildHyperTreeGrid(all.description);
+    describe(reference, wavy); // the leaves' boxes (adds f and g, not contoured)
+    const auto wholeCells = cellsAsPoints(contourOf(reference.htg));
+    std::map<std::vector<Point>, int> drawn;
+    std::size_t eligible = 0; // the whole forest's cells away from the boundary
+    for (const auto& c : wholeCells)
+    {
+      drawn[c] = 0;
+      eligible += std::all_of(c.begin(), c.end(),
+                              [&](const Point& x) { return awayFromBoundary(reference, x); });
+    }
+    ASSERT_GT(drawn.size(), 100u);
+    for (int ranks : {2, 3})
+    {
+      for (auto& entry : drawn)
+      {
+        entry.second = 0;
+      }
+      std::size_t compared = 0;
+      for (int rank = 0; rank < ranks; ++rank)
+      {
+        RankPart part(whole.description(), rank, ranks, rank % 2 == 1);
+        auto htg = buildHyperTreeGrid(part.description);
+        for (const auto& c : cellsAsPoints(contourOf(htg)))
+        {
+          if (!std::all_of(c.begin(), c.end(),
+                           [&](const Point& x) { return awayFromBoundary(reference, x); }))
+          {
+            continue;
+          }
+          ++compared;
+          const auto found = drawn.find(c);
+          ASSERT_NE(found, drawn.end()) << dimension << "D, " << ranks << " ranks: rank " << rank
+                                        << " drew a cell the whole forest does not have";
+          EXPECT_EQ(++found->second, 1) << dimension << "D: a cell drawn by two ranks";
+        }
+      }
+      std::cout << dimension << "D, " << ranks << " ranks: " << compared << " of the " << eligible
+                << " cells away from the boundary drawn\n";
+      // What the ranks leave out: the cells along their parts' borders.
+      EXPECT_GT(compared, eligible / 2) << dimension << "D, " << ranks << " ranks";
+      EXPECT_LT(compared, eligible) << dimension << "D, " << ranks << " ranks";
+    }
+  }
 }
 
 } // namespace
