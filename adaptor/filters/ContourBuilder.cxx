@@ -23,14 +23,13 @@ ContourBuilder::ContourBuilder(const HyperTreeAccess& grid, const ContourField& 
 {
 }
 
-bool ContourBuilder::run(const ProgressShare& progress, bool prune)
+std::shared_ptr<const NodeRanges> ContourBuilder::ranges(const ProgressShare& progress) const
 {
-  std::unique_ptr<NodeRanges> ranges;
-  if (prune)
-  {
-    ranges = std::make_unique<NodeRanges>(Grid, Dual, Field, progress.part(0, 0.3));
-  }
-  const ProgressShare walk = prune ? progress.part(0.3, 1) : progress;
+  return std::make_shared<const NodeRanges>(Grid, Dual, Field, progress);
+}
+
+bool ContourBuilder::run(const ProgressShare& walk, const NodeRanges* ranges)
+{
   const vtkIdType tasks = Dual.numberOfTasks();
   const vtkIdType chunks = (tasks + ChunkTasks - 1) / ChunkTasks;
   Pieces.assign(static_cast<std::size_t>(chunks), ContourPiece{});
@@ -46,7 +45,7 @@ bool ContourBuilder::run(const ProgressShare& progress, bool prune)
                   [&](vtkIdType chunk)
                   {
                     const std::size_t c = static_cast<std::size_t>(chunk);
-                    DualCellContour contour(Grid, Dual, Field, Values, Pieces[c], ranges.get());
+                    DualCellContour contour(Grid, Dual, Field, Values, Pieces[c], ranges);
                     const vtkIdType end = std::min(tasks, (chunk + 1) * ChunkTasks);
                     for (vtkIdType t = chunk * ChunkTasks; t < end; ++t)
                     {

@@ -7,11 +7,13 @@
 #include "ContourField.h"
 #include "ContourPiece.h"
 #include "DualTraversal.h"
+#include "NodeRanges.h"
 #include "TreeProgress.h"
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace canopy
@@ -38,11 +40,14 @@ public:
   ContourBuilder(const HyperTreeAccess& grid, const ContourField& field,
                  const std::vector<double>& values);
 
+  /// The nodes' value ranges pruning needs (NodeRanges.h), for run(); a
+  /// caller may keep them while the grid's topology and the field hold.
+  std::shared_ptr<const NodeRanges> ranges(const ProgressShare& progress) const;
+
   /// Runs the traversal (false: stopped by `progress`; the result is then
-  /// partial). `prune`: first the nodes' value ranges (NodeRanges.h), then
-  /// only the groups whose ranges hold a contour value are descended (the
-  /// same output).
-  bool run(const ProgressShare& progress, bool prune = true);
+  /// partial). With `ranges` (borrowed for the call), only the groups whose
+  /// ranges hold a contour value are descended: the same output, less work.
+  bool run(const ProgressShare& progress, const NodeRanges* ranges = nullptr);
   /// The pieces merged (after run).
   ContourResult merge() const;
 

@@ -3,6 +3,7 @@
 #include "ContourBuilder.h"
 #include "ContourField.h"
 #include "HyperTreeAccessCache.h"
+#include "NodeRanges.h"
 #include "TreeProgress.h"
 
 #include <vtkCellArray.h>
@@ -25,9 +26,23 @@
 
 vtkStandardNewMacro(vtkCanopyContour);
 
+/// Ranges are kept while the access (the topology) is the kept one and the
+/// field is the same array, unmodified, read at the same component. A
+/// simulation's fields are wrapped anew at every build (GridBuilder), so a new
+/// step computes them again; new contour values do not.
+struct vtkCanopyContour::KeptRanges
+{
+  std::shared_ptr<const canopy::HyperTreeAccess> access;
+  const vtkDataArray* array = nullptr;
+  vtkMTimeType arrayTime = 0;
+  int component = -1;
+  std::shared_ptr<const canopy::NodeRanges> ranges;
+};
+
 vtkCanopyContour::vtkCanopyContour()
     : ContourValues(vtkSmartPointer<vtkContourValues>::New()),
-      Topology(std::make_unique<canopy::HyperTreeAccessCache>())
+      Topology(std::make_unique<canopy::HyperTreeAccessCache>()),
+      Kept(std::make_unique<KeptRanges>())
 {
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
                                vtkDataSetAttributes::SCALARS);
@@ -188,6 +203,7 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
 {
   this->LastVisited = 0;
   this->LastPruned = 0;
+  this->LastRangesKept = false;
   this->LastDualCells = 0;
   vtkHyperTreeGrid* input = vtkHyperTreeGrid::GetData(inputVector[0], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
@@ -245,7 +261,26 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
     const canopy::ContourField field(array, this->ArrayComponent);
     canopy::ContourBuilder builder(*access, field, values);
     canopy::TreeProgress progress(this);
-    const bool done = builder.run({&progress}, this->Pruning);
+    const canopy::ProgressShare share{&progress};
+    std::shared_ptr<const canopy::NodeRanges> ranges;
+    if (this->Pruning)
+    {
+      KeptRanges& kept = *this->Kept;
+      this->LastRangesKept = kept.ranges && kept.access == access && kept.array == array &&
+                             kept.arrayTime == array->GetMTime() &&
+                             kept.component == this->ArrayComponent;
+      if (!this->LastRangesKept)
+      {
+        kept = KeptRanges{};
+        ranges = builder.ranges(share.part(0, 0.3));
+        if (!share.stopped())
+        {
+          kept = {access, array, array->GetMTime(), this->ArrayComponent, ranges};
+        }
+      }
+      ranges = kept.ranges ? kept.ranges : ranges;
+    }
+    const bool done = builder.run(this->Pruning ? share.part(0.3, 1) : share, ranges.get());
     this->LastVisited = static_cast<vtkIdType>(builder.visited());
     this->LastPruned = static_cast<vtkIdType>(builder.pruned());
     this->LastDualCells = static_cast<vtkIdType>(builder.dualCells());
@@ -258,6 +293,7 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
   catch (const std::exception& e)
   {
     this->Topology->clear();
+    *this->Kept = KeptRanges{};
     vtkErrorMacro("cannot contour: " << e.what());
     return 0;
   }
@@ -366,5 +402,6 @@ void vtkCanopyContour::PrintSelf(ostream& os, vtkIndent indent)
   }
   os << "\n" << indent << "LastVisited: " << this->LastVisited << "\n";
   os << indent << "LastPruned: " << this->LastPruned << "\n";
+  os << indent << "LastRangesKept: " << this->LastRangesKept << "\n";
   os << indent << "LastDualCells: " << this->LastDualCells << "\n";
 }

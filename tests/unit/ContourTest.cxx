@@ -1563,5 +1563,39 @@ TEST(ContourSplit, EachRankDrawsItsOwnPartNoOverlap)
   }
 }
 
+TEST(ContourPruning, RangesKeptWhileTopologyAndFieldHold)
+{
+  // New contour values on the same grid and field: the ranges of the execution
+  // before are pruned with (no pass over the nodes), and the output equals a
+  // new filter's. A field modified, or another component: computed again.
+  GridSpec spec = gradedSpec(3, 2, 2);
+  TestGrid grid = makeGrid(spec, wavy3);
+  vtkNew<vtkCanopyContour> kept;
+  kept->SetInputData(grid.htg);
+  kept->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+  kept->SetValue(0, 0.1);
+  kept->Update();
+  EXPECT_FALSE(kept->GetLastRangesKept());
+  for (double value : {-0.4, 0.3})
+  {
+    kept->SetValue(0, value);
+    kept->Update();
+    EXPECT_TRUE(kept->GetLastRangesKept()) << value;
+    vtkSmartPointer<vtkPolyData> fresh = contour(grid.htg, {value});
+    expectSameOutput(kept->GetOutput(), fresh, "value " + std::to_string(value));
+  }
+  // The field's values changed (and said so): new ranges, the new contour.
+  vtkDataArray* f = grid.htg->GetCellData()->GetArray("f");
+  for (vtkIdType c = 0; c < f->GetNumberOfTuples(); ++c)
+  {
+    f->SetComponent(c, 0, f->GetComponent(c, 0) + 0.25);
+  }
+  f->Modified();
+  grid.htg->Modified();
+  kept->Update();
+  EXPECT_FALSE(kept->GetLastRangesKept());
+  expectSameOutput(kept->GetOutput(), contour(grid.htg, {0.3}), "after the field changed");
+}
+
 } // namespace
 } // namespace canopy::testing

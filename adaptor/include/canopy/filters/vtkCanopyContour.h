@@ -119,6 +119,11 @@ public:
   vtkBooleanMacro(Pruning, bool);
   ///@}
 
+  /// Whether the last execution pruned with the value ranges of the execution
+  /// before (the same grid topology, the same field array unmodified, the same
+  /// component: new contour values, say) rather than a new pass over the nodes.
+  vtkGetMacro(LastRangesKept, bool);
+
   /// What the last execution did: groups of nodes the dual traversal descended
   /// into, groups it pruned, and dual cells it met (contoured or not).
   vtkGetMacro(LastVisited, vtkIdType);
@@ -145,8 +150,12 @@ protected:
   vtkIdType LastVisited = 0;
   vtkIdType LastPruned = 0;
   vtkIdType LastDualCells = 0;
+  bool LastRangesKept = false;
   /// The input's topology as read last time (kept while it holds).
   std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
+  /// The value ranges of the last execution and what they were made of.
+  struct KeptRanges;
+  std::unique_ptr<KeptRanges> Kept;
 
 private:
   vtkCanopyContour(const vtkCanopyContour&) = delete;
