@@ -29,6 +29,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSMPTools.h>
 #include <vtkSmartPointer.h>
 
 #include <algorithm>
@@ -1595,6 +1596,21 @@ TEST(ContourPruning, RangesKeptWhileTopologyAndFieldHold)
   kept->Update();
   EXPECT_FALSE(kept->GetLastRangesKept());
   expectSameOutput(kept->GetOutput(), contour(grid.htg, {0.3}), "after the field changed");
+}
+
+TEST(ContourThreads, SameOutputOnAnyBackend)
+{
+  // Parts of the grid run on threads in fixed chunks, merged in chunk order:
+  // the output does not depend on the backend or the number of threads.
+  TestGrid grid = makeGrid(randomSpec(3, 2, 4), wavy3);
+  vtkSMPTools::SetBackend("Sequential");
+  vtkSmartPointer<vtkPolyData> sequential = contour(grid.htg, {-0.5, 0.0, 0.45}, {"g"});
+  vtkSMPTools::SetBackend("STDThread");
+  vtkSMPTools::Initialize(4);
+  vtkSmartPointer<vtkPolyData> threaded = contour(grid.htg, {-0.5, 0.0, 0.45}, {"g"});
+  vtkSMPTools::SetBackend("Sequential");
+  EXPECT_GT(sequential->GetNumberOfCells(), 1000);
+  expectSameOutput(sequential, threaded, "Sequential against 4 STDThread threads");
 }
 
 } // namespace

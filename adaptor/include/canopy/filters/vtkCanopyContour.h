@@ -10,10 +10,11 @@
  * where levels differ), found by the recursive octree dual traversal across
  * trees, branch factor 2 or 3. Each dual cell is split into triangles (2D) or
  * tetrahedra (3D) through its diagonal from the all-lower to the all-upper leaf,
- * so neighbouring cells split their shared faces alike, and contoured by
- * marching triangles or tetrahedra: every contour edge (3D) or point (2D) not on
- * the domain's or a hidden region's boundary is shared by exactly two triangles
- * (segments). Along the domain's boundary the dual is extended by boundary
+ * so neighbouring cells split their shared faces alike (a cell where that split
+ * would fold: fans of tetrahedra from an inner point, its faces split alike),
+ * and contoured by marching triangles or tetrahedra: every contour edge (3D) or
+ * point (2D) not on the domain's or a hidden region's boundary is shared by
+ * exactly two triangles (segments). Along the domain's boundary the dual is extended by boundary
  * vertices (a leaf's centre projected onto the boundary, its value extrapolated
  * with the leaf's least-squares gradient from its face neighbours), so the
  * contour reaches the boundary and a linear field's contour is exact there too.
@@ -35,10 +36,11 @@
  * values on their left in the grid's plane), 3D: triangles whose normals point
  * towards lower values. Point data: the contour value (a double array named
  * after the field; ComputeScalars), "Normals" (3D, ComputeNormals: the
- * area-weighted mean of the adjacent triangles' unit normals), and each field
- * added with AddInterpolatedField, interpolated along the point's dual edge
- * (a boundary vertex takes its leaf's value). Contours in the order of their
- * values' indices within each part of the grid.
+ * area-weighted mean of the adjacent triangles' normals, each against the
+ * field's gradient in its tetrahedron), and each field added with
+ * AddInterpolatedField, interpolated along the point's dual edge (a boundary
+ * vertex takes its leaf's value). Contours in the order of their values'
+ * indices within each part of the grid; the same on any number of threads.
  *
  * An execution reports its progress and checks for an abort between parts of
  * the grid; aborted, it leaves an empty output.
