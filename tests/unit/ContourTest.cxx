@@ -1613,5 +1613,51 @@ TEST(ContourThreads, SameOutputOnAnyBackend)
   expectSameOutput(sequential, threaded, "Sequential against 4 STDThread threads");
 }
 
+TEST(Contour2D, GridsInEveryPlane)
+{
+  // 2D grids in the XY, XZ and YZ planes, offset: a linear field of the two
+  // active coordinates gives isolines on their lines, in the grid's plane,
+  // watertight, of the line's length inside the domain.
+  for (int flat : {2, 1, 0})
+  {
+    RandomForestOptions o;
+    o.dimension = 2;
+    o.flatAxis = flat;
+    o.rootCells = {{3, 3, 3}};
+    o.maxLevels = 6;
+    o.refineProbability = 0.5;
+    o.seed = 7 + static_cast<std::uint64_t>(flat);
+    o.origin = {{-3.5, 2.25, 10.0}};
+    RandomForest forest(o);
+    const int u = flat == 0 ? 1 : 0;
+    const int v = flat == 2 ? 1 : 2;
+    auto linear = [&](const Point& x) { return 0.6 * x[u] - 0.45 * x[v]; };
+    TestGrid grid;
+    grid.htg = buildHyperTreeGrid(forest.description());
+    describe(grid, linear);
+    const std::string what = "flat axis " + std::to_string(flat);
+    const double c = 0.6 * (0.5 * (grid.domain.lo[u] + grid.domain.hi[u])) -
+                     0.45 * (0.5 * (grid.domain.lo[v] + grid.domain.hi[v]));
+    auto out = contour(grid.htg, {c});
+    expectWatertight2D(out, grid, what);
+    double total = 0;
+    for (const auto& seg : cellsOf(out->GetLines()))
+    {
+      const Point p = pointOf(out, seg[0]);
+      const Point q = pointOf(out, seg[1]);
+      EXPECT_NEAR(linear(p), c, 1e-12) << what;
+      EXPECT_EQ(p[flat], grid.domain.lo[flat]) << what << ": in the grid's plane";
+      total += length(p, q);
+    }
+    // The line's length in the domain's rectangle, in (u, v) coordinates.
+    Box box;
+    box.lo = {{grid.domain.lo[u], grid.domain.lo[v], 0}};
+    box.hi = {{grid.domain.hi[u], grid.domain.hi[v], 0}};
+    const double expected = lineLengthInBox({{0.6, -0.45}}, c, box);
+    EXPECT_NEAR(total, expected, 1e-11 * (1 + expected)) << what;
+    EXPECT_GT(total, 0.5) << what;
+  }
+}
+
 } // namespace
 } // namespace canopy::testing
