@@ -79,9 +79,15 @@ ContourResult ContourBuilder::merge() const
     cells += piece.cells.size();
   }
   // Points on dual edges near a chunk's border are made by both chunks: one
-  // map over all keys (no geometric search) merges them.
+  // map over their keys (no geometric search) merges them; a chunk's own
+  // points (ContourPiece.h) are not looked up.
+  std::size_t shared = 0;
+  for (const ContourPiece& piece : Pieces)
+  {
+    shared += static_cast<std::size_t>(std::count(piece.shared.begin(), piece.shared.end(), 1));
+  }
   ContourPointIndex merged;
-  merged.reserve(points);
+  merged.reserve(shared);
   result.points.reserve(points);
   result.contours.reserve(points);
   result.leaves.reserve(points);
@@ -96,7 +102,9 @@ ContourResult ContourBuilder::merge() const
     for (std::size_t p = 0; p < piece.points.size(); ++p)
     {
       const auto inserted =
-          merged.emplace(piece.keys[p], static_cast<vtkIdType>(result.points.size()));
+          piece.shared[p]
+              ? merged.emplace(piece.keys[p], static_cast<vtkIdType>(result.points.size()))
+              : std::make_pair(static_cast<vtkIdType>(result.points.size()), true);
       local[p] = inserted.first;
       if (inserted.second)
       {

@@ -28,6 +28,11 @@ struct DualVertex
   /// The leaf's global index; a cell's centroid (DualCellContour.h): -(k + 1),
   /// k its index in the piece's `centroids`.
   vtkIdType leaf = 0;
+  /// Every cell this vertex is in comes from one piece: a leaf touching no side
+  /// of its tree (its corners are inside the tree, whose cells one task makes),
+  /// or a centroid (one cell's own). An edge between two such vertices is made
+  /// by one piece only: its point needs no merging by key.
+  bool own = false;
 };
 
 /// A contour point: the dual edge (its vertices' keys, lower first) and the
@@ -136,6 +141,8 @@ struct ContourPiece
   /// weight of the second one (the point is at (1 - t) x_low + t x_high).
   std::vector<std::array<vtkIdType, 2>> leaves;
   std::vector<double> weights;
+  /// Per point: whether another piece may make it too (merged by key).
+  std::vector<unsigned char> shared;
   /// Cells: verticesPerCell local point ids each (2: segments, 3: triangles).
   std::vector<vtkIdType> cells;
   /// 3D: per triangle, the unit vector against the field's gradient in its
@@ -171,6 +178,9 @@ struct ContourPiece
     keys.push_back(key);
     leaves.push_back({{lo.leaf, hi.leaf}});
     weights.push_back(t);
+    // An edge with a centroid is one cell's own.
+    const bool own = (lo.own && hi.own) || (lo.key >> 63) != 0 || (hi.key >> 63) != 0;
+    shared.push_back(own ? 0 : 1);
     return id;
   }
 };

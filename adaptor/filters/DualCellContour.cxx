@@ -62,6 +62,20 @@ bool DualCellContour::enter(const DualGroup& group, unsigned axes)
   return true;
 }
 
+bool DualCellContour::insideItsTree(const DualNode& leaf) const
+{
+  const std::int64_t last = Grid.cellsPerRootAt(leaf.level) - 1;
+  for (int i = 0; i < Dual.dimension(); ++i)
+  {
+    const std::int64_t at = leaf.ijk[static_cast<std::size_t>(Dual.axis(i))];
+    if (at == 0 || at == last)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 bool DualCellContour::vertex(const DualGroup& group, unsigned s, DualVertex& v)
 {
   const DualNode* n = group[s];
@@ -90,6 +104,7 @@ bool DualCellContour::vertex(const DualGroup& group, unsigned s, DualVertex& v)
   if (sides == 0)
   {
     v.x = nodeCentre(Grid, *n);
+    v.own = insideItsTree(*n);
     return true;
   }
   std::array<double, 3> lo;
@@ -136,6 +151,7 @@ void DualCellContour::cell(const DualGroup& group)
       v[s].leaf = n.tree->globalIndex(n.node);
       v[s].key = static_cast<std::uint64_t>(v[s].leaf) * 64;
       v[s].value = Field(v[s].leaf);
+      v[s].own = insideItsTree(n);
     }
     else if (!vertex(group, s, v[s]))
     {
@@ -430,6 +446,7 @@ bool DualCellContour::centroidFan(const std::array<DualVertex, 8>& v)
     }
     DualVertex centroid;
     centroid.key = Out.centroidKey();
+    centroid.own = true;
     centroid.leaf = -static_cast<vtkIdType>(Out.centroids.size()) - 1;
     centroid.x = mean(best == 1);
     ContourPiece::Centroid record;

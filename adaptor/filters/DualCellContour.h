@@ -89,6 +89,8 @@ public:
   std::size_t dualCells() const { return DualCells; }
 
 private:
+  /// Whether a leaf touches no side of its tree (ContourPiece.h: DualVertex::own).
+  bool insideItsTree(const DualNode& leaf) const;
   /// Slot s's dual vertex; false when the cell is not contoured (Hidden).
   bool vertex(const DualGroup& group, unsigned s, DualVertex& v);
   void triangle(const DualVertex& a, const DualVertex& b, const DualVertex& c);

@@ -1659,5 +1659,28 @@ TEST(Contour2D, GridsInEveryPlane)
   }
 }
 
+TEST(ContourThreads, WatertightAcrossChunks)
+{
+  // Many trees: the traversal runs in many chunks (16 root tasks each), whose
+  // points along their borders are merged by key, the others not looked up:
+  // still watertight (a point left unmerged would end its cells' edges once).
+  for (int dimension : {2, 3})
+  {
+    for (int branch : {2, 3})
+    {
+      GridSpec spec = randomSpec(dimension, branch, 9);
+      spec.roots = dimension == 2 ? std::array<int, 3>{{9, 7, 1}} : std::array<int, 3>{{4, 4, 3}};
+      spec.maxLevel = branch == 2 ? (dimension == 2 ? 5 : 3) : 2;
+      const std::string what =
+          std::to_string(dimension) + "D, branch factor " + std::to_string(branch);
+      TestGrid grid = makeGrid(spec, dimension == 2 ? wavy : wavy3);
+      auto out = contour(grid.htg, {-0.3, 0.2});
+      const std::size_t cells = dimension == 2 ? expectWatertight2D(out, grid, what)
+                                               : expectWatertight3D(out, grid, what);
+      EXPECT_GT(cells, 200u) << what;
+    }
+  }
+}
+
 } // namespace
 } // namespace canopy::testing
