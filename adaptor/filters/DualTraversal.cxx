@@ -57,7 +57,8 @@ DualNode DualTraversal::root(const std::array<long, 3>& p) const
     n.kind = DualNode::Hidden;
     return n;
   }
-  return classify(*tree, 0, 0, {{0, 0, 0}});
+  classify(n, *tree, 0, 0, {{0, 0, 0}});
+  return n;
 }
 
 } // namespace canopy

@@ -92,36 +92,40 @@ public:
   int axis(int i) const { return Axes[static_cast<std::size_t>(i)]; }
 
 private:
-  DualNode classify(const TreeAccess& tree, vtkIdType node, int level,
-                    const std::array<std::int64_t, 3>& ijk) const
+  /// Fills `n` in place (a node returned by value and copied is written and
+  /// read back in pieces of other sizes: the stores stall the loads).
+  void classify(DualNode& n, const TreeAccess& tree, vtkIdType node, int level,
+                const std::array<std::int64_t, 3>& ijk) const
   {
-    DualNode n{};
     n.tree = &tree;
     n.node = node;
     n.level = level;
     n.ijk = ijk;
+    n.outside = 0;
     const vtkIdType global = tree.globalIndex(node);
     n.kind = Grid.isMasked(global) || Grid.isAbsent(global)
                  ? DualNode::Hidden
                  : (tree.isLeaf(node) ? DualNode::Leaf : DualNode::Inner);
-    return n;
   }
 
-  /// The child of `n` with digit digits[i] along active axis i (n itself when
-  /// it is not refined).
-  DualNode child(const DualNode& n, const std::array<int, 3>& digits) const
+  /// Fills `out` with the child of the refined node `n` with digit digits[i]
+  /// along active axis i.
+  void child(DualNode& out, const DualNode& n, const std::array<int, 3>& digits) const
   {
-    if (n.kind != DualNode::Inner)
-    {
-      return n;
-    }
     int c = 0;
     for (int i = D; i-- > 0;)
     {
       c = c * F + digits[static_cast<std::size_t>(i)];
     }
-    return classify(*n.tree, n.tree->firstChild(n.node) + c, n.level + 1,
-                    Grid.childPosition(n.ijk, c));
+    const TreeAccess& tree = *n.tree;
+    const vtkIdType first = tree.firstChild(n.node);
+    std::array<std::int64_t, 3> ijk;
+    const auto& digit = Grid.childDigits(c);
+    for (std::size_t a = 0; a < 3; ++a)
+    {
+      ijk[a] = digit[a] < 0 ? n.ijk[a] : n.ijk[a] * F + digit[a];
+    }
+    classify(out, tree, first + c, n.level + 1, ijk);
   }
 
   /// The root node at ringed root position p (per active axis, -1 .. n).
@@ -247,7 +251,7 @@ void DualTraversal::proc(const DualGroup& n, unsigned axes, Visitor& visitor) co
     }
     if (n[s]->kind == DualNode::Inner)
     {
-      children[static_cast<std::size_t>(at)] = child(*n[s], digits);
+      child(children[static_cast<std::size_t>(at)], *n[s], digits);
     }
   }
   // Every set of free axes the children's groups add, the empty set first
