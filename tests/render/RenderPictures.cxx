@@ -2,10 +2,12 @@
 // the full surface and the part kept for a view (shown from an overview camera
 // so the culled region is visible). Usage: canopy_render_pictures OUTPUT_DIR
 #include "DescriptorForest.h"
+#include "LevelJumpForest.h"
 #include "OffscreenRenderer.h"
 
 #include "canopy/HtgBuilder.h"
 #include "vtkCanopyAdaptiveSurface.h"
+#include "vtkCanopyContour.h"
 #include "vtkCanopyExtractSelection.h"
 
 #include <vtkCamera.h>
@@ -13,13 +15,17 @@
 #include <vtkDoubleArray.h>
 #include <vtkGeometryFilter.h>
 #include <vtkHyperTreeGrid.h>
+#include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
 #include <vtkIdTypeArray.h>
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <set>
+#include <string>
+#include <utility>
 
 #include "PaperCaseDefinitions.h"
 
@@ -163,6 +169,74 @@ int main(int argc, char** argv)
              (out / "caseB_selection_depth_2_to_4.png").string());
     std::cout << "case B: " << range->GetOutput()->GetNumberOfElements(vtkDataObject::CELL)
               << " leaves with Depth in [2, 4]\n";
+  }
+  // A sphere's isosurface across level jumps of one and of three: the trees of a
+  // 2 x 2 x 2 root grid alternate between two depths (LevelJumpForest), the
+  // sphere is centred on their common corner; the triangles' edges drawn,
+  // each triangle coloured by its tree's depth.
+  for (const auto& [coarse, fine] : {std::pair<int, int>{2, 3}, std::pair<int, int>{1, 4}})
+  {
+    LevelJumpForest jumps({{2, 2, 2}}, coarse, fine, true);
+    auto htg = buildHyperTreeGrid(jumps.description());
+    vtkNew<vtkDoubleArray> distance;
+    distance->SetName("distance");
+    distance->SetNumberOfTuples(htg->GetNumberOfCells());
+    vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
+    for (vtkIdType t = 0; t < 8; ++t)
+    {
+      htg->InitializeNonOrientedGeometryCursor(cursor, t);
+      auto walk = [&](auto& self) -> void
+      {
+        double b[6];
+        cursor->GetBounds(b);
+        const double x = 0.5 * (b[0] + b[1]) - 1;
+        const double y = 0.5 * (b[2] + b[3]) - 1;
+        const double z = 0.5 * (b[4] + b[5]) - 1;
+        distance->SetValue(cursor->GetGlobalNodeIndex(), std::sqrt(x * x + y * y + z * z));
+        if (cursor->IsLeaf())
+        {
+          return;
+        }
+        for (unsigned char c = 0; c < cursor->GetNumberOfChildren(); ++c)
+        {
+          cursor->ToChild(c);
+          self(self);
+          cursor->ToParent();
+        }
+      };
+      walk(walk);
+    }
+    htg->GetCellData()->AddArray(distance);
+    vtkNew<vtkCanopyContour> contour;
+    contour->SetInputData(htg);
+    contour->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "distance");
+    contour->SetValue(0, 0.62);
+    contour->Update();
+    vtkPolyData* sphere = contour->GetOutput();
+    vtkNew<vtkDoubleArray> depth;
+    depth->SetName("Depth");
+    depth->SetNumberOfTuples(sphere->GetNumberOfCells());
+    for (vtkIdType c = 0; c < sphere->GetNumberOfCells(); ++c)
+    {
+      double bounds[6];
+      sphere->GetCellBounds(c, bounds);
+      const int i = 0.5 * (bounds[0] + bounds[1]) < 1 ? 0 : 1;
+      const int j = 0.5 * (bounds[2] + bounds[3]) < 1 ? 0 : 1;
+      const int k = 0.5 * (bounds[4] + bounds[5]) < 1 ? 0 : 1;
+      depth->SetValue(c, (i + j + k) % 2 ? fine : coarse);
+    }
+    sphere->GetCellData()->AddArray(depth);
+    OffscreenRenderer view3d(560, 420);
+    vtkCamera* c = view3d.camera();
+    c->SetFocalPoint(1.0, 0.56, 1.44);
+    c->SetPosition(1.0 + 1.3, 0.56 - 1.6, 1.44 + 1.2);
+    c->SetViewUp(0, 0, 1);
+    c->SetViewAngle(30);
+    const std::string jump = std::to_string(fine - coarse);
+    writePng(view3d.render(sphere, "Depth", 0, 5, true, true),
+             (out / ("contour_level_jump_" + jump + ".png")).string());
+    std::cout << "contour across level jumps of " << jump << ": " << sphere->GetNumberOfCells()
+              << " triangles\n";
   }
   return 0;
 }
