@@ -10,6 +10,7 @@
 #include "vtkCanopyContour.h"
 
 #include "ErrorMessages.h"
+#include "LevelJumpForest.h"
 #include "RandomForest.h"
 #include "RankPart.h"
 #include "canopy/HtgBuilder.h"
@@ -1678,6 +1679,43 @@ TEST(ContourThreads, WatertightAcrossChunks)
       const std::size_t cells = dimension == 2 ? expectWatertight2D(out, grid, what)
                                                : expectWatertight3D(out, grid, what);
       EXPECT_GT(cells, 200u) << what;
+    }
+  }
+}
+
+TEST(Contour3D, LinearFieldAcrossChosenLevelJumps)
+{
+  // Trees of two depths side by side (LevelJumpForest: each tree uniform,
+  // neighbours differing by one to three levels): the plane's area exactly
+  // (1e-10) with dyadic roots, and with irregular ones up to jumps of two;
+  // irregular roots with jumps of three fold a little (within 1%; measured
+  // 3.7e-4).
+  const Point a{{0.37, -0.81, 0.52}};
+  auto linear = [&](const Point& x) { return a[0] * x[0] + a[1] * x[1] + a[2] * x[2]; };
+  for (bool dyadic : {true, false})
+  {
+    for (int jump : {1, 2, 3})
+    {
+      LevelJumpForest forest({{3, 2, 2}}, 1, 1 + jump, dyadic);
+      TestGrid grid;
+      grid.htg = buildHyperTreeGrid(forest.description());
+      describe(grid, linear);
+      const double c = linear({{0.5 * (grid.domain.lo[0] + grid.domain.hi[0]),
+                                0.5 * (grid.domain.lo[1] + grid.domain.hi[1]),
+                                0.5 * (grid.domain.lo[2] + grid.domain.hi[2])}});
+      auto out = contour(grid.htg, {c});
+      const std::string what =
+          "jump " + std::to_string(jump) + (dyadic ? ", dyadic roots" : ", irregular roots");
+      expectWatertight3D(out, grid, what);
+      double area = 0;
+      for (const auto& t : cellsOf(out->GetPolys()))
+      {
+        area += triangleArea(pointOf(out, t[0]), pointOf(out, t[1]), pointOf(out, t[2]));
+      }
+      const double expected = planeAreaInBox(a, c, grid.domain);
+      std::cout << what << ": area " << area << ", plane " << expected << ", relative error "
+                << std::abs(area - expected) / expected << "\n";
+      EXPECT_NEAR(area, expected, (dyadic || jump < 3 ? 1e-10 : 1e-2) * expected) << what;
     }
   }
 }
