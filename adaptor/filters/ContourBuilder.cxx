@@ -18,8 +18,8 @@ constexpr vtkIdType ChunkTasks = 16;
 } // namespace
 
 ContourBuilder::ContourBuilder(const HyperTreeAccess& grid, const ContourField& field,
-                               const std::vector<double>& values)
-    : Grid(grid), Field(field), Values(values), Dual(grid)
+                               const std::vector<double>& values, int maximumLevel)
+    : Grid(grid), Field(field), Values(values), Dual(grid, maximumLevel)
 {
 }
 

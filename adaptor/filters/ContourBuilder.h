@@ -36,9 +36,10 @@ struct ContourResult
 class ContourBuilder
 {
 public:
-  /// Everything is borrowed and must outlive the builder.
+  /// Everything is borrowed and must outlive the builder. `maximumLevel`:
+  /// DualTraversal's (-1: every level).
   ContourBuilder(const HyperTreeAccess& grid, const ContourField& field,
-                 const std::vector<double>& values);
+                 const std::vector<double>& values, int maximumLevel = -1);
 
   /// The nodes' value ranges pruning needs (NodeRanges.h), for run(); a
   /// caller may keep them while the grid's topology and the field hold.

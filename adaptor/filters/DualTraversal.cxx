@@ -5,7 +5,8 @@
 namespace canopy
 {
 
-DualTraversal::DualTraversal(const HyperTreeAccess& grid) : Grid(grid)
+DualTraversal::DualTraversal(const HyperTreeAccess& grid, int maximumLevel)
+    : Grid(grid), MaximumLevel(maximumLevel)
 {
   D = static_cast<int>(grid.activeAxes().size());
   F = grid.branchFactor();

@@ -74,7 +74,17 @@ class DualTraversal
 {
 public:
   /// `grid` is borrowed and must outlive the traversal. 2D and 3D grids only.
-  explicit DualTraversal(const HyperTreeAccess& grid);
+  /// `maximumLevel` >= 0: nodes at that level are leaves (holding their own,
+  /// coarse, value): the dual of the coarser forest, crack-free by the same
+  /// rule; -1: every level.
+  explicit DualTraversal(const HyperTreeAccess& grid, int maximumLevel = -1);
+
+  /// Whether a node is a leaf of the forest the traversal sees.
+  bool isLeaf(const TreeAccess& tree, vtkIdType node, int level) const
+  {
+    return level == MaximumLevel || tree.isLeaf(node);
+  }
+  int maximumLevel() const { return MaximumLevel; }
 
   int dimension() const { return D; }
   /// Tasks: cells of the root grid ringed by one layer of Outside cells (its
@@ -105,7 +115,7 @@ private:
     const vtkIdType global = tree.globalIndex(node);
     n.kind = Grid.isMasked(global) || Grid.isAbsent(global)
                  ? DualNode::Hidden
-                 : (tree.isLeaf(node) ? DualNode::Leaf : DualNode::Inner);
+                 : (isLeaf(tree, node, level) ? DualNode::Leaf : DualNode::Inner);
   }
 
   /// Fills `out` with the child of the refined node `n` with digit digits[i]
@@ -137,6 +147,7 @@ private:
   const HyperTreeAccess& Grid;
   int D = 0;
   int F = 2;
+  int MaximumLevel = -1;
   std::array<int, 3> Axes{{0, 1, 2}};
   std::array<long, 3> Roots{{1, 1, 1}}; ///< root cells per active axis
   vtkIdType Tasks = 0;

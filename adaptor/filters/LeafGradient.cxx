@@ -45,7 +45,7 @@ DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper, bool farC
       none.kind = DualNode::Hidden;
       return none;
     }
-    if (tree->isLeaf(node))
+    if (Dual.isLeaf(*tree, node, level))
     {
       DualNode n{};
       n.tree = tree;

@@ -48,7 +48,7 @@ NodeRanges::NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual,
                     continue; // hidden: empty
                   }
                   ValueRange& range = ranges[static_cast<std::size_t>(p.node)];
-                  if (tree.isLeaf(p.node))
+                  if (dual.isLeaf(tree, p.node, p.level))
                   {
                     range.low = range.high = field(global);
                     widenAtBoundary(grid, dual, gradient, tree, p.node, p.level, p.ijk, range);

@@ -36,6 +36,7 @@ struct vtkCanopyContour::KeptRanges
   const vtkDataArray* array = nullptr;
   vtkMTimeType arrayTime = 0;
   int component = -1;
+  int maximumLevel = -1;
   std::shared_ptr<const canopy::NodeRanges> ranges;
 };
 
@@ -259,7 +260,8 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
       return 0;
     }
     const canopy::ContourField field(array, this->ArrayComponent);
-    canopy::ContourBuilder builder(*access, field, values);
+    const int maximumLevel = std::max(this->MaximumLevel, -1);
+    canopy::ContourBuilder builder(*access, field, values, maximumLevel);
     canopy::TreeProgress progress(this);
     const canopy::ProgressShare share{&progress};
     std::shared_ptr<const canopy::NodeRanges> ranges;
@@ -268,14 +270,15 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
       KeptRanges& kept = *this->Kept;
       this->LastRangesKept = kept.ranges && kept.access == access && kept.array == array &&
                              kept.arrayTime == array->GetMTime() &&
-                             kept.component == this->ArrayComponent;
+                             kept.component == this->ArrayComponent &&
+                             kept.maximumLevel == maximumLevel;
       if (!this->LastRangesKept)
       {
         kept = KeptRanges{};
         ranges = builder.ranges(share.part(0, 0.3));
         if (!share.stopped())
         {
-          kept = {access, array, array->GetMTime(), this->ArrayComponent, ranges};
+          kept = {access, array, array->GetMTime(), this->ArrayComponent, maximumLevel, ranges};
         }
       }
       ranges = kept.ranges ? kept.ranges : ranges;
@@ -392,6 +395,7 @@ void vtkCanopyContour::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   this->ContourValues->PrintSelf(os, indent.GetNextIndent());
   os << indent << "ArrayComponent: " << this->ArrayComponent << "\n";
+  os << indent << "MaximumLevel: " << this->MaximumLevel << "\n";
   os << indent << "ComputeScalars: " << this->ComputeScalars << "\n";
   os << indent << "ComputeNormals: " << this->ComputeNormals << "\n";
   os << indent << "Pruning: " << this->Pruning << "\n";

@@ -1720,5 +1720,71 @@ TEST(Contour3D, LinearFieldAcrossChosenLevelJumps)
   }
 }
 
+// ---- Maximum level --------------------------------------------------------------
+
+TEST(ContourMaximumLevel, CoarserForestsCrackFreeAlike)
+{
+  // Nodes at the maximum level hold their own values (here, the field at their
+  // centre): the coarser forest's contour is watertight and, for a linear
+  // field, exact; at or below the deepest level it is the full contour, bit
+  // for bit.
+  const Point a{{0.37, -0.81, 0.52}};
+  auto linear = [&](const Point& x) { return a[0] * x[0] + a[1] * x[1] + a[2] * x[2]; };
+  for (int dimension : {2, 3})
+  {
+    for (int branch : {2, 3})
+    {
+      GridSpec spec = dimension == 2 ? randomSpec(2, branch, 5) : gradedSpec(3, branch, 5);
+      TestGrid grid = makeGrid(spec, linear);
+      const double c = linear({{0.5 * (grid.domain.lo[0] + grid.domain.hi[0]),
+                                0.5 * (grid.domain.lo[1] + grid.domain.hi[1]),
+                                0.5 * (grid.domain.lo[2] + grid.domain.hi[2])}});
+      auto contourAt = [&](int level)
+      {
+        vtkNew<vtkCanopyContour> filter;
+        filter->SetInputData(grid.htg);
+        filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+        filter->SetValue(0, c);
+        filter->SetMaximumLevel(level);
+        filter->Update();
+        return vtkSmartPointer<vtkPolyData>(filter->GetOutput());
+      };
+      const auto full = contourAt(-1);
+      expectSameOutput(full, contourAt(grid.deepest), "at the deepest level");
+      vtkIdType previous = 0;
+      for (int level = 0; level < grid.deepest; ++level)
+      {
+        const std::string what = std::to_string(dimension) + "D, branch factor " +
+                                 std::to_string(branch) + ", maximum level " +
+                                 std::to_string(level);
+        const auto out = contourAt(level);
+        // Watertight: nothing in this grid is hidden.
+        const std::size_t cells = dimension == 2 ? expectWatertight2D(out, grid, what)
+                                                 : expectWatertight3D(out, grid, what);
+        double size = 0;
+        for (const auto& cell : cellsOf(drawnCells(out)))
+        {
+          size += dimension == 2 ? length(pointOf(out, cell[0]), pointOf(out, cell[1]))
+                                 : triangleArea(pointOf(out, cell[0]), pointOf(out, cell[1]),
+                                                pointOf(out, cell[2]));
+          for (vtkIdType id : cell)
+          {
+            ASSERT_NEAR(linear(pointOf(out, id)), c, 1e-12) << what;
+          }
+        }
+        // 2D: the grid's plane z = z0, where the line is a.x + a.y = c - a_z z0.
+        const double expected =
+            dimension == 2
+                ? lineLengthInBox({{a[0], a[1]}}, c - a[2] * grid.domain.lo[2], grid.domain)
+                : planeAreaInBox(a, c, grid.domain);
+        EXPECT_NEAR(size, expected, 1e-10 * (1 + expected)) << what;
+        EXPECT_GE(static_cast<vtkIdType>(cells), previous) << what << ": finer, more cells";
+        previous = static_cast<vtkIdType>(cells);
+      }
+      EXPECT_GE(full->GetNumberOfCells(), previous);
+    }
+  }
+}
+
 } // namespace
 } // namespace canopy::testing

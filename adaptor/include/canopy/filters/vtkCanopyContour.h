@@ -97,6 +97,15 @@ public:
   ///@}
 
   ///@{
+  /// The deepest level contoured (default -1: every level): a node at this
+  /// level is a leaf holding its own (coarse) value, and the coarser forest is
+  /// contoured by the same crack-free rule (a preview, or level of detail by
+  /// depth). Negative values mean every level.
+  vtkSetMacro(MaximumLevel, int);
+  vtkGetMacro(MaximumLevel, int);
+  ///@}
+
+  ///@{
   /// The contour value as a point array named after the field (default on).
   vtkSetMacro(ComputeScalars, bool);
   vtkGetMacro(ComputeScalars, bool);
@@ -145,6 +154,7 @@ protected:
 
   vtkSmartPointer<vtkContourValues> ContourValues;
   int ArrayComponent = 0;
+  int MaximumLevel = -1;
   bool ComputeScalars = true;
   bool ComputeNormals = true;
   bool Pruning = true;
