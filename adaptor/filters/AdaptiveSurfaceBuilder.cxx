@@ -119,8 +119,8 @@ std::size_t AdaptiveSurfaceBuilder::count()
   // writing walk would repeat every decision and edge search), or to take the
   // vertices other ranks put on their edges (2D, split grids).
   const bool levelOfDetail = Options.view && Options.levelOfDetail;
-  const bool keep =
-      Grid.dimension() == 3 || (Grid.dimension() == 2 && (Options.sharedVertices || levelOfDetail));
+  const bool keep = Grid.dimension() == 3 ||
+                    (Grid.dimension() == 2 && (Options.sharedVertices || levelOfDetail));
   if (!keep)
   {
     Kept.clear(); // buffers lent from an execution that kept its cells: not used here
