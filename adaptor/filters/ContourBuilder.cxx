@@ -18,8 +18,11 @@ constexpr vtkIdType ChunkTasks = 16;
 } // namespace
 
 ContourBuilder::ContourBuilder(const HyperTreeAccess& grid, const ContourField& field,
-                               const std::vector<double>& values, int maximumLevel)
-    : Grid(grid), Field(field), Values(values), Dual(grid, maximumLevel)
+                               const std::vector<double>& values, int maximumLevel,
+                               const ViewOptions& view)
+    : Grid(grid), Field(field), Values(values),
+      Dual(grid, maximumLevel, view.view, view.levelOfDetail, view.pixelThreshold),
+      Cull(view.view && view.cullOutsideView)
 {
 }
 
@@ -45,7 +48,7 @@ bool ContourBuilder::run(const ProgressShare& walk, const NodeRanges* ranges)
                   [&](vtkIdType chunk)
                   {
                     const std::size_t c = static_cast<std::size_t>(chunk);
-                    DualCellContour contour(Grid, Dual, Field, Values, Pieces[c], ranges);
+                    DualCellContour contour(Grid, Dual, Field, Values, Pieces[c], ranges, Cull);
                     const vtkIdType end = std::min(tasks, (chunk + 1) * ChunkTasks);
                     for (vtkIdType t = chunk * ChunkTasks; t < end; ++t)
                     {

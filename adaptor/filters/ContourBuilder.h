@@ -39,7 +39,8 @@ public:
   /// Everything is borrowed and must outlive the builder. `maximumLevel`:
   /// DualTraversal's (-1: every level).
   ContourBuilder(const HyperTreeAccess& grid, const ContourField& field,
-                 const std::vector<double>& values, int maximumLevel = -1);
+                 const std::vector<double>& values, int maximumLevel = -1,
+                 const ViewOptions& view = {});
 
   /// The nodes' value ranges pruning needs (NodeRanges.h), for run(); a
   /// caller may keep them while the grid's topology and the field hold.
@@ -62,6 +63,7 @@ private:
   const ContourField& Field;
   const std::vector<double>& Values;
   DualTraversal Dual;
+  bool Cull = false;
   std::vector<ContourPiece> Pieces;
   std::size_t Visited = 0;
   std::size_t Pruned = 0;

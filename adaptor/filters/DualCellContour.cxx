@@ -1,5 +1,7 @@
 #include "DualCellContour.h"
 
+#include "Vec3.h"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -7,36 +9,47 @@
 namespace canopy
 {
 
-namespace
-{
-
-std::array<double, 3> minus(const std::array<double, 3>& a, const std::array<double, 3>& b)
-{
-  return {{a[0] - b[0], a[1] - b[1], a[2] - b[2]}};
-}
-
-std::array<double, 3> cross(const std::array<double, 3>& a, const std::array<double, 3>& b)
-{
-  return {{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}};
-}
-
-double dot(const std::array<double, 3>& a, const std::array<double, 3>& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-} // namespace
-
 DualCellContour::DualCellContour(const HyperTreeAccess& grid, const DualTraversal& dual,
                                  const ContourField& field, const std::vector<double>& values,
-                                 ContourPiece& out, const NodeRanges* ranges)
+                                 ContourPiece& out, const NodeRanges* ranges, bool cull)
     : Grid(grid), Dual(dual), Field(field), Values(values), Out(out), Gradient(grid, dual, field),
-      Ranges(ranges)
+      Ranges(ranges), Cull(cull)
 {
 }
 
 bool DualCellContour::enter(const DualGroup& group, unsigned axes)
 {
+  if (Cull)
+  {
+    // Every cell below lies within the box around the group's nodes: none of
+    // it is seen when that box is outside the view.
+    Vec3 lo{{1e300, 1e300, 1e300}};
+    Vec3 hi{{-1e300, -1e300, -1e300}};
+    bool any = false;
+    for (unsigned s = 0; s < (1u << Dual.dimension()); ++s)
+    {
+      const DualNode& n = *group[s];
+      if ((s & ~axes) != 0 || (n.kind != DualNode::Inner && n.kind != DualNode::Leaf))
+      {
+        continue;
+      }
+      std::array<double, 3> a;
+      std::array<double, 3> b;
+      Grid.nodeBounds(*n.tree, n.level, n.ijk, a, b);
+      for (std::size_t k = 0; k < 3; ++k)
+      {
+        lo[k] = std::min(lo[k], a[k]);
+        hi[k] = std::max(hi[k], b[k]);
+      }
+      any = true;
+    }
+    if (any && Dual.view()->classifyBox(lo, hi) != ViewVolume::BoxSide::Inside &&
+        !Dual.view()->overlapsBox(lo, hi))
+    {
+      ++Culled;
+      return false;
+    }
+  }
   if (Ranges)
   {
     // Outside slots add nothing: their boundary vertices' values are in their
@@ -130,7 +143,7 @@ bool DualCellContour::vertex(const DualGroup& group, unsigned s, DualVertex& v)
   {
     found = Gradients.emplace(v.leaf, Gradient.at(*n)).first;
   }
-  v.value += dot(found->second, minus(v.x, centre));
+  v.value += dot(found->second, sub(v.x, centre));
   return true;
 }
 
@@ -212,7 +225,7 @@ void DualCellContour::cell(const DualGroup& group)
     {
       continue; // no volume: dropped
     }
-    folded = signs[k] * dot(minus(b.x, a.x), cross(minus(c.x, a.x), minus(d.x, a.x))) < 0;
+    folded = signs[k] * dot(sub(b.x, a.x), cross(sub(c.x, a.x), sub(d.x, a.x))) < 0;
   }
   if (!folded || !centroidFan(v))
   {
@@ -395,8 +408,8 @@ bool DualCellContour::centroidFan(const std::array<DualVertex, 8>& v)
         {
           continue;
         }
-        const double volume = winding[f] * dot(minus(t[0]->x, apex),
-                                               cross(minus(t[1]->x, apex), minus(t[2]->x, apex)));
+        const double volume =
+            winding[f] * dot(sub(t[0]->x, apex), cross(sub(t[1]->x, apex), sub(t[2]->x, apex)));
         folded += volume < 0 ? -volume : 0;
       }
       return folded;
@@ -555,9 +568,9 @@ void DualCellContour::tetrahedron(const DualVertex* v[4])
     high = std::max(high, v[i]->value);
   }
   // Gradient of the linear interpolant: sum of df_i (e_j x e_k) / volume.
-  const auto e1 = minus(v[1]->x, v[0]->x);
-  const auto e2 = minus(v[2]->x, v[0]->x);
-  const auto e3 = minus(v[3]->x, v[0]->x);
+  const auto e1 = sub(v[1]->x, v[0]->x);
+  const auto e2 = sub(v[2]->x, v[0]->x);
+  const auto e3 = sub(v[3]->x, v[0]->x);
   const auto c23 = cross(e2, e3);
   const auto c31 = cross(e3, e1);
   const auto c12 = cross(e1, e2);
@@ -617,8 +630,8 @@ void DualCellContour::tetrahedron(const DualVertex* v[4])
     auto emit = [&](vtkIdType p0, vtkIdType p1, vtkIdType p2)
     {
       const auto& x0 = Out.points[static_cast<std::size_t>(p0)];
-      const auto normal = cross(minus(Out.points[static_cast<std::size_t>(p1)], x0),
-                                minus(Out.points[static_cast<std::size_t>(p2)], x0));
+      const auto normal = cross(sub(Out.points[static_cast<std::size_t>(p1)], x0),
+                                sub(Out.points[static_cast<std::size_t>(p2)], x0));
       if (dot(normal, against) < 0)
       {
         std::swap(p1, p2);

@@ -74,7 +74,7 @@ public:
   /// `ranges`: the nodes' value ranges to prune with (nullptr: no pruning).
   DualCellContour(const HyperTreeAccess& grid, const DualTraversal& dual, const ContourField& field,
                   const std::vector<double>& values, ContourPiece& out,
-                  const NodeRanges* ranges = nullptr);
+                  const NodeRanges* ranges = nullptr, bool cull = false);
 
   /// DualTraversal's visitor. A group is not descended when the union of its
   /// nodes' ranges holds no contour value: every dual cell below it joins
@@ -86,6 +86,7 @@ public:
   /// Groups descended, groups pruned, and dual cells met (contoured or not).
   std::size_t visited() const { return Visited; }
   std::size_t pruned() const { return Pruned; }
+  std::size_t culled() const { return Culled; }
   std::size_t dualCells() const { return DualCells; }
 
 private:
@@ -112,6 +113,7 @@ private:
   /// Gradients of the boundary leaves already met (each is met by several cells).
   std::unordered_map<vtkIdType, std::array<double, 3>> Gradients;
   const NodeRanges* Ranges = nullptr;
+  bool Cull = false;
   struct CachedPoint
   {
     std::uint64_t a;
@@ -123,6 +125,7 @@ private:
   std::size_t Cached = 0;
   std::size_t Visited = 0;
   std::size_t Pruned = 0;
+  std::size_t Culled = 0;
   std::size_t DualCells = 0;
 };
 

@@ -5,8 +5,10 @@
 namespace canopy
 {
 
-DualTraversal::DualTraversal(const HyperTreeAccess& grid, int maximumLevel)
-    : Grid(grid), MaximumLevel(maximumLevel)
+DualTraversal::DualTraversal(const HyperTreeAccess& grid, int maximumLevel, const ViewVolume* view,
+                             bool levelOfDetail, double pixelThreshold)
+    : Grid(grid), MaximumLevel(maximumLevel), View(view), LevelOfDetail(levelOfDetail),
+      PixelThreshold(pixelThreshold)
 {
   D = static_cast<int>(grid.activeAxes().size());
   F = grid.branchFactor();

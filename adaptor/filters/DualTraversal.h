@@ -36,6 +36,7 @@
 #pragma once
 
 #include "HyperTreeAccess.h"
+#include "ViewVolume.h"
 
 #include <array>
 #include <cstdint>
@@ -77,14 +78,35 @@ public:
   /// `maximumLevel` >= 0: nodes at that level are leaves (holding their own,
   /// coarse, value): the dual of the coarser forest, crack-free by the same
   /// rule; -1: every level.
-  explicit DualTraversal(const HyperTreeAccess& grid, int maximumLevel = -1);
+  /// `view` (borrowed, or nullptr): with `levelOfDetail`, a node whose box
+  /// spans at most `pixelThreshold` pixels is a leaf too (one answer per node,
+  /// whichever group asks: the coarser forest stays crack-free).
+  explicit DualTraversal(const HyperTreeAccess& grid, int maximumLevel = -1,
+                         const ViewVolume* view = nullptr, bool levelOfDetail = false,
+                         double pixelThreshold = 1.0);
 
   /// Whether a node is a leaf of the forest the traversal sees.
-  bool isLeaf(const TreeAccess& tree, vtkIdType node, int level) const
+  bool isLeaf(const TreeAccess& tree, vtkIdType node, int level,
+              const std::array<std::int64_t, 3>& ijk) const
   {
-    return level == MaximumLevel || tree.isLeaf(node);
+    return level == MaximumLevel || tree.isLeaf(node) ||
+           (View && LevelOfDetail && footprint(tree, level, ijk) <= PixelThreshold);
   }
   int maximumLevel() const { return MaximumLevel; }
+  const ViewVolume* view() const { return View; }
+  /// A node's box's extent on screen, in pixels.
+  double footprint(const TreeAccess& tree, int level, const std::array<std::int64_t, 3>& ijk) const
+  {
+    std::array<double, 3> lo;
+    std::array<double, 3> hi;
+    Grid.nodeBounds(tree, level, ijk, lo, hi);
+    std::array<Vec3, 8> corners;
+    for (std::size_t c = 0; c < 8; ++c)
+    {
+      corners[c] = {{c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]}};
+    }
+    return View->footprintInPixels(corners);
+  }
 
   int dimension() const { return D; }
   /// Tasks: cells of the root grid ringed by one layer of Outside cells (its
@@ -115,7 +137,7 @@ private:
     const vtkIdType global = tree.globalIndex(node);
     n.kind = Grid.isMasked(global) || Grid.isAbsent(global)
                  ? DualNode::Hidden
-                 : (isLeaf(tree, node, level) ? DualNode::Leaf : DualNode::Inner);
+                 : (isLeaf(tree, node, level, ijk) ? DualNode::Leaf : DualNode::Inner);
   }
 
   /// Fills `out` with the child of the refined node `n` with digit digits[i]
@@ -148,6 +170,9 @@ private:
   int D = 0;
   int F = 2;
   int MaximumLevel = -1;
+  const ViewVolume* View = nullptr;
+  bool LevelOfDetail = false;
+  double PixelThreshold = 1.0;
   std::array<int, 3> Axes{{0, 1, 2}};
   std::array<long, 3> Roots{{1, 1, 1}}; ///< root cells per active axis
   vtkIdType Tasks = 0;

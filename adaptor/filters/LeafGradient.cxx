@@ -45,7 +45,7 @@ DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper, bool farC
       none.kind = DualNode::Hidden;
       return none;
     }
-    if (Dual.isLeaf(*tree, node, level))
+    if (Dual.isLeaf(*tree, node, level, ijk))
     {
       DualNode n{};
       n.tree = tree;

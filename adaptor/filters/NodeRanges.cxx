@@ -48,7 +48,7 @@ NodeRanges::NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual,
                     continue; // hidden: empty
                   }
                   ValueRange& range = ranges[static_cast<std::size_t>(p.node)];
-                  if (dual.isLeaf(tree, p.node, p.level))
+                  if (dual.isLeaf(tree, p.node, p.level, p.ijk))
                   {
                     range.low = range.high = field(global);
                     widenAtBoundary(grid, dual, gradient, tree, p.node, p.level, p.ijk, range);
@@ -61,6 +61,11 @@ NodeRanges::NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual,
                     {
                       range.add(ranges[static_cast<std::size_t>(first + c)]);
                     }
+                    // Its own value too: with level of detail a node may be
+                    // drawn as a leaf, and a simulation's coarse value need
+                    // not lie within its leaves' range.
+                    const double own = field(global);
+                    range.add({own, own});
                     continue;
                   }
                   stack.push_back({p.node, p.level, p.ijk, true});
