@@ -43,6 +43,7 @@ bool ContourBuilder::run(const ProgressShare& walk, const NodeRanges* ranges)
   std::vector<std::size_t> visited(static_cast<std::size_t>(chunks), 0);
   std::vector<std::size_t> cells(static_cast<std::size_t>(chunks), 0);
   std::vector<std::size_t> pruned(static_cast<std::size_t>(chunks), 0);
+  std::vector<std::size_t> culled(static_cast<std::size_t>(chunks), 0);
   const bool done =
       forEachTree(walk, chunks,
                   [&](vtkIdType chunk)
@@ -57,14 +58,17 @@ bool ContourBuilder::run(const ProgressShare& walk, const NodeRanges* ranges)
                     visited[c] = contour.visited();
                     cells[c] = contour.dualCells();
                     pruned[c] = contour.pruned();
+                    culled[c] = contour.culled();
                   });
   Visited = 0;
   Pruned = 0;
+  Culled = 0;
   DualCells = 0;
   for (std::size_t c = 0; c < visited.size(); ++c)
   {
     Visited += visited[c];
     Pruned += pruned[c];
+    Culled += culled[c];
     DualCells += cells[c];
   }
   return done;

@@ -56,6 +56,7 @@ public:
   /// Groups descended, groups pruned and dual cells met by the last run.
   std::size_t visited() const { return Visited; }
   std::size_t pruned() const { return Pruned; }
+  std::size_t culled() const { return Culled; }
   std::size_t dualCells() const { return DualCells; }
 
 private:
@@ -67,6 +68,7 @@ private:
   std::vector<ContourPiece> Pieces;
   std::size_t Visited = 0;
   std::size_t Pruned = 0;
+  std::size_t Culled = 0;
   std::size_t DualCells = 0;
 };
 

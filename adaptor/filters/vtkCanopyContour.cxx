@@ -5,6 +5,7 @@
 #include "HyperTreeAccessCache.h"
 #include "NodeRanges.h"
 #include "TreeProgress.h"
+#include "ViewVolume.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -41,10 +42,10 @@ struct vtkCanopyContour::KeptRanges
 };
 
 vtkCanopyContour::vtkCanopyContour()
-    : ContourValues(vtkSmartPointer<vtkContourValues>::New()),
-      Topology(std::make_unique<canopy::HyperTreeAccessCache>()),
-      Kept(std::make_unique<KeptRanges>())
+    : ContourValues(vtkSmartPointer<vtkContourValues>::New()), Kept(std::make_unique<KeptRanges>())
 {
+  // The full contour unless a view is asked for.
+  this->ViewDependent = false;
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS,
                                vtkDataSetAttributes::SCALARS);
 }
@@ -108,12 +109,6 @@ void vtkCanopyContour::ClearInterpolatedFields()
 vtkMTimeType vtkCanopyContour::GetMTime()
 {
   return std::max(this->Superclass::GetMTime(), this->ContourValues->GetMTime());
-}
-
-int vtkCanopyContour::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkHyperTreeGrid");
-  return 1;
 }
 
 namespace
@@ -199,21 +194,25 @@ vtkSmartPointer<vtkDoubleArray> pointNormals(const canopy::ContourResult& result
 
 } // namespace
 
-int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputVector,
-                                  vtkInformationVector* outputVector)
+int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outputObject)
 {
   this->LastVisited = 0;
   this->LastPruned = 0;
+  this->LastCulled = 0;
   this->LastRangesKept = false;
   this->LastDualCells = 0;
-  vtkHyperTreeGrid* input = vtkHyperTreeGrid::GetData(inputVector[0], 0);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* output = vtkPolyData::SafeDownCast(outputObject);
   if (!input || !output)
   {
     vtkErrorMacro("the input must be a vtkHyperTreeGrid");
     return 0;
   }
   output->Initialize();
+  canopy::CameraParameters camera;
+  if (!this->CurrentView(camera))
+  {
+    return 0; // said why
+  }
   vtkDataArray* array = contouredArray(input, this->GetInputArrayInformation(0));
   if (!array)
   {
@@ -261,15 +260,18 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
     }
     const canopy::ContourField field(array, this->ArrayComponent);
     const int maximumLevel = std::max(this->MaximumLevel, -1);
-    canopy::ContourBuilder builder(*access, field, values, maximumLevel);
+    canopy::ViewOptions options;
+    const ViewResources resources = this->ViewOptionsFor(camera, input, options);
+    canopy::ContourBuilder builder(*access, field, values, maximumLevel, options);
     canopy::TreeProgress progress(this);
     const canopy::ProgressShare share{&progress};
     std::shared_ptr<const canopy::NodeRanges> ranges;
     if (this->Pruning)
     {
       KeptRanges& kept = *this->Kept;
-      this->LastRangesKept = kept.ranges && kept.access == access && kept.array == array &&
-                             kept.arrayTime == array->GetMTime() &&
+      // With a view, which nodes are leaves depends on it: not kept.
+      this->LastRangesKept = !options.view && kept.ranges && kept.access == access &&
+                             kept.array == array && kept.arrayTime == array->GetMTime() &&
                              kept.component == this->ArrayComponent &&
                              kept.maximumLevel == maximumLevel;
       if (!this->LastRangesKept)
@@ -286,6 +288,7 @@ int vtkCanopyContour::RequestData(vtkInformation*, vtkInformationVector** inputV
     const bool done = builder.run(this->Pruning ? share.part(0.3, 1) : share, ranges.get());
     this->LastVisited = static_cast<vtkIdType>(builder.visited());
     this->LastPruned = static_cast<vtkIdType>(builder.pruned());
+    this->LastCulled = static_cast<vtkIdType>(builder.culled());
     this->LastDualCells = static_cast<vtkIdType>(builder.dualCells());
     if (!done)
     {
@@ -406,6 +409,7 @@ void vtkCanopyContour::PrintSelf(ostream& os, vtkIndent indent)
   }
   os << "\n" << indent << "LastVisited: " << this->LastVisited << "\n";
   os << indent << "LastPruned: " << this->LastPruned << "\n";
+  os << indent << "LastCulled: " << this->LastCulled << "\n";
   os << indent << "LastRangesKept: " << this->LastRangesKept << "\n";
   os << indent << "LastDualCells: " << this->LastDualCells << "\n";
 }

@@ -39,6 +39,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -1784,6 +1785,137 @@ TEST(ContourMaximumLevel, CoarserForestsCrackFreeAlike)
       EXPECT_GE(full->GetNumberOfCells(), previous);
     }
   }
+}
+
+// ---- The view -------------------------------------------------------------------
+
+TEST(ContourView, LevelOfDetailCrackFreeAndExact)
+{
+  // Nodes spanning at most a pixel are leaves holding their own values (here,
+  // the field at their centre): on a small viewport the contour is coarser,
+  // still watertight, and exact for a linear field.
+  const Point a{{0.37, -0.81, 0.52}};
+  auto linear = [&](const Point& x) { return a[0] * x[0] + a[1] * x[1] + a[2] * x[2]; };
+  for (int dimension : {2, 3})
+  {
+    // Refined everywhere to a level, more in places: many leaves below a pixel.
+    GridSpec spec = dimension == 2 ? randomSpec(2, 2, 6) : gradedSpec(3, 2, 6);
+    const auto refine = spec.refine;
+    const int uniform = dimension == 2 ? 5 : 3;
+    spec.refine = [refine, uniform](int level, const Box& b)
+    { return level < uniform || refine(level, b); };
+    TestGrid grid = makeGrid(spec, linear);
+    const Point mid{{0.5 * (grid.domain.lo[0] + grid.domain.hi[0]),
+                     0.5 * (grid.domain.lo[1] + grid.domain.hi[1]),
+                     0.5 * (grid.domain.lo[2] + grid.domain.hi[2])}};
+    const double c = linear(mid);
+    vtkNew<vtkCanopyContour> filter;
+    filter->SetInputData(grid.htg);
+    filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+    filter->SetValue(0, c);
+    filter->Update();
+    const vtkIdType fullCells = filter->GetOutput()->GetNumberOfCells();
+    // The whole domain in a small viewport, parallel, along -z (2D) or obliquely.
+    filter->ViewDependentOn();
+    filter->ViewCullingOff();
+    filter->LevelOfDetailOn();
+    filter->SetCameraFocalPoint(mid[0], mid[1], mid[2]);
+    filter->SetCameraPosition(mid[0] + (dimension == 3 ? 6 : 0), mid[1] - (dimension == 3 ? 5 : 0),
+                              mid[2] + 10);
+    filter->SetCameraViewUp(0, 1, 0);
+    filter->ParallelProjectionOn();
+    filter->SetParallelScale(3);
+    filter->SetViewportSize(dimension == 3 ? 16 : 48, dimension == 3 ? 12 : 40);
+    filter->Update();
+    vtkPolyData* out = filter->GetOutput();
+    const std::string what = std::to_string(dimension) + "D, level of detail";
+    const std::size_t cells =
+        dimension == 2 ? expectWatertight2D(out, grid, what) : expectWatertight3D(out, grid, what);
+    double size = 0;
+    for (const auto& cell : cellsOf(drawnCells(out)))
+    {
+      size += dimension == 2 ? length(pointOf(out, cell[0]), pointOf(out, cell[1]))
+                             : triangleArea(pointOf(out, cell[0]), pointOf(out, cell[1]),
+                                            pointOf(out, cell[2]));
+      for (vtkIdType id : cell)
+      {
+        ASSERT_NEAR(linear(pointOf(out, id)), c, 1e-12) << what;
+      }
+    }
+    const double expected =
+        dimension == 2 ? lineLengthInBox({{a[0], a[1]}}, c - a[2] * grid.domain.lo[2], grid.domain)
+                       : planeAreaInBox(a, c, grid.domain);
+    EXPECT_NEAR(size, expected, 1e-10 * (1 + expected)) << what;
+    std::cout << what << ": " << cells << " cells, " << fullCells << " at full resolution\n";
+    EXPECT_LT(static_cast<vtkIdType>(cells), fullCells / 2) << what;
+    EXPECT_GT(cells, 0u) << what;
+  }
+}
+
+TEST(ContourView, CullingKeepsWhatTheViewSees)
+{
+  // A 2D view on part of the domain, level of detail off: the contour's
+  // segments are full-resolution ones (point for point), and every segment
+  // of the full contour inside the view is there; far fewer groups descended.
+  TestGrid grid = makeGrid(randomSpec(2, 2, 7), wavy);
+  vtkNew<vtkCanopyContour> filter;
+  filter->SetInputData(grid.htg);
+  filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+  filter->SetValue(0, 0.0);
+  filter->SetValue(1, 0.35);
+  filter->Update();
+  vtkSmartPointer<vtkPolyData> full = vtkSmartPointer<vtkPolyData>::New();
+  full->DeepCopy(filter->GetOutput());
+  const vtkIdType fullVisited = filter->GetLastVisited();
+  const double z = grid.domain.lo[2];
+  const Point focus{{-0.2, 1.1, z}};
+  const double scale = 0.3; // half the view's height; 4:3 viewport
+  filter->ViewDependentOn();
+  filter->LevelOfDetailOff();
+  filter->ViewCullingOn();
+  filter->SetCameraFocalPoint(focus[0], focus[1], z);
+  filter->SetCameraPosition(focus[0], focus[1], z + 10);
+  filter->SetCameraViewUp(0, 1, 0);
+  filter->ParallelProjectionOn();
+  filter->SetParallelScale(scale);
+  filter->SetViewportSize(400, 300);
+  filter->Update();
+  vtkPolyData* culled = filter->GetOutput();
+  auto segments = [](vtkPolyData* out)
+  {
+    std::set<std::pair<Point, Point>> found;
+    for (const auto& s : cellsOf(out->GetLines()))
+    {
+      const Point p = pointOf(out, s[0]);
+      const Point q = pointOf(out, s[1]);
+      found.insert({std::min(p, q), std::max(p, q)});
+    }
+    return found;
+  };
+  const auto all = segments(full);
+  const auto kept = segments(culled);
+  for (const auto& s : kept)
+  {
+    ASSERT_TRUE(all.count(s)) << "a culled contour's segment is a full contour's";
+  }
+  const Box view{{{focus[0] - scale * 4 / 3, focus[1] - scale, z}},
+                 {{focus[0] + scale * 4 / 3, focus[1] + scale, z}}};
+  std::size_t inside = 0;
+  for (const auto& s : all)
+  {
+    if (strictlyInside(view, s.first) && strictlyInside(view, s.second))
+    {
+      ++inside;
+      ASSERT_TRUE(kept.count(s)) << "a segment inside the view was culled";
+    }
+  }
+  std::cout << "culled: " << kept.size() << " of " << all.size() << " segments (" << inside
+            << " inside the view), groups descended " << filter->GetLastVisited() << " of "
+            << fullVisited << "\n";
+  EXPECT_GT(inside, 10u);
+  EXPECT_LT(kept.size(), all.size());
+  EXPECT_GT(filter->GetLastCulled(), 0);
+  EXPECT_LT(filter->GetLastVisited(), fullVisited);
 }
 
 } // namespace

@@ -42,6 +42,14 @@
  * vertex takes its leaf's value). Contours in the order of their values'
  * indices within each part of the grid; the same on any number of threads.
  *
+ * The view (vtkCanopyViewDependentFilter's camera, renderer or explicit
+ * properties): ViewDependent is off by default here, the full contour. On, with
+ * LevelOfDetail a node whose box spans at most PixelThreshold pixels is
+ * contoured as a leaf holding its own (coarse) value, one answer per node, so
+ * the coarser forest is crack-free by the same rule; with ViewCulling a group
+ * of nodes whose box misses the view is not descended (the contour is then
+ * open at the view's edge). The base's Fields and colours are not used.
+ *
  * An execution reports its progress and checks for an abort between parts of
  * the grid; aborted, it leaves an empty output.
  */
@@ -49,7 +57,8 @@
 
 #include "CanopyFiltersModule.h"
 
-#include <vtkPolyDataAlgorithm.h>
+#include "vtkCanopyViewDependentFilter.h"
+
 #include <vtkSmartPointer.h>
 
 #include <memory>
@@ -57,17 +66,19 @@
 #include <vector>
 
 class vtkContourValues;
-namespace canopy
-{
-class HyperTreeAccessCache;
-} // namespace canopy
+class vtkPolyData;
 
-class CANOPYFILTERS_EXPORT vtkCanopyContour : public vtkPolyDataAlgorithm
+class CANOPYFILTERS_EXPORT vtkCanopyContour : public vtkCanopyViewDependentFilter
 {
 public:
   static vtkCanopyContour* New();
-  vtkTypeMacro(vtkCanopyContour, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkCanopyContour, vtkCanopyViewDependentFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The output, typed.
+  vtkPolyData* GetOutput() { return this->GetPolyDataOutput(); }
+  ///@}
 
   ///@{
   /// Contour values, as vtkContourFilter's.
@@ -139,6 +150,8 @@ public:
   /// into, groups it pruned, and dual cells it met (contoured or not).
   vtkGetMacro(LastVisited, vtkIdType);
   vtkGetMacro(LastPruned, vtkIdType);
+  /// Groups the last execution skipped as outside the view (ViewCulling).
+  vtkGetMacro(LastCulled, vtkIdType);
   vtkGetMacro(LastDualCells, vtkIdType);
 
   /// Includes the contour values' modification time.
@@ -148,9 +161,9 @@ protected:
   vtkCanopyContour();
   ~vtkCanopyContour() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
-                  vtkInformationVector* outputVector) override;
+  int ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* output) override;
+  /// Contours are not face-on quads: no box filter on the pixels.
+  bool OneLayerFacing(vtkHyperTreeGrid*, int) const override { return false; }
 
   vtkSmartPointer<vtkContourValues> ContourValues;
   int ArrayComponent = 0;
@@ -161,10 +174,9 @@ protected:
   std::vector<std::string> InterpolatedFields;
   vtkIdType LastVisited = 0;
   vtkIdType LastPruned = 0;
+  vtkIdType LastCulled = 0;
   vtkIdType LastDualCells = 0;
   bool LastRangesKept = false;
-  /// The input's topology as read last time (kept while it holds).
-  std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
   /// The value ranges of the last execution and what they were made of.
   struct KeptRanges;
   std::unique_ptr<KeptRanges> Kept;
