@@ -1,4 +1,4 @@
-#include "vtkCanopyAdaptiveSlice.h"
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
 
 #include "AdaptiveSliceBuilder.h"
 #include "EdgeVertexExchange.h"

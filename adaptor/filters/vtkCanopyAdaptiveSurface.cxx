@@ -1,4 +1,4 @@
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include "AdaptiveSurfaceBuilder.h"
 #include "EdgeVertexExchange.h"

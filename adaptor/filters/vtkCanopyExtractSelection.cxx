@@ -1,4 +1,4 @@
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include "CellSelection.h"
 #include "HyperTreeAccess.h"

@@ -1,4 +1,4 @@
-#include "vtkCanopyViewDependentFilter.h"
+#include <canopy/filters/vtkCanopyViewDependentFilter.h>
 
 #include "AdaptiveSurfaceBuilder.h"
 #include "GatherFromAll.h"

@@ -2,13 +2,13 @@
 // ForestDescription and InSitu. Each runs its body through guarded() (or
 // onHandle(), creating(): CApiStatus.h), so no exception crosses into C; the
 // checks of their arguments are in CApiArguments.h.
-#include "canopy/canopy.h"
+#include <canopy/canopy.h>
 
 #include "CApiArguments.h"
 #include "CApiStatus.h"
 
-#include "canopy/ForestValidation.h"
-#include "canopy/InSitu.h"
+#include <canopy/ForestValidation.h>
+#include <canopy/InSitu.h>
 
 #include <cmath>
 #include <cstdint>

@@ -42,7 +42,7 @@
 // the first time the driver opens in the process.
 #pragma once
 
-#include "canopy/InSitu.h"
+#include <canopy/InSitu.h>
 
 #include <mpi.h>
 

@@ -1,4 +1,4 @@
-#include "canopy/InSitu.h"
+#include <canopy/InSitu.h>
 
 #include "CanopyModule.h"
 #include "CatalystScript.h"
@@ -16,8 +16,8 @@
 #include "StepWatchdog.h"
 #include "XDisplayConnection.h"
 
-#include "canopy/GridBuilder.h"
-#include "canopy/HtgBuilder.h"
+#include <canopy/GridBuilder.h>
+#include <canopy/HtgBuilder.h>
 
 #include <vtkHyperTreeGrid.h>
 #include <vtkLogger.h>

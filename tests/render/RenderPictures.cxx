@@ -4,9 +4,9 @@
 #include "DescriptorForest.h"
 #include "OffscreenRenderer.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <vtkCamera.h>
 #include <vtkCellData.h>

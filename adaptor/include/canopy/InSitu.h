@@ -11,7 +11,7 @@
 // leaves a rank waiting for the others; see docs/insitu.md.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <mpi.h>
 

@@ -32,7 +32,7 @@
 #include "PaperCaseDefinitions.h"
 #include "SyntheticForest.h"
 
-#include "canopy/InSitu.h"
+#include <canopy/InSitu.h>
 
 #include <mpi.h>
 #include <sys/resource.h>

@@ -39,7 +39,7 @@
 #pragma once
 
 #include "CanopyFiltersModule.h"
-#include "vtkCanopyViewDependentFilter.h"
+#include <canopy/filters/vtkCanopyViewDependentFilter.h>
 
 #include <vector>
 
