@@ -21,7 +21,7 @@ Expression::Expression(std::string text, std::vector<ExpressionNode> nodes, std:
 
 double Expression::evaluate(const ExpressionHistory& history) const
 {
-  return this->evaluate(this->Root, 0, history);
+  return this->evaluate(this->Root, 0, false, history);
 }
 
 bool Expression::holds(const ExpressionHistory& history) const
@@ -30,28 +30,29 @@ bool Expression::holds(const ExpressionHistory& history) const
   return value != 0.0 && !std::isnan(value);
 }
 
-double Expression::evaluate(std::size_t at, std::size_t shift,
+double Expression::evaluate(std::size_t at, std::size_t shift, bool atLastFiring,
                             const ExpressionHistory& history) const
 {
   using Op = ExpressionNode::Op;
   const ExpressionNode& node = this->Nodes[at];
   const auto truth = [](double v) { return v != 0.0 && !std::isnan(v); };
-  const auto a = [&] { return this->evaluate(node.a, shift, history); };
-  const auto b = [&] { return this->evaluate(node.b, shift, history); };
+  const auto a = [&] { return this->evaluate(node.a, shift, atLastFiring, history); };
+  const auto b = [&] { return this->evaluate(node.b, shift, atLastFiring, history); };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   switch (node.op)
   {
   case Op::Number:
     return node.number;
   case Op::Query:
+    if (atLastFiring)
+    {
+      return shift == 0 && history.atLastFiring ? history.atLastFiring(node.query) : nan;
+    }
     return history.value(node.query, shift);
   case Op::Shifted:
-    return this->evaluate(node.a, shift + node.shift, history);
+    return this->evaluate(node.a, shift + node.shift, atLastFiring, history);
   case Op::AtLastFiring:
-    if (history.lastFiringStepsAgo < 0)
-    {
-      return std::numeric_limits<double>::quiet_NaN();
-    }
-    return this->evaluate(node.a, static_cast<std::size_t>(history.lastFiringStepsAgo), history);
+    return this->evaluate(node.a, 0, true, history);
   case Op::Negate:
     return -a();
   case Op::Abs:
@@ -87,7 +88,7 @@ double Expression::evaluate(std::size_t at, std::size_t shift,
   case Op::Or:
     return truth(a()) || truth(b()) ? 1.0 : 0.0;
   }
-  return std::numeric_limits<double>::quiet_NaN();
+  return nan;
 }
 
 } // namespace canopy

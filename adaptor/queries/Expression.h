@@ -35,7 +35,8 @@ struct ExpressionNode
     Number,
     Query,        ///< `query`'s value, `shift` evaluated steps ago (added to the enclosing shift)
     Shifted,      ///< operand `a` evaluated `shift` steps earlier (prev(), @-k)
-    AtLastFiring, ///< operand `a` at the step the trigger last fired (last())
+    AtLastFiring, ///< operand `a` at the step the trigger last fired (last(); shifts inside
+                  ///< it read NaN)
     Negate,
     Not,
     Add,
@@ -61,12 +62,12 @@ struct ExpressionNode
 };
 
 /// What an evaluation reads: a query's value some evaluated steps ago (NaN if the
-/// history is shorter), and how many evaluated steps ago the trigger last fired (< 0:
-/// never).
+/// history is shorter), and its value at the step the trigger last fired (empty or
+/// NaN: never fired). Queries are numbered as Expression::queries().
 struct ExpressionHistory
 {
   std::function<double(std::size_t query, std::size_t stepsAgo)> value;
-  long long lastFiringStepsAgo = -1;
+  std::function<double(std::size_t query)> atLastFiring;
 };
 
 class Expression
@@ -88,7 +89,9 @@ public:
   bool holds(const ExpressionHistory& history) const;
 
 private:
-  double evaluate(std::size_t node, std::size_t shift, const ExpressionHistory& history) const;
+  /// `atLastFiring`: inside last(), where queries read their value at the last firing.
+  double evaluate(std::size_t node, std::size_t shift, bool atLastFiring,
+                  const ExpressionHistory& history) const;
 
   std::string Text;
   std::vector<ExpressionNode> Nodes;

@@ -29,7 +29,14 @@ ExpressionHistory historyOf(const Expression& expression,
     const auto& values = table.at(expression.queries().at(query).text());
     return ago < values.size() ? values[ago] : std::nan("");
   };
-  history.lastFiringStepsAgo = lastFiring;
+  if (lastFiring >= 0)
+  {
+    history.atLastFiring = [&expression, &table, lastFiring](std::size_t query)
+    {
+      return table.at(expression.queries().at(query).text())
+          .at(static_cast<std::size_t>(lastFiring));
+    };
+  }
   return history;
 }
 
