@@ -1,5 +1,6 @@
 #include "FieldPartial.h"
 
+#include <cmath>
 #include <tuple>
 
 namespace canopy
@@ -7,14 +8,36 @@ namespace canopy
 
 bool CellKey::operator<(const CellKey& other) const
 {
-  return std::tie(rootIndex, level, index[2], index[1], index[0]) <
-         std::tie(other.rootIndex, other.level, other.index[2], other.index[1], other.index[0]);
+  if (rootIndex != other.rootIndex || level != other.level)
+  {
+    return std::tie(rootIndex, level) < std::tie(other.rootIndex, other.level);
+  }
+  // The same level of the same root: the first child digit (from the root down) that
+  // differs decides; a digit is x + b y + b^2 z, so z, then y, then x.
+  std::int64_t place = 1;
+  for (std::int64_t l = 1; l < level; ++l)
+  {
+    place *= branch;
+  }
+  for (; place >= 1; place /= branch)
+  {
+    for (std::size_t axis = 3; axis-- > 0;)
+    {
+      const std::int64_t mine = index[axis] / place % branch;
+      const std::int64_t theirs = other.index[axis] / place % branch;
+      if (mine != theirs)
+      {
+        return mine < theirs;
+      }
+    }
+  }
+  return false;
 }
 
 namespace
 {
 
-constexpr std::size_t extremeInt64s = 7;  // found, root, level, i, j, k, rank
+constexpr std::size_t extremeInt64s = 8;  // found, root, level, i, j, k, branch, rank
 constexpr std::size_t extremeDoubles = 4; // value, centre
 
 void packExtreme(const Extreme& extreme, std::int64_t*& int64s, double*& doubles)
@@ -26,6 +49,7 @@ void packExtreme(const Extreme& extreme, std::int64_t*& int64s, double*& doubles
   {
     *int64s++ = i;
   }
+  *int64s++ = extreme.key.branch;
   *int64s++ = extreme.rank;
   *doubles++ = extreme.value;
   for (double c : extreme.centre)
@@ -43,6 +67,7 @@ void unpackExtreme(Extreme& extreme, const std::int64_t*& int64s, const double*&
   {
     i = *int64s++;
   }
+  extreme.key.branch = *int64s++;
   extreme.rank = *int64s++;
   extreme.value = *doubles++;
   for (double& c : extreme.centre)
@@ -100,20 +125,25 @@ FieldPartial::FieldPartial(const FieldQuerySet& request)
   }
 }
 
-std::size_t FieldPartial::binOf(const FieldQuerySet::Bins& bins, double value)
+void FieldPartial::addTotals(const Totals& totals)
 {
-  const auto count = static_cast<std::size_t>(bins.count);
-  if (value < bins.low)
+  Finite += totals.finite;
+  NonFinite += totals.nonFinite;
+  Sum += totals.sum;
+  Volume += totals.volume;
+  Integral += totals.integral;
+  Squares += totals.squares;
+}
+
+bool FieldPartial::offer(double value, const CellKey& key, std::int64_t rank, bool maximum)
+{
+  Extreme& extreme = maximum ? Maximum : Minimum;
+  if (!extreme.takes(value, key, maximum))
   {
-    return count;
+    return false;
   }
-  if (value > bins.high)
-  {
-    return count + 1;
-  }
-  const double position = (value - bins.low) / (bins.high - bins.low) * bins.count;
-  const auto bin = static_cast<std::size_t>(position); // >= 0: value >= low
-  return bin < count ? bin : count - 1;                // value == high: the last bin
+  extreme = {value, true, key, rank, {{0.0, 0.0, 0.0}}};
+  return true;
 }
 
 void FieldPartial::pack(std::int64_t*& int64s, double*& doubles) const

@@ -8,7 +8,6 @@
 #include "canopy/Queries.h"
 
 #include <array>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -16,12 +15,15 @@
 namespace canopy
 {
 
-/// A leaf's global id as the tie rule orders it: (rootIndex, level, k, j, i).
+/// A leaf's global id as the tie rule orders it: by root index, then level (coarser
+/// first), then the leaf's position in its root's complete tree at that level in child
+/// order (x fastest; Morton order) -- the order a breadth-first walk of the tree visits.
 struct CellKey
 {
   std::int64_t rootIndex = 0;
   std::int64_t level = 0;
   std::array<std::int64_t, 3> index{{0, 0, 0}};
+  std::int64_t branch = 2; ///< the forest's branch factor
 
   bool operator<(const CellKey& other) const;
 };
@@ -73,50 +75,51 @@ class FieldPartial
 public:
   explicit FieldPartial(const FieldQuerySet& request);
 
-  /// Takes one leaf's value. `where` gives its (CellKey, centre) when it may be an extreme.
-  template <typename Where>
-  void add(double value, double volume, Where&& where)
+  /// What every finite leaf adds (FieldPass keeps them in registers, then adds them here).
+  struct Totals
   {
-    if (!std::isfinite(value))
-    {
-      ++NonFinite;
-      return;
-    }
-    ++Finite;
-    Sum += value;
-    Volume += volume;
-    Integral += value * volume;
-    Squares += value * value * volume;
-    const bool minimumCandidate = !Minimum.found || value <= Minimum.value;
-    const bool maximumCandidate = !Maximum.found || value >= Maximum.value;
-    if (minimumCandidate || maximumCandidate)
-    {
-      const CellKey key = where.key();
-      if (minimumCandidate && Minimum.takes(value, key, false))
-      {
-        Minimum = {value, true, key, where.rank(), where.centre(key)};
-      }
-      if (maximumCandidate && Maximum.takes(value, key, true))
-      {
-        Maximum = {value, true, key, where.rank(), where.centre(key)};
-      }
-    }
-    for (std::size_t r = 0; r < RangeCount.size(); ++r)
-    {
-      if (Request->ranges[r][0] <= value && value <= Request->ranges[r][1])
-      {
-        ++RangeCount[r];
-        RangeVolume[r] += volume;
-      }
-    }
-    for (std::size_t h = 0; h < Request->histograms.size(); ++h)
-    {
-      HistogramCounts[h][binOf(Request->histograms[h], value)] += 1;
-    }
+    std::int64_t finite = 0;
+    std::int64_t nonFinite = 0;
+    double sum = 0.0;
+    double volume = 0.0;
+    double integral = 0.0;
+    double squares = 0.0;
+  };
+  void addTotals(const Totals& totals);
+
+  /// A leaf that may be the minimum (`maximum` false) or the maximum: taken by the tie
+  /// rule. Out of line: called only for values at or beyond the extreme so far.
+  /// Returns whether it was taken; its centre is then given with setCentre().
+  bool offer(double value, const CellKey& key, std::int64_t rank, bool maximum);
+  void setCentre(const std::array<double, 3>& centre, bool maximum)
+  {
+    (maximum ? Maximum : Minimum).centre = centre;
   }
+  const Extreme& minimum() const { return Minimum; }
+  const Extreme& maximum() const { return Maximum; }
+
+  /// The ranges' counts and volumes, and each histogram's counts (bins, below, above),
+  /// for FieldPass to add to.
+  std::int64_t* rangeCounts() { return RangeCount.data(); }
+  double* rangeVolumes() { return RangeVolume.data(); }
+  std::int64_t* histogramCounts(std::size_t histogram) { return HistogramCounts[histogram].data(); }
 
   /// Bin of `value` in `bins`' counts: 0 .. count-1, then below, then above.
-  static std::size_t binOf(const FieldQuerySet::Bins& bins, double value);
+  static std::size_t binOf(const FieldQuerySet::Bins& bins, double value)
+  {
+    const auto count = static_cast<std::size_t>(bins.count);
+    if (value < bins.low)
+    {
+      return count;
+    }
+    if (value > bins.high)
+    {
+      return count + 1;
+    }
+    const double position = (value - bins.low) / (bins.high - bins.low) * bins.count;
+    const auto bin = static_cast<std::size_t>(position); // >= 0: value >= low
+    return bin < count ? bin : count - 1;                // value == high: the last bin
+  }
 
   /// Appends this share's words; reads them back (the same request's layout).
   void pack(std::int64_t*& int64s, double*& doubles) const;

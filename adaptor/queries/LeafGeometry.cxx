@@ -22,6 +22,20 @@ LeafGeometry::LeafGeometry(const ForestDescription& forest) : Branch(forest.bran
   for (int d = 0; d < ActiveAxes; ++d)
   {
     Children *= static_cast<std::size_t>(Branch);
+    Scale[static_cast<std::size_t>(Axis[static_cast<std::size_t>(d)])] = Branch;
+  }
+  // Child c's digit along the a-th axis that is not flat: (c / Branch^a) % Branch.
+  for (std::size_t c = 0; c < Children; ++c)
+  {
+    std::array<std::int64_t, 3> digits{{0, 0, 0}};
+    std::size_t rest = c;
+    for (int a = 0; a < ActiveAxes; ++a)
+    {
+      digits[static_cast<std::size_t>(Axis[static_cast<std::size_t>(a)])] =
+          static_cast<std::int64_t>(rest % static_cast<std::size_t>(Branch));
+      rest /= static_cast<std::size_t>(Branch);
+    }
+    ChildDigits.push_back(digits);
   }
   const int levels = forest.maxLevels > 0 ? forest.maxLevels : 1;
   LevelScale.resize(static_cast<std::size_t>(levels) + 1);
@@ -53,7 +67,7 @@ std::array<double, 3> LeafGeometry::centre(std::int64_t rootIndex, int level,
                                         (rootIndex / RootCells[0]) % RootCells[1],
                                         rootIndex / (RootCells[0] * RootCells[1])}};
   std::array<double, 3> centre{{0.0, 0.0, 0.0}};
-  const double cellsPerAxis = std::pow(static_cast<double>(Branch), level);
+  const double cellsPerAxis = std::pow(static_cast<double>(Branch), level); // rare: extremes
   for (std::size_t axis = 0; axis < 3; ++axis)
   {
     const double* x = Coordinates[axis];

@@ -32,14 +32,9 @@ public:
   std::array<std::int64_t, 3> childIndex(const std::array<std::int64_t, 3>& parent,
                                          std::size_t child) const
   {
-    std::array<std::int64_t, 3> index = parent;
-    for (int a = 0; a < ActiveAxes; ++a)
-    {
-      const auto axis = static_cast<std::size_t>(Axis[static_cast<std::size_t>(a)]);
-      index[axis] = index[axis] * Branch + static_cast<std::int64_t>(child % Branch);
-      child /= static_cast<std::size_t>(Branch);
-    }
-    return index;
+    const std::array<std::int64_t, 3>& digit = ChildDigits[child];
+    return {{parent[0] * Scale[0] + digit[0], parent[1] * Scale[1] + digit[1],
+             parent[2] * Scale[2] + digit[2]}};
   }
 
   /// Centre of the leaf at `level`, position `index`, in the root cell `rootIndex`.
@@ -54,8 +49,10 @@ private:
   int ActiveAxes = 0;
   std::int64_t Branch = 2;
   std::size_t Children = 1;
-  std::vector<double> RootVolume; ///< per tree of the description
-  std::vector<double> LevelScale; ///< children^-level
+  std::vector<std::array<std::int64_t, 3>> ChildDigits; ///< per child: its digit per axis
+  std::array<std::int64_t, 3> Scale{{1, 1, 1}};         ///< branchFactor, 1 on flat axes
+  std::vector<double> RootVolume;                       ///< per tree of the description
+  std::vector<double> LevelScale;                       ///< children^-level
 };
 
 } // namespace canopy

@@ -1,10 +1,9 @@
 #include "canopy/Queries.h"
 
 #include "FieldPartial.h"
-#include "FieldView.h"
+#include "FieldPass.h"
 #include "ForestLayout.h"
 #include "LeafGeometry.h"
-#include "LeafWalk.h"
 
 #include "canopy/ForestValidation.h"
 
@@ -170,47 +169,6 @@ std::vector<std::size_t> leafOrdinalsBySlot(const ForestDescription& forest,
   return ordinal;
 }
 
-/// What a leaf's location costs only when it may be an extreme.
-struct LeafPlace
-{
-  const WalkLeaf& leaf;
-  const ForestDescription& forest;
-  const LeafGeometry& geometry;
-  std::int64_t rankNumber;
-
-  CellKey key() const
-  {
-    return {forest.trees[leaf.tree].rootIndex, leaf.level, leaf.index(geometry)};
-  }
-  std::int64_t rank() const { return rankNumber; }
-  std::array<double, 3> centre(const CellKey& key) const
-  {
-    return geometry.centre(key.rootIndex, leaf.level, key.index);
-  }
-};
-
-template <typename T>
-void accumulate(const ForestDescription& forest, const LeafGeometry& geometry,
-                const FieldDescription& field, int component,
-                const std::vector<std::size_t>& ordinalOfSlot, int rank,
-                std::vector<WalkParent>& scratch, FieldPartial& partial)
-{
-  const FieldView view = FieldView::of(field);
-  const auto c = static_cast<std::size_t>(component);
-  const bool leavesOnly = field.centering == Centering::LeavesOnly;
-  const bool mapped = leavesOnly && !ordinalOfSlot.empty();
-  walkVisibleLeaves(forest, geometry, scratch,
-                    [&](const WalkLeaf& leaf)
-                    {
-                      const std::size_t tuple = !leavesOnly ? leaf.slot
-                                                : mapped    ? ordinalOfSlot[leaf.slot]
-                                                            : leaf.leafOrdinal;
-                      const double value = static_cast<double>(view.at<T>(tuple, c));
-                      partial.add(value, geometry.volume(leaf.tree, leaf.level),
-                                  LeafPlace{leaf, forest, geometry, rank});
-                    });
-}
-
 /// This rank's shares, or the reason it has none.
 std::string localShares(const ForestDescription& forest, const std::vector<Query>& queries,
                         const QueryPlan& plan, int rank, std::vector<FieldPartial>& partials)
@@ -275,18 +233,20 @@ std::string localShares(const ForestDescription& forest, const std::vector<Query
     switch (field.type)
     {
     case ValueType::Float32:
-      accumulate<float>(forest, geometry, field, component, ordinalOfSlot, rank, scratch, partial);
+      passOverField<float>(forest, geometry, field, component, plan.requests[r], ordinalOfSlot,
+                           rank, scratch, partial);
       break;
     case ValueType::Float64:
-      accumulate<double>(forest, geometry, field, component, ordinalOfSlot, rank, scratch, partial);
+      passOverField<double>(forest, geometry, field, component, plan.requests[r], ordinalOfSlot,
+                            rank, scratch, partial);
       break;
     case ValueType::Int32:
-      accumulate<std::int32_t>(forest, geometry, field, component, ordinalOfSlot, rank, scratch,
-                               partial);
+      passOverField<std::int32_t>(forest, geometry, field, component, plan.requests[r],
+                                  ordinalOfSlot, rank, scratch, partial);
       break;
     case ValueType::Int64:
-      accumulate<std::int64_t>(forest, geometry, field, component, ordinalOfSlot, rank, scratch,
-                               partial);
+      passOverField<std::int64_t>(forest, geometry, field, component, plan.requests[r],
+                                  ordinalOfSlot, rank, scratch, partial);
       break;
     }
   }

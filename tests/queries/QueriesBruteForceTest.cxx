@@ -290,11 +290,9 @@ QueryResult expected(const Query& query, const std::vector<OracleLeaf>& leaves)
   }
   auto value = [&](const OracleLeaf* leaf)
   { return fieldValue(query.field, query.component, leaf->tree, leaf->node); };
-  auto key = [&](const OracleLeaf* leaf)
-  {
-    return std::make_tuple(leaf->rootIndex, leaf->level, leaf->index[2], leaf->index[1],
-                           leaf->index[0]);
-  };
+  // The tie rule: the leaf first in its root's breadth-first order (the whole tree's
+  // node numbers are that order: level by level, each level in child order).
+  auto key = [&](const OracleLeaf* leaf) { return std::make_pair(leaf->rootIndex, leaf->node); };
   double sum = 0, volume = 0, integral = 0, squares = 0;
   for (const OracleLeaf* leaf : finite)
   {
