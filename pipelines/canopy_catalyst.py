@@ -83,6 +83,14 @@ def _run_settings():
     return given
 
 
+def query_values():
+    """The step's query values by their text ({"max(density)": 1.5, ...}): the queries of
+    the scripts' triggers and the driver's InSituOptions::queries (docs/queries.md), the
+    same on every rank; {} outside the driver or when no query ran this step."""
+    door = _door()
+    return dict(door.query_values()) if door is not None else {}
+
+
 def plugin_path():
     """The Canopy ParaView plugin's library: the driver's (CANOPY_PLUGIN if the user
     set it, else the one next to Canopy's library); outside the driver, CANOPY_PLUGIN."""

@@ -16,6 +16,9 @@
 //       the ranks' agreement between a script's catalyst_execute and its extracts;
 //       `outcome` "" where the script succeeded, else its failure; collective, on the
 //       driver's agreement communicator
+//   query_values() -> {str: float}
+//       the step's query values (StepReport::queries' values and ::expressions) by their
+//       text, the same on every rank; {} when no query ran at this step
 //   interrupt_wanted() -> str or None
 //       the step time limit's message when the running script call must stop
 //   connect(side)
@@ -127,6 +130,9 @@ public:
   /// which guards ParaView's calls into scripts and registers its side (connect).
   /// Empty on success, else what went wrong (Python's message printed above).
   std::string importHelperModules(const std::string& pipelinesDirectory);
+
+  /// What `_canopy.query_values()` gives the scripts of this step (set before they run).
+  static void setQueryValues(std::map<std::string, double> values);
 
 private:
   std::unique_ptr<OwnCommunicator> Reductions;

@@ -307,6 +307,13 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
       requests.due[i] = requests.due[i] && outcome.allowed[i];
     }
   }
+  // What the scripts of this step read with canopy_catalyst.query_values().
+  std::map<std::string, double> values = report.expressions;
+  for (const auto& [text, result] : report.queries)
+  {
+    values[text] = result.value;
+  }
+  CanopyModule::setQueryValues(std::move(values));
   report.executed = requests.anyDue() || !report.failures.empty();
   if (!requests.anyDue())
   {
