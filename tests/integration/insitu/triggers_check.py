@@ -116,6 +116,22 @@ def main():
     if not set(expected_runs) <= set(will) <= set(fired_steps):
         fail("willExecute said yes at steps %s: the script ran at %s, the trigger fired at %s"
              % (will, expected_runs, fired_steps))
+    # What the script read with canopy_catalyst.query_values(), where it recorded it:
+    # the history's row, on every rank.
+    for name in sorted(os.listdir(output)):
+        if not (name.startswith("queries_") and name.endswith(".json")):
+            continue
+        import json
+        step = int(name.split("_")[1])
+        seen = json.load(open(os.path.join(output, name)))
+        for text, value in seen.items():
+            if text in column and rows[step][column[text]] != value:
+                fail("%s: the script read %s = %r, the history has %r"
+                     % (name, text, value, rows[step][column[text]]))
+        missing = [text for text in header[2:-2] if text not in seen]
+        if missing:
+            fail("%s: the script did not get %s" % (name, missing))
+        print("%s: the script read the history's %d values" % (name, len(seen)))
     if not fired_steps or len(fired_steps) == len(rows):
         fail("a test that fires never or always proves little: fired at %s" % fired_steps)
     if same_as:
