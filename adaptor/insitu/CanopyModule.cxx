@@ -39,7 +39,7 @@ PyTypeObject* runSettingsType = nullptr;
 
 /// The methods connect() requires of a side: what PythonSide calls.
 const char* const sideMethods[] = {"take_failure", "take_measures", "discard_outputs",
-                                   "install_interrupt"};
+                                   "install_interrupt", "plot_history"};
 
 /// Text for Python, as os.environ decodes it: UTF-8, undecodable bytes kept as
 /// surrogates (paths and arguments arrive intact whatever their bytes).
@@ -305,7 +305,8 @@ PyMethodDef methods[] = {
      "call must stop."},
     {"connect", &connectSide, METH_VARARGS,
      "connect(side): registers the object the driver calls: take_failure(), "
-     "take_measures(evaluate), discard_outputs(script_path), install_interrupt(signal_number)."},
+     "take_measures(evaluate), discard_outputs(script_path), install_interrupt(signal_number), "
+     "plot_history(csv_path, png_path)."},
     {nullptr, nullptr, 0, nullptr}};
 
 PyModuleDef definition = {PyModuleDef_HEAD_INIT,
@@ -456,6 +457,24 @@ bool PythonSide::installInterrupt(int signalNumber)
   vtkPythonScopeGilEnsurer gil;
   vtkSmartPyObject installed(callSide("install_interrupt", false, "(i)", signalNumber));
   return installed.GetPointer() == Py_True;
+}
+
+std::string PythonSide::plotHistory(const std::string& csvPath, const std::string& pngPath)
+{
+  vtkPythonScopeGilEnsurer gil;
+  if (side == nullptr)
+  {
+    return "no Python side to plot the query history with";
+  }
+  vtkSmartPyObject csv(toPython(csvPath));
+  vtkSmartPyObject png(toPython(pngPath));
+  vtkSmartPyObject problem(
+      callSide("plot_history", false, "(OO)", csv.GetPointer(), png.GetPointer()));
+  if (!problem)
+  {
+    return "plotting the query history raised an error";
+  }
+  return fromPython(problem);
 }
 
 void interruptScriptByPendingCall()

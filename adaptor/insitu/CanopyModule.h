@@ -34,6 +34,7 @@
 //   take_measures(evaluate) -> {name: total over ranks}
 //   discard_outputs(script_path)
 //   install_interrupt(signal_number) -> bool
+//   plot_history(csv_path, png_path) -> str   ("" when written, else why not)
 //
 // Why a module in sys.modules and not PyImport_AppendInittab: in a plain run Python
 // starts here (ParaView's Catalyst start leaves it to the driver), but it may
@@ -103,6 +104,10 @@ public:
   /// StepTimeLimitExceeded in the script when interrupt_wanted() says so. False
   /// when not installed (the simulation handles that signal itself).
   static bool installInterrupt(int signalNumber);
+
+  /// Plots the query history (QueryHistoryFile's CSV at `csvPath`) into `pngPath`: each
+  /// query against time, the triggers' firings marked. Empty on success, else why not.
+  static std::string plotHistory(const std::string& csvPath, const std::string& pngPath);
 };
 
 /// Asks Python to raise StepTimeLimitExceeded on the main thread, if the step

@@ -79,6 +79,9 @@ private:
   void runScript(CatalystScript& script, vtkHyperTreeGrid* grid, std::int64_t step,
                  StepReport& report);
   void finalizeScripts();
+  /// Rank 0: the query history as a PNG beside its CSV (each query against time,
+  /// the triggers' firings marked), through Python; a failure is only logged.
+  void plotHistory();
   /// The step's Catalyst Live exchange, when some script (or the options) asked
   /// for Live and some script ran (the same on every rank).
   void runLive(std::int64_t step, double time, StepReport& report);
@@ -509,6 +512,25 @@ void InSitu::Driver::finalizeScripts()
                          &finalizing);
 }
 
+void InSitu::Driver::plotHistory()
+{
+  const std::string csv = this->Triggers ? this->Triggers->writtenHistory() : std::string();
+  if (csv.empty() || !this->Python)
+  {
+    return;
+  }
+  this->Triggers.reset(); // the file closed, every row in it
+  const std::string png =
+      (csv.size() > 4 && csv.compare(csv.size() - 4, 4, ".csv") == 0 ? csv.substr(0, csv.size() - 4)
+                                                                     : csv) +
+      ".png";
+  const std::string problem = PythonSide::plotHistory(csv, png);
+  if (!problem.empty())
+  {
+    vtkLogF(WARNING, "canopy: close: %s", problem.c_str());
+  }
+}
+
 void InSitu::Driver::close()
 {
   if (!this->Open)
@@ -518,6 +540,7 @@ void InSitu::Driver::close()
   this->Open = false;
   this->Guard->disarm();
   this->finalizeScripts();
+  this->plotHistory();
   this->Python.reset(); // _canopy's functions raise from now on
   this->Live.reset();
   this->Scripts.clear();

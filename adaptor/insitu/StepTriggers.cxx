@@ -107,6 +107,7 @@ StepTriggers::StepTriggers(const std::vector<PipelineScript>& scripts, const InS
       columns.push_back(t.name + ": fired");
     }
     File = std::make_unique<QueryHistoryFile>(historyPath, columns);
+    HistoryPath = historyPath;
   }
 }
 
@@ -200,6 +201,7 @@ TriggerOutcome StepTriggers::evaluate(MPI_Comm communicator, std::int64_t step, 
   if (File)
   {
     outcome.warning = File->write(step, time, row);
+    Rows += outcome.warning.empty() ? 1 : 0;
   }
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return outcome;

@@ -51,6 +51,8 @@ public:
   /// Whether there is anything to evaluate (a trigger or a query).
   bool active() const { return !Triggers.empty() || !Reported.empty(); }
   bool hasTrigger(std::size_t script) const;
+  /// The history file this rank writes, once it holds a row; empty otherwise.
+  std::string writtenHistory() const { return File && Rows > 0 ? HistoryPath : std::string(); }
 
   /// Runs the step's queries over `communicator` (collective; one MPI call) and
   /// decides the triggers. Never throws for a query problem: it is in `failure`.
@@ -80,6 +82,8 @@ private:
   std::vector<ReportedExpression> Reported;
   QueryHistory History;
   std::unique_ptr<QueryHistoryFile> File;
+  std::string HistoryPath;
+  std::size_t Rows = 0;
 };
 
 } // namespace canopy

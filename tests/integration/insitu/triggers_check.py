@@ -142,7 +142,18 @@ def main():
             for name, a, b in zip(header, mine, theirs):
                 if abs(a - b) > 1e-12 * max(1.0, abs(a)):
                     fail("step %d, %s: %r here, %r in %s" % (s, name, a, b, same_as))
-    print("%d steps, fired at %s, ran at %s" % (len(rows), fired_steps, ran))
+    # The history's plot, written at close by rank 0: a PNG beside the CSV.
+    png = os.path.join(output, "canopy_queries.png")
+    if not os.path.isfile(png):
+        fail("no plot of the history (canopy_queries.png)")
+    with open(png, "rb") as f:
+        head = f.read(24)
+    if head[:8] != b"\x89PNG\r\n\x1a\n":
+        fail("canopy_queries.png is not a PNG")
+    width, height = int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
+    if width < 400 or height < 150:
+        fail("canopy_queries.png is %dx%d: too small to show %d columns" % (width, height, len(header)))
+    print("%d steps, fired at %s, ran at %s; plot %dx%d" % (len(rows), fired_steps, ran, width, height))
 
 
 main()
