@@ -345,8 +345,18 @@ class DriverSide:
                                        figsize=(8, 1.8 * max(1, len(values)) + 0.8))
         colours = pyplot.rcParams["axes.prop_cycle"].by_key()["color"]
         for panel, column in zip(axes[:, 0], values):
-            panel.plot(times, [float(row[column]) for row in rows], marker=".")
+            series = [float(row[column]) for row in rows]
+            panel.plot(times, series, marker=".")
             panel.set_ylabel(header[column], fontsize=8)
+            # A conserved quantity moves by rounding only: drawn flat around its value,
+            # not as noise under an offset like "1e-14+4.5e-2".
+            finite = [v for v in series if v == v and abs(v) != float("inf")]
+            if finite:
+                low, high = min(finite), max(finite)
+                if high - low <= 1e-9 * max(abs(low), abs(high)):
+                    margin = max(abs(high) * 1e-3, 1e-12)
+                    panel.set_ylim(low - margin, high + margin)
+            panel.ticklabel_format(axis="y", useOffset=False, style="plain")
             for n, trigger in enumerate(fired):
                 label = header[trigger][:-len(": fired")]
                 for row, time in zip(rows, times):
