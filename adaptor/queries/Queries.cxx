@@ -7,8 +7,11 @@
 
 #include <canopy/ForestValidation.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -291,6 +294,15 @@ Query Query::histogram(std::string field, double low, double high, int bins, int
 {
   return make(QueryKind::Histogram, std::move(field), component, low, high, bins);
 }
+Query Query::histogram(std::string field, int bins, int component)
+{
+  const double unknown = std::numeric_limits<double>::quiet_NaN();
+  return make(QueryKind::Histogram, std::move(field), component, unknown, unknown, bins);
+}
+bool Query::overCurrentRange() const
+{
+  return this->kind == QueryKind::Histogram && std::isnan(this->low) && std::isnan(this->high);
+}
 Query Query::nonFinite(std::string field, int component)
 {
   return make(QueryKind::NonFinite, std::move(field), component);
@@ -308,7 +320,7 @@ std::string Query::text() const
     text += "[" + std::to_string(this->component) + "]";
   }
   if (this->kind == QueryKind::Count || this->kind == QueryKind::Volume ||
-      this->kind == QueryKind::Histogram)
+      (this->kind == QueryKind::Histogram && !this->overCurrentRange()))
   {
     text += ", " + number(this->low) + ", " + number(this->high);
   }
@@ -319,9 +331,16 @@ std::string Query::text() const
   return text + ")";
 }
 
+/// The queries with every histogram over the current range given that range, found by
+/// one reduction of the fields' minima and maxima (collective; none without such a
+/// histogram).
+std::vector<Query> withCurrentRanges(MPI_Comm communicator, const ForestDescription& forest,
+                                     std::vector<Query> queries);
+
 std::vector<QueryResult> runQueries(MPI_Comm communicator, const ForestDescription& forest,
-                                    const std::vector<Query>& queries)
+                                    const std::vector<Query>& asked)
 {
+  const std::vector<Query> queries = withCurrentRanges(communicator, forest, asked);
   int rank = 0;
   int ranks = 1;
   MPI_Comm_rank(communicator, &rank);
@@ -415,8 +434,61 @@ std::vector<QueryResult> runQueries(MPI_Comm communicator, const ForestDescripti
   {
     const QueryPlan::Place& place = queryPlan.places[q];
     results.push_back(total[place.request].result(queries[q], place.range, place.histogram));
+    if (queries[q].kind == QueryKind::Histogram)
+    {
+      results.back().low = queries[q].low;
+      results.back().high = queries[q].high;
+    }
   }
   return results;
+}
+
+std::vector<Query> withCurrentRanges(MPI_Comm communicator, const ForestDescription& forest,
+                                     std::vector<Query> queries)
+{
+  std::vector<Query> extremes;
+  for (const Query& query : queries)
+  {
+    if (query.overCurrentRange())
+    {
+      extremes.push_back(Query::minimum(query.field, query.component));
+      extremes.push_back(Query::maximum(query.field, query.component));
+    }
+  }
+  if (extremes.empty())
+  {
+    return queries;
+  }
+  // Every rank has the same queries, so every rank makes this call: the first collective.
+  const std::vector<QueryResult> found = runQueries(communicator, forest, extremes);
+  std::size_t next = 0;
+  for (Query& query : queries)
+  {
+    if (!query.overCurrentRange())
+    {
+      continue;
+    }
+    const double low = found[next].value;
+    const double high = found[next + 1].value;
+    next += 2;
+    if (std::isnan(low))
+    {
+      query.low = 0.0; // no finite value anywhere: every bin empty
+      query.high = 1.0;
+    }
+    else if (low == high)
+    {
+      const double half = std::max(1.0, std::abs(low)) / 2;
+      query.low = low - half;
+      query.high = low + half;
+    }
+    else
+    {
+      query.low = low;
+      query.high = high;
+    }
+  }
+  return queries;
 }
 
 } // namespace canopy

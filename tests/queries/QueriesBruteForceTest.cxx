@@ -564,8 +564,44 @@ TEST(QueriesRefused, BadRangesAndBinsAreRefused)
   }
 }
 
+TEST(QueriesOverTheCurrentRange, AHistogramOverTheFieldsRangeCostsOneMoreCollective)
+{
+  RandomForestOptions options;
+  options.dimension = 3;
+  options.maskProbability = 0.1;
+  options.seed = 21;
+  RandomForest whole(options);
+  const std::vector<OracleLeaf> leaves = visibleLeaves(whole, 3, options.flatAxis);
+  RankPart part(whole.description(), worldRank(), worldSize(), false);
+  RankFields fields(part, whole);
+  for (const auto& [field, component] : {std::make_pair("tied", 0), std::make_pair("vector", 2)})
+  {
+    const Query query = Query::histogram(field, 6, component);
+    EXPECT_TRUE(query.overCurrentRange());
+    const long long before = mpiCallsMade();
+    const std::vector<QueryResult> got = runQueries(MPI_COMM_WORLD, part.description, {query});
+    EXPECT_EQ(mpiCallsMade() - before, 2) << "the range first, then the bins";
+    const double low = expected(Query::minimum(field, component), leaves).value;
+    const double high = expected(Query::maximum(field, component), leaves).value;
+    ASSERT_LT(low, high);
+    const QueryResult want = expected(Query::histogram(field, low, high, 6, component), leaves);
+    EXPECT_EQ(got[0].low, low);
+    EXPECT_EQ(got[0].high, high);
+    EXPECT_EQ(got[0].bins, want.bins);
+    EXPECT_EQ(got[0].below, 0);
+    EXPECT_EQ(got[0].above, 0);
+    EXPECT_EQ(got[0].value, want.value) << "every finite leaf in a bin";
+  }
+  // A histogram with a given range beside it: still two collectives, not three.
+  const long long before = mpiCallsMade();
+  runQueries(MPI_COMM_WORLD, part.description,
+             {Query::histogram("tied", 4), Query::histogram("tied", 0, 1, 4)});
+  EXPECT_EQ(mpiCallsMade() - before, 2);
+}
+
 TEST(QueryText, TextsAreTheExpressionLanguagesSpelling)
 {
+  EXPECT_EQ(Query::histogram("v", 10, 1).text(), "histogram(v[1], 10)");
   EXPECT_EQ(Query::maximum("scalar").text(), "max(scalar)");
   EXPECT_EQ(Query::volume("scalar", 0.5, 1).text(), "volume(scalar, 0.5, 1)");
   EXPECT_EQ(Query::histogram("v", -1, 0.1, 10, 2).text(), "histogram(v[2], -1, 0.1, 10)");

@@ -60,6 +60,15 @@ struct Query
   static Query integral(std::string field, int component = 0);
   static Query l2Norm(std::string field, int component = 0);
   static Query histogram(std::string field, double low, double high, int bins, int component = 0);
+  /// `bins` equal bins over the current range of the field's finite values, [min, max]
+  /// (a field of one value v: [v - h, v + h] with h = max(1, |v|) / 2; no finite value:
+  /// [0, 1]).
+  /// The range is found first, by a reduction of its own: a call with such a histogram
+  /// costs two collectives instead of one. Its `low` and `high` are NaN until then.
+  static Query histogram(std::string field, int bins, int component = 0);
+
+  /// A histogram whose range is the current one (low and high NaN).
+  bool overCurrentRange() const;
   static Query nonFinite(std::string field, int component = 0);
   static Query cells(std::string field, int component = 0);
 
@@ -94,6 +103,9 @@ struct QueryResult
   std::vector<std::int64_t> bins;
   std::int64_t below = 0;
   std::int64_t above = 0;
+  /// Histogram: the range its bins cover (the one asked, or the current range found).
+  double low = std::numeric_limits<double>::quiet_NaN();
+  double high = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// A query that cannot run: unknown field or component, empty range, no bins, a block
@@ -106,7 +118,8 @@ public:
 };
 
 /// Runs `queries` on this rank's part of `forest` and reduces them over
-/// `communicator` in one collective (MPI_Allgather). Collective: every rank calls it
+/// `communicator` in one collective (MPI_Allgather; two when a histogram is over the
+/// current range, whose range is reduced first). Collective: every rank calls it
 /// with the same queries. Returns one result per query, in order, the same on every
 /// rank (bit for bit). `forest` and its arrays are only read during the call; nothing is
 /// kept. Throws QueryError (every rank) if the queries cannot run on some rank.
