@@ -331,11 +331,14 @@ std::string Query::text() const
   return text + ")";
 }
 
+namespace
+{
 /// The queries with every histogram over the current range given that range, found by
 /// one reduction of the fields' minima and maxima (collective; none without such a
 /// histogram).
 std::vector<Query> withCurrentRanges(MPI_Comm communicator, const ForestDescription& forest,
                                      std::vector<Query> queries);
+} // namespace
 
 std::vector<QueryResult> runQueries(MPI_Comm communicator, const ForestDescription& forest,
                                     const std::vector<Query>& asked)
@@ -443,6 +446,8 @@ std::vector<QueryResult> runQueries(MPI_Comm communicator, const ForestDescripti
   return results;
 }
 
+namespace
+{
 std::vector<Query> withCurrentRanges(MPI_Comm communicator, const ForestDescription& forest,
                                      std::vector<Query> queries)
 {
@@ -490,5 +495,7 @@ std::vector<Query> withCurrentRanges(MPI_Comm communicator, const ForestDescript
   }
   return queries;
 }
+
+} // namespace
 
 } // namespace canopy
