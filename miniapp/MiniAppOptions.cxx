@@ -207,6 +207,12 @@ MiniAppOptions parseOptions(int argc, char** argv)
         throw std::invalid_argument("--pipeline-arg before any --pipeline");
       o.pipelineArguments.back().push_back(value());
     }
+    else if (key == "--query")
+      o.queries.push_back(value());
+    else if (key == "--extract-trigger")
+      o.extractTrigger = value();
+    else if (key == "--extract-trigger-mode")
+      o.extractTriggerMode = value();
     else if (key == "--no-insitu")
       o.noInSitu = true;
     else if (key == "--output")
@@ -224,6 +230,9 @@ MiniAppOptions parseOptions(int argc, char** argv)
     else
       throw std::invalid_argument("unknown option '" + key + "'");
   }
+  if (o.blocks > 0 && (!o.queries.empty() || !o.extractTrigger.empty()))
+    throw std::invalid_argument("--query and --extract-trigger need --blocks 0 (queries do not "
+                                "read block forests yet)");
   if (o.dimension != 2 && o.dimension != 3)
     throw std::invalid_argument("--dimension must be 2 or 3");
   if (o.branchFactor != 2 && o.branchFactor != 3)
@@ -347,6 +356,11 @@ MPI:      --repartition-imbalance R (1.1): repartition when max/mean leaves per 
 In situ:  --output DIR (canopy-output)  --no-insitu
           --pipeline SCRIPT [--pipeline-arg ARG]...   (replaces the default pipelines)
           --image-every N (5)  --selection-every N (10)  --extract-every N (20)
+          --query EXPR: print EXPR's value every step, e.g. 'max(scalar)' or
+          'volume(scalar, 0.5, 2)'; repeatable (docs/queries.md); the values also go
+          to OUTPUT/canopy_queries.csv
+          --extract-trigger EXPR: the data extracts also need EXPR to hold, e.g.
+          'max(scalar) < 0.9'; --extract-trigger-mode while|rising|every:N (while)
           --live HOST:PORT: offer every pipeline's sources to a Catalyst Live viewer
           listening there (ParaView: Catalyst > Connect; docs/insitu.md)
           --live-pause-limit S (300): a viewer's pause holds the run at most S seconds

@@ -60,6 +60,11 @@ struct MiniAppOptions
   double liveStallLimit = 20.0;  ///< seconds of a silent viewer before it is dropped
   int selectionEvery = 10;
   int extractEvery = 20;
+  /// Query-language expressions printed every step (InSituOptions::queries).
+  std::vector<std::string> queries;
+  /// A trigger for the data extracts (their --trigger=, docs/queries.md) and its mode.
+  std::string extractTrigger;
+  std::string extractTriggerMode;
   // Reporting.
   bool quiet = false;
   bool verifyUntouched = false;

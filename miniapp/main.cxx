@@ -77,8 +77,13 @@ std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOption
   scripts.push_back({dir + "/selection_extract.py",
                      {"--frequency=" + std::to_string(o.selectionEvery), "--selection=range",
                       "--value-field=scalar", "--value-range=0.5,1e30"}});
-  scripts.push_back({dir + "/data_extracts.py",
-                     {"--frequency=" + std::to_string(o.extractEvery), "--format=both"}});
+  std::vector<std::string> extracts{"--frequency=" + std::to_string(o.extractEvery),
+                                    "--format=both"};
+  if (!o.extractTrigger.empty())
+    extracts.push_back("--trigger=" + o.extractTrigger);
+  if (!o.extractTriggerMode.empty())
+    extracts.push_back("--trigger-mode=" + o.extractTriggerMode);
+  scripts.push_back({dir + "/data_extracts.py", extracts});
   return scripts;
 }
 
@@ -97,6 +102,21 @@ std::string quadsDrawn(const canopy::StepReport& report)
               " " + std::to_string(static_cast<long long>(value));
     }
   }
+  return text;
+}
+
+/// "  max(scalar) 0.98, ..." from the step's queries, and the triggers that fired.
+std::string queryValues(const canopy::StepReport& report)
+{
+  std::string text;
+  char number[40];
+  for (const auto& [name, value] : report.expressions)
+  {
+    std::snprintf(number, sizeof number, " %.6g", value);
+    text += (text.empty() ? "  " : ", ") + name + number;
+  }
+  for (const auto& fired : report.triggersFired)
+    text += "  [" + fired + " triggered]";
   return text;
 }
 
@@ -144,6 +164,8 @@ int main(int argc, char** argv)
       insituOptions.liveUrl = options.live;
       insituOptions.livePauseLimitSeconds = options.livePauseLimit;
       insituOptions.liveStallSeconds = options.liveStallLimit;
+      insituOptions.queries = options.queries;
+      insituOptions.fields = {"scalar", "velocity", "level", "rank"};
       insitu = std::make_unique<canopy::InSitu>(MPI_COMM_WORLD, insituOptions);
     }
     const double initialMass = simulation.totalMass();
@@ -181,7 +203,15 @@ int main(int argc, char** argv)
       if (insitu)
       {
         const auto start = std::chrono::steady_clock::now();
-        if (insitu->willExecute(simulation.step(), simulation.time()))
+        if (!options.queries.empty() || !options.extractTrigger.empty())
+        {
+          // Queries every step: execute() runs them (no grid unless a pipeline is due).
+          const auto forest = simulation.describeForCanopy();
+          const auto report = insitu->execute(simulation.step(), simulation.time(), forest);
+          pipelineFailures += static_cast<int>(report.failures.size());
+          drawn = quadsDrawn(report) + queryValues(report);
+        }
+        else if (insitu->willExecute(simulation.step(), simulation.time()))
         {
           if (options.blocks > 0)
             simulation.sampleBlocks(); // collective: every rank is here

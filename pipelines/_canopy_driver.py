@@ -321,5 +321,57 @@ class DriverSide:
         return True
 
 
+    def plot_history(self, csv_path, png_path):
+        """Plots the query history at close (docs/queries.md): each query or expression
+        column against time, one panel each, every trigger's firings as vertical lines.
+        Returns '' when written, else why not (no matplotlib, no rows)."""
+        import csv
+        try:
+            import matplotlib
+            matplotlib.use("Agg")
+            from matplotlib import pyplot
+        except ImportError as error:
+            return "no plot of the query history: %s" % error
+        with open(csv_path) as f:
+            rows = list(csv.reader(f))
+        if len(rows) < 2:
+            return "no plot of the query history: no step was evaluated"
+        header, rows = rows[0], rows[1:]
+        times = [float(row[1]) for row in rows]
+        fired = [i for i, name in enumerate(header) if name.endswith(": fired")]
+        held = [i - 1 for i in fired]
+        values = [i for i in range(2, len(header)) if i not in fired and i not in held]
+        figure, axes = pyplot.subplots(max(1, len(values)), 1, sharex=True, squeeze=False,
+                                       figsize=(8, 1.8 * max(1, len(values)) + 0.8))
+        colours = pyplot.rcParams["axes.prop_cycle"].by_key()["color"]
+        for panel, column in zip(axes[:, 0], values):
+            series = [float(row[column]) for row in rows]
+            panel.plot(times, series, marker=".")
+            panel.set_ylabel(header[column], fontsize=8)
+            # A conserved quantity moves by rounding only: drawn flat around its value,
+            # not as noise under an offset like "1e-14+4.5e-2".
+            finite = [v for v in series if v == v and abs(v) != float("inf")]
+            if finite:
+                low, high = min(finite), max(finite)
+                if high - low <= 1e-9 * max(abs(low), abs(high)):
+                    margin = max(abs(high) * 1e-3, 1e-12)
+                    panel.set_ylim(low - margin, high + margin)
+            panel.ticklabel_format(axis="y", useOffset=False, style="plain")
+            for n, trigger in enumerate(fired):
+                label = header[trigger][:-len(": fired")]
+                for row, time in zip(rows, times):
+                    if float(row[trigger]):
+                        panel.axvline(time, color=colours[(n + 1) % len(colours)],
+                                      linestyle="--", linewidth=1, label=label)
+                        label = None
+        axes[-1, 0].set_xlabel("time")
+        if fired:
+            axes[0, 0].legend(fontsize=7, title="trigger fired", title_fontsize=7)
+        figure.tight_layout()
+        figure.savefig(png_path, dpi=100)
+        pyplot.close(figure)
+        return ""
+
+
 guard_catalyst_calls()
 _canopy.connect(DriverSide())

@@ -31,10 +31,15 @@ COMMON_DEFAULTS = {
     "start": 0,
     "fields": "",
     "live": "",
+    "trigger": "",
+    "trigger_mode": "",
 }
 """Settings every script has: where its files go, the channel it reads, when it runs
 (steps start, start + frequency, ...), the fields it asks for, and live: 'host:port'
-where a Catalyst Live viewer listens ('' : no Live; docs/insitu.md)."""
+where a Catalyst Live viewer listens ('' : no Live; docs/insitu.md). trigger and
+trigger_mode are the driver's: a condition on queries that must also hold for the
+script to run, and when it fires (docs/queries.md); the driver reads them from the
+script's arguments, the script only accepts them."""
 
 
 def _door():
@@ -76,6 +81,14 @@ def _run_settings():
     if run.live:
         given["live"] = run.live
     return given
+
+
+def query_values():
+    """The step's query values by their text ({"max(density)": 1.5, ...}): the queries of
+    the scripts' triggers and the driver's InSituOptions::queries (docs/queries.md), the
+    same on every rank; {} outside the driver or when no query ran this step."""
+    door = _door()
+    return dict(door.query_values()) if door is not None else {}
 
 
 def plugin_path():

@@ -4,7 +4,7 @@
 // fingerprint, a different refinement, mask or field value a different one.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <cstdint>
 #include <string>

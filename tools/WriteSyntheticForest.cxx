@@ -5,7 +5,7 @@
 //          [--branch-factor 2|3] [--roots N] [--levels L] [--no-cutaway]
 #include "SyntheticForest.h"
 
-#include <HtgFileWriter.h>
+#include <canopy/io/HtgFileWriter.h>
 
 #include <canopy/HtgBuilder.h>
 

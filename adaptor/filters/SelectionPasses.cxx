@@ -1,6 +1,6 @@
 #include "SelectionPasses.h"
 
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 namespace canopy
 {

@@ -1,7 +1,7 @@
 #include "SelectionSpec.h"
 
 #include "ByteHash.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>

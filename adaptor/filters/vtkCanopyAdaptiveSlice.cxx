@@ -1,10 +1,11 @@
-#include "vtkCanopyAdaptiveSlice.h"
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
 
 #include "AdaptiveSliceBuilder.h"
 #include "EdgeVertexExchange.h"
 #include "HyperTreeAccess.h"
 #include "HyperTreeAccessCache.h"
 #include "TreeProgress.h"
+#include "ViewDependentFilterInternals.h"
 #include "ViewVolume.h"
 
 #include <vtkDoubleArray.h>
@@ -74,7 +75,7 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
     return 0;
   }
   canopy::CameraParameters camera;
-  const bool viewUsable = this->CurrentView(camera);
+  const bool viewUsable = this->Internals->CurrentView(camera);
   std::vector<canopy::SlicePlane> planes;
   for (int axis = 0; axis < 3; ++axis)
   {
@@ -93,12 +94,12 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
   std::string problem;
   try
   {
-    access = this->Topology->get(input, false, false);
+    access = this->Internals->Topology->get(input, false, false);
     problem = canopy::AdaptiveSliceBuilder::validate(*access, planes);
   }
   catch (const std::exception& e)
   {
-    this->Topology->clear();
+    this->Internals->Topology->clear();
     problem = std::string("cannot build the slices: ") + e.what();
   }
   // A grid split between ranks: every rank agrees whether to go on and whether
@@ -127,12 +128,13 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
   }
 
   output->Initialize();
-  const CellArrays arrays = this->NewCellArrays();
+  const vtkInternals::CellArrays arrays = this->Internals->NewCellArrays();
   vtkIdType quads = 0;
   try
   {
     canopy::SliceOptions options;
-    const ViewResources resources = this->ViewOptionsFor(camera, input, options);
+    const vtkInternals::ViewResources resources =
+        this->Internals->ViewOptionsFor(camera, input, options);
     canopy::TreeProgress progress(this);
     canopy::AdaptiveSliceBuilder builder(*access, std::move(planes), options, {&progress});
     quads = static_cast<vtkIdType>(builder.count());
@@ -146,15 +148,16 @@ int vtkCanopyAdaptiveSlice::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject*
     {
       return 1; // aborted: the output stays empty
     }
-    builder.write(this->SizeCellArrays(arrays, quads, static_cast<vtkIdType>(builder.points())));
+    builder.write(
+        this->Internals->SizeCellArrays(arrays, quads, static_cast<vtkIdType>(builder.points())));
   }
   catch (const std::exception& e)
   {
-    this->Topology->clear();
+    this->Internals->Topology->clear();
     vtkErrorMacro("cannot build the slices: " << e.what());
     return 0;
   }
-  this->AssembleOutput(input, output, arrays, quads, false);
+  this->Internals->AssembleOutput(input, output, arrays, quads, false);
   return 1;
 }
 

@@ -1,4 +1,4 @@
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include "AdaptiveSurfaceBuilder.h"
 #include "EdgeVertexExchange.h"
@@ -6,6 +6,7 @@
 #include "HyperTreeAccessCache.h"
 #include "RemoteFaceExchange.h"
 #include "TreeProgress.h"
+#include "ViewDependentFilterInternals.h"
 #include "ViewVolume.h"
 
 #include <vtkDoubleArray.h>
@@ -18,7 +19,16 @@
 
 vtkStandardNewMacro(vtkCanopyAdaptiveSurface);
 
-vtkCanopyAdaptiveSurface::vtkCanopyAdaptiveSurface() = default;
+struct vtkCanopyAdaptiveSurface::vtkSurfaceInternals
+{
+  /// 3D: the builder's per-tree cell buffers, kept between executions.
+  std::vector<canopy::TreeCells> CellBuffers;
+};
+
+vtkCanopyAdaptiveSurface::vtkCanopyAdaptiveSurface()
+    : SurfaceInternals(std::make_unique<vtkSurfaceInternals>())
+{
+}
 
 vtkCanopyAdaptiveSurface::~vtkCanopyAdaptiveSurface() = default;
 
@@ -42,7 +52,7 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
     return 0;
   }
   canopy::CameraParameters camera;
-  const bool viewUsable = this->CurrentView(camera);
+  const bool viewUsable = this->Internals->CurrentView(camera);
   // Split 2D and 3D grids: every rank agrees whether to go on, whether faces
   // between ranks must be asked about (3D, masks) and whether the ranks put
   // the corners of their pieces on each other's edges (EdgeVertexExchange.h),
@@ -54,11 +64,11 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   std::string problem;
   try
   {
-    access = this->Topology->get(input, true);
+    access = this->Internals->Topology->get(input, true);
   }
   catch (const std::exception& e)
   {
-    this->Topology->clear();
+    this->Internals->Topology->clear();
     problem = e.what();
   }
   int local[3] = {!viewUsable || !access ? 1 : 0, access && access->hasMask() ? 1 : 0,
@@ -83,18 +93,20 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
 
   // Release the previous output first: its arrays can then be reused.
   output->Initialize();
-  const CellArrays arrays = this->NewCellArrays();
+  const vtkInternals::CellArrays arrays = this->Internals->NewCellArrays();
   vtkIdType quads = 0; // cells: flat pieces, or segments of a 1D grid
   canopy::TreeProgress progress(this);
   try
   {
     canopy::SurfaceOptions options;
-    const ViewResources resources = this->ViewOptionsFor(camera, input, options);
+    const vtkInternals::ViewResources resources =
+        this->Internals->ViewOptionsFor(camera, input, options);
     options.skipBackFaces = this->SkipBackFaces;
     options.remoteFaces = collective && input->GetDimension() == 3 && agreed[1] && agreed[2];
     options.sharedVertices = collective && agreed[2];
-    options.memoize = this->Topology->lastWasKept();
-    canopy::AdaptiveSurfaceBuilder builder(*access, options, &this->CellBuffers, {&progress});
+    options.memoize = this->Internals->Topology->lastWasKept();
+    canopy::AdaptiveSurfaceBuilder builder(*access, options, &this->SurfaceInternals->CellBuffers,
+                                           {&progress});
     builder.count();
     if (options.remoteFaces)
     {
@@ -111,7 +123,8 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
       return 1; // aborted: the output stays empty
     }
     quads = static_cast<vtkIdType>(builder.cells());
-    builder.write(this->SizeCellArrays(arrays, quads, static_cast<vtkIdType>(builder.points())));
+    builder.write(
+        this->Internals->SizeCellArrays(arrays, quads, static_cast<vtkIdType>(builder.points())));
     if (progress.stopped())
     {
       return 1; // aborted: the arrays are partly written, the output stays empty
@@ -119,14 +132,14 @@ int vtkCanopyAdaptiveSurface::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObjec
   }
   catch (const std::exception& e)
   {
-    this->Topology->clear();
+    this->Internals->Topology->clear();
     vtkErrorMacro("cannot build the surface: " << e.what());
     return 0;
   }
-  this->AssembleOutput(input, output, arrays, quads, input->GetDimension() == 1);
+  this->Internals->AssembleOutput(input, output, arrays, quads, input->GetDimension() == 1);
   if (input->GetDimension() == 3)
   {
-    this->AddAxisNormals(output);
+    this->Internals->AddAxisNormals(output);
   }
   return 1;
 }

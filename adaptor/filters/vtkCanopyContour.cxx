@@ -1,10 +1,11 @@
-#include "vtkCanopyContour.h"
+#include <canopy/filters/vtkCanopyContour.h>
 
 #include "ContourBuilder.h"
 #include "ContourField.h"
 #include "HyperTreeAccessCache.h"
 #include "NodeRanges.h"
 #include "TreeProgress.h"
+#include "ViewDependentFilterInternals.h"
 #include "ViewVolume.h"
 
 #include <vtkCellArray.h>
@@ -209,7 +210,7 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
   }
   output->Initialize();
   canopy::CameraParameters camera;
-  if (!this->CurrentView(camera))
+  if (!this->Internals->CurrentView(camera))
   {
     return 0; // said why
   }
@@ -250,7 +251,7 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
     // Explicit global indices read once into tables (kept with the access
     // while the topology holds): the traversal asks for one per node, and the
     // pruning pass for every node. No masked-descendant flags.
-    const auto access = this->Topology->get(input, true, false);
+    const auto access = this->Internals->Topology->get(input, true, false);
     auto tooShort = [&](vtkDataArray* a)
     { return a->GetNumberOfTuples() < access->numberOfCells(); };
     if (tooShort(array) || std::any_of(interpolated.begin(), interpolated.end(), tooShort))
@@ -261,7 +262,7 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
     const canopy::ContourField field(array, this->ArrayComponent);
     const int maximumLevel = std::max(this->MaximumLevel, -1);
     canopy::ViewOptions options;
-    const ViewResources resources = this->ViewOptionsFor(camera, input, options);
+    const vtkInternals::ViewResources resources = this->Internals->ViewOptionsFor(camera, input, options);
     canopy::ContourBuilder builder(*access, field, values, maximumLevel, options);
     canopy::TreeProgress progress(this);
     const canopy::ProgressShare share{&progress};
@@ -298,7 +299,7 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
   }
   catch (const std::exception& e)
   {
-    this->Topology->clear();
+    this->Internals->Topology->clear();
     *this->Kept = KeptRanges{};
     vtkErrorMacro("cannot contour: " << e.what());
     return 0;

@@ -1,4 +1,4 @@
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include "CellSelection.h"
 #include "HyperTreeAccess.h"
@@ -23,9 +23,17 @@
 
 vtkStandardNewMacro(vtkCanopyExtractSelection);
 
-vtkCanopyExtractSelection::vtkCanopyExtractSelection()
-    : Topology(std::make_unique<canopy::HyperTreeAccessCache>()),
-      MaskMemo(std::make_unique<canopy::SelectionMaskMemo>())
+struct vtkCanopyExtractSelection::vtkInternals
+{
+  /// The input's topology read once while it is unchanged (a value range that
+  /// changes every step re-reads nothing but the values).
+  canopy::HyperTreeAccessCache Topology;
+  /// The last mask, tree by tree (PreserveTopology): the next execution redoes
+  /// only the trees whose inputs changed.
+  canopy::SelectionMaskMemo MaskMemo;
+};
+
+vtkCanopyExtractSelection::vtkCanopyExtractSelection() : Internals(std::make_unique<vtkInternals>())
 {
   this->SetNumberOfInputPorts(2);
 }
@@ -163,19 +171,19 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     // Neither index tables nor masked-descendant flags: selections read only
     // the nodes they walk.
     const std::shared_ptr<const canopy::HyperTreeAccess> access =
-        this->Topology->get(input, false, false);
+        this->Internals->Topology.get(input, false, false);
     const canopy::HyperTreeAccess& grid = *access;
     canopy::CellSelection selection(grid, this->AllowMasked);
     selection.setProgress(share.part(0, 0.5));
     if (this->PreserveTopology)
     {
       // Trees whose mask is kept from the last execution are not marked again.
-      this->MaskMemo->begin(grid, spec.fingerprint(grid, this->AllowMasked),
-                            spec.readsByCellNumber());
+      this->Internals->MaskMemo.begin(grid, spec.fingerprint(grid, this->AllowMasked),
+                                      spec.readsByCellNumber());
     }
     else
     {
-      this->MaskMemo->clear();
+      this->Internals->MaskMemo.clear();
     }
     const canopy::SelectionRegion region = canopy::regionOf(selection, spec);
     canopy::SelectionReport report;
@@ -188,7 +196,7 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
     this->LastVisited = static_cast<vtkIdType>(report.visited);
     if (progress.stopped())
     {
-      this->MaskMemo->clear();
+      this->Internals->MaskMemo.clear();
       return abandon();
     }
     if (this->PreserveTopology)
@@ -196,15 +204,16 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
       // The same grid with a mask: no node list for the complement, no copy.
       std::size_t visited = 0;
       const canopy::SelectionMaskResult shown =
-          canopy::selectionMaskOf(grid, spec, region, nodes, this->AllowMasked, *this->MaskMemo,
-                                  share.part(0.5, 1), visited);
+          canopy::selectionMaskOf(grid, spec, region, nodes, this->AllowMasked,
+                                  this->Internals->MaskMemo, share.part(0.5, 1), visited);
       this->LastVisited += static_cast<vtkIdType>(visited);
       if (progress.stopped())
       {
         return abandon();
       }
-      this->LastKeptTrees = static_cast<vtkIdType>(this->MaskMemo->keptTrees());
-      this->LastRecomputedNodes = static_cast<vtkIdType>(this->MaskMemo->recomputedNodes());
+      this->LastKeptTrees = static_cast<vtkIdType>(this->Internals->MaskMemo.keptTrees());
+      this->LastRecomputedNodes =
+          static_cast<vtkIdType>(this->Internals->MaskMemo.recomputedNodes());
       std::copy(shown.bounds.begin(), shown.bounds.end(), this->LastSelectedBounds);
       canopy::shareWithMask(input, vtkHyperTreeGrid::SafeDownCast(outputObject), shown.mask,
                             shown.pure);
@@ -228,8 +237,8 @@ int vtkCanopyExtractSelection::RequestData(vtkInformation*, vtkInformationVector
   }
   catch (const std::exception& e)
   {
-    this->Topology->clear();
-    this->MaskMemo->clear();
+    this->Internals->Topology.clear();
+    this->Internals->MaskMemo.clear();
     vtkErrorMacro("cannot extract the selection: " << e.what());
     return 0;
   }

@@ -1,4 +1,6 @@
-#include "vtkCanopyViewDependentFilter.h"
+#include <canopy/filters/vtkCanopyViewDependentFilter.h>
+
+#include "ViewDependentFilterInternals.h"
 
 #include "AdaptiveSurfaceBuilder.h"
 #include "GatherFromAll.h"
@@ -51,12 +53,20 @@ vtkRenderer* vtkCanopyViewDependentFilter::GetRenderer()
 vtkCxxSetObjectMacro(vtkCanopyViewDependentFilter, Camera, vtkCamera);
 vtkCxxSetObjectMacro(vtkCanopyViewDependentFilter, ColorMap, vtkScalarsToColors);
 
-vtkCanopyViewDependentFilter::ViewResources::ViewResources() = default;
-vtkCanopyViewDependentFilter::ViewResources::~ViewResources() = default;
-vtkCanopyViewDependentFilter::ViewResources::ViewResources(ViewResources&&) noexcept = default;
+vtkCanopyViewDependentFilter::vtkInternals::ViewResources::ViewResources() = default;
+vtkCanopyViewDependentFilter::vtkInternals::ViewResources::~ViewResources() = default;
+vtkCanopyViewDependentFilter::vtkInternals::ViewResources::ViewResources(ViewResources&&) noexcept =
+    default;
+
+vtkCanopyViewDependentFilter::vtkInternals::vtkInternals(vtkCanopyViewDependentFilter& filter)
+    : Topology(std::make_unique<canopy::HyperTreeAccessCache>()), Filter(filter)
+{
+}
+
+vtkCanopyViewDependentFilter::vtkInternals::~vtkInternals() = default;
 
 vtkCanopyViewDependentFilter::vtkCanopyViewDependentFilter()
-    : Topology(std::make_unique<canopy::HyperTreeAccessCache>())
+    : Internals(std::make_unique<vtkInternals>(*this))
 {
   this->AppropriateOutput = true;
   this->SetController(vtkMultiProcessController::GetGlobalController());
@@ -100,22 +110,23 @@ vtkMTimeType vtkCanopyViewDependentFilter::GetMTime()
   {
     time = std::max(time, this->Renderer->GetMTime());
     const int* size = this->Renderer->GetSize();
-    if (size[0] != this->LastRendererSize[0] || size[1] != this->LastRendererSize[1])
+    if (size[0] != this->Internals->LastRendererSize[0] ||
+        size[1] != this->Internals->LastRendererSize[1])
     {
-      this->LastRendererSize[0] = size[0];
-      this->LastRendererSize[1] = size[1];
-      this->RendererSizeTime.Modified();
+      this->Internals->LastRendererSize[0] = size[0];
+      this->Internals->LastRendererSize[1] = size[1];
+      this->Internals->RendererSizeTime.Modified();
     }
-    time = std::max(time, this->RendererSizeTime.GetMTime());
+    time = std::max(time, this->Internals->RendererSizeTime.GetMTime());
     // Do not create a camera just to ask for its time.
     camera = this->Renderer->IsActiveCameraCreated() ? this->Renderer->GetActiveCamera() : nullptr;
   }
-  if (camera != this->LastCamera)
+  if (camera != this->Internals->LastCamera)
   {
-    this->LastCamera = camera;
-    this->CameraSwapTime.Modified();
+    this->Internals->LastCamera = camera;
+    this->Internals->CameraSwapTime.Modified();
   }
-  time = std::max(time, this->CameraSwapTime.GetMTime());
+  time = std::max(time, this->Internals->CameraSwapTime.GetMTime());
   if (camera)
   {
     time = std::max(time, camera->GetMTime());
@@ -133,7 +144,7 @@ int vtkCanopyViewDependentFilter::RequestData(vtkInformation* request,
                                               vtkInformationVector** inputVector,
                                               vtkInformationVector* outputVector)
 {
-  this->ExecutedView.reset();
+  this->Internals->ExecutedView.reset();
   this->LastPixelFiltered = 0;
   const int done = this->Superclass::RequestData(request, inputVector, outputVector);
   vtkHyperTreeGrid* input = vtkHyperTreeGrid::GetData(inputVector[0], 0);
@@ -141,11 +152,11 @@ int vtkCanopyViewDependentFilter::RequestData(vtkInformation* request,
   // Everything deciding whether to filter is the same on every rank (the
   // properties, the view, the input's shape), so all or none exchange.
   if (!this->FilterColorsOnPixels || !this->ColorMap || this->ColorField.empty() ||
-      !this->ViewDependent || !this->ExecutedView || !input || !output)
+      !this->ViewDependent || !this->Internals->ExecutedView || !input || !output)
   {
     return done;
   }
-  const canopy::ViewVolume view(*this->ExecutedView);
+  const canopy::ViewVolume view(*this->Internals->ExecutedView);
   const int axis = canopy::PixelBoxFilter::faceOnAxis(view);
   if (axis < 0 || !this->OneLayerFacing(input, axis))
   {
@@ -184,19 +195,21 @@ int vtkCanopyViewDependentFilter::FillOutputPortInformation(int, vtkInformation*
   return 1;
 }
 
-bool vtkCanopyViewDependentFilter::CurrentView(canopy::CameraParameters& camera)
+bool vtkCanopyViewDependentFilter::vtkInternals::CurrentView(canopy::CameraParameters& camera)
 {
-  if (!(this->PixelThreshold > 0) || !std::isfinite(this->PixelThreshold))
+  if (!(this->Filter.PixelThreshold > 0) || !std::isfinite(this->Filter.PixelThreshold))
   {
-    vtkErrorMacro("PixelThreshold must be a positive finite number of pixels, got "
-                  << this->PixelThreshold);
+    vtkErrorWithObjectMacro(&this->Filter,
+                            "PixelThreshold must be a positive finite number of pixels, got "
+                                << this->Filter.PixelThreshold);
     return false;
   }
-  if (!this->ViewDependent)
+  if (!this->Filter.ViewDependent)
   {
     return true;
   }
-  vtkCamera* source = this->Renderer ? this->Renderer->GetActiveCamera() : this->Camera;
+  vtkCamera* source =
+      this->Filter.Renderer ? this->Filter.Renderer->GetActiveCamera() : this->Filter.Camera;
   if (source)
   {
     source->GetPosition(camera.position.data());
@@ -207,69 +220,75 @@ bool vtkCanopyViewDependentFilter::CurrentView(canopy::CameraParameters& camera)
     camera.viewAngle = source->GetViewAngle();
     if (!camera.parallelProjection && source->GetUseHorizontalViewAngle())
     {
-      vtkErrorMacro("cameras with a horizontal view angle are not supported");
+      vtkErrorWithObjectMacro(&this->Filter,
+                              "cameras with a horizontal view angle are not supported");
       return false;
     }
   }
   else
   {
-    std::copy(this->CameraPosition, this->CameraPosition + 3, camera.position.begin());
-    std::copy(this->CameraFocalPoint, this->CameraFocalPoint + 3, camera.focalPoint.begin());
-    std::copy(this->CameraViewUp, this->CameraViewUp + 3, camera.viewUp.begin());
-    camera.parallelProjection = this->ParallelProjection;
-    camera.parallelScale = this->ParallelScale;
-    camera.viewAngle = this->ViewAngle;
+    std::copy(this->Filter.CameraPosition, this->Filter.CameraPosition + 3,
+              camera.position.begin());
+    std::copy(this->Filter.CameraFocalPoint, this->Filter.CameraFocalPoint + 3,
+              camera.focalPoint.begin());
+    std::copy(this->Filter.CameraViewUp, this->Filter.CameraViewUp + 3, camera.viewUp.begin());
+    camera.parallelProjection = this->Filter.ParallelProjection;
+    camera.parallelScale = this->Filter.ParallelScale;
+    camera.viewAngle = this->Filter.ViewAngle;
   }
-  const int* size = this->Renderer ? this->Renderer->GetSize() : this->ViewportSize;
+  const int* size =
+      this->Filter.Renderer ? this->Filter.Renderer->GetSize() : this->Filter.ViewportSize;
   camera.viewportWidth = size[0];
   camera.viewportHeight = size[1];
   const std::string problem = canopy::ViewVolume::validate(camera);
   if (!problem.empty())
   {
-    vtkErrorMacro("invalid view: " << problem);
+    vtkErrorWithObjectMacro(&this->Filter, "invalid view: " << problem);
     return false;
   }
   this->ExecutedView = std::make_unique<canopy::CameraParameters>(camera);
   return true;
 }
 
-vtkCanopyViewDependentFilter::ViewResources
-vtkCanopyViewDependentFilter::ViewOptionsFor(const canopy::CameraParameters& camera,
-                                             vtkHyperTreeGrid* input,
-                                             canopy::ViewOptions& options) const
+vtkCanopyViewDependentFilter::vtkInternals::ViewResources
+vtkCanopyViewDependentFilter::vtkInternals::ViewOptionsFor(const canopy::CameraParameters& camera,
+                                                           vtkHyperTreeGrid* input,
+                                                           canopy::ViewOptions& options) const
 {
   ViewResources resources;
-  if (this->ViewDependent)
+  if (this->Filter.ViewDependent)
   {
     resources.View = std::make_unique<canopy::ViewVolume>(camera);
   }
-  if (this->ColorMap && !this->ColorField.empty())
+  if (this->Filter.ColorMap && !this->Filter.ColorField.empty())
   {
-    vtkDataArray* values = input->GetCellData()->GetArray(this->ColorField.c_str());
+    vtkDataArray* values = input->GetCellData()->GetArray(this->Filter.ColorField.c_str());
     if (!values)
     {
-      throw std::invalid_argument("ColorField: no cell field named '" + this->ColorField + "'");
+      throw std::invalid_argument("ColorField: no cell field named '" + this->Filter.ColorField +
+                                  "'");
     }
-    if (this->ColorComponent >= values->GetNumberOfComponents() || this->ColorComponent < -1)
+    if (this->Filter.ColorComponent >= values->GetNumberOfComponents() ||
+        this->Filter.ColorComponent < -1)
     {
-      throw std::invalid_argument("ColorComponent " + std::to_string(this->ColorComponent) +
-                                  ": field '" + this->ColorField + "' has " +
+      throw std::invalid_argument("ColorComponent " + std::to_string(this->Filter.ColorComponent) +
+                                  ": field '" + this->Filter.ColorField + "' has " +
                                   std::to_string(values->GetNumberOfComponents()) +
                                   " component(s)");
     }
     // A one-component field is mapped by its value, not its magnitude.
-    const int component = values->GetNumberOfComponents() == 1 ? 0 : this->ColorComponent;
-    if (!this->SampledColorMap || !this->SampledColorMap->sampledFrom(this->ColorMap))
+    const int component = values->GetNumberOfComponents() == 1 ? 0 : this->Filter.ColorComponent;
+    if (!this->SampledColorMap || !this->SampledColorMap->sampledFrom(this->Filter.ColorMap))
     {
-      this->SampledColorMap = std::make_shared<canopy::ColorTable>(this->ColorMap);
+      this->SampledColorMap = std::make_shared<canopy::ColorTable>(this->Filter.ColorMap);
     }
     this->SampledColorMap->setField(values, component);
     resources.Colors = this->SampledColorMap;
   }
   options.view = resources.View.get();
-  options.cullOutsideView = this->ViewCulling;
-  options.levelOfDetail = this->LevelOfDetail;
-  options.pixelThreshold = this->PixelThreshold;
+  options.cullOutsideView = this->Filter.ViewCulling;
+  options.levelOfDetail = this->Filter.LevelOfDetail;
+  options.pixelThreshold = this->Filter.PixelThreshold;
   options.colors = resources.Colors.get();
   return resources;
 }
@@ -306,8 +325,8 @@ bool storageShared(vtkDataArray* array)
 } // namespace
 
 template <typename ArrayType>
-vtkSmartPointer<ArrayType> vtkCanopyViewDependentFilter::ReusableArray(const std::string& key,
-                                                                       int dataType)
+vtkSmartPointer<ArrayType>
+vtkCanopyViewDependentFilter::vtkInternals::ReusableArray(const std::string& key, int dataType)
 {
   // Fresh memory is expensive (first-touch page faults cost more than writing
   // the output); an array only this filter still holds is reused instead.
@@ -326,7 +345,8 @@ vtkSmartPointer<ArrayType> vtkCanopyViewDependentFilter::ReusableArray(const std
 }
 
 vtkSmartPointer<vtkIdTypeArray>
-vtkCanopyViewDependentFilter::ArithmeticIds(const std::string& key, vtkIdType count, vtkIdType step)
+vtkCanopyViewDependentFilter::vtkInternals::ArithmeticIds(const std::string& key, vtkIdType count,
+                                                          vtkIdType step)
 {
   KeptSequence& kept = this->Sequences[key];
   // The values are right if ReusableArray hands back the array this wrote last,
@@ -358,7 +378,8 @@ vtkCanopyViewDependentFilter::ArithmeticIds(const std::string& key, vtkIdType co
   return array;
 }
 
-vtkCanopyViewDependentFilter::CellArrays vtkCanopyViewDependentFilter::NewCellArrays()
+vtkCanopyViewDependentFilter::vtkInternals::CellArrays
+vtkCanopyViewDependentFilter::vtkInternals::NewCellArrays()
 {
   CellArrays arrays;
   arrays.Points = this->ReusableArray<vtkDoubleArray>("points", VTK_DOUBLE);
@@ -368,7 +389,7 @@ vtkCanopyViewDependentFilter::CellArrays vtkCanopyViewDependentFilter::NewCellAr
   arrays.Ids->SetName("OriginalCellId");
   arrays.Levels = this->ReusableArray<vtkUnsignedCharArray>("Level", VTK_UNSIGNED_CHAR);
   arrays.Levels->SetName("Level");
-  if (this->ColorMap && !this->ColorField.empty())
+  if (this->Filter.ColorMap && !this->Filter.ColorField.empty())
   {
     arrays.Colors = this->ReusableArray<vtkUnsignedCharArray>("Colors", VTK_UNSIGNED_CHAR);
     arrays.Colors->SetName("Colors");
@@ -377,9 +398,9 @@ vtkCanopyViewDependentFilter::CellArrays vtkCanopyViewDependentFilter::NewCellAr
   return arrays;
 }
 
-canopy::SurfaceArrays vtkCanopyViewDependentFilter::SizeCellArrays(const CellArrays& arrays,
-                                                                   vtkIdType cells,
-                                                                   vtkIdType points)
+canopy::SurfaceArrays
+vtkCanopyViewDependentFilter::vtkInternals::SizeCellArrays(const CellArrays& arrays,
+                                                           vtkIdType cells, vtkIdType points)
 {
   // Allocated once, written in place by the trees in parallel.
   arrays.Points->SetNumberOfTuples(points);
@@ -394,9 +415,10 @@ canopy::SurfaceArrays vtkCanopyViewDependentFilter::SizeCellArrays(const CellArr
           arrays.Levels->GetPointer(0), arrays.Colors ? arrays.Colors->GetPointer(0) : nullptr};
 }
 
-void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPolyData* output,
-                                                  const CellArrays& arrays, vtkIdType cells,
-                                                  bool segments)
+void vtkCanopyViewDependentFilter::vtkInternals::AssembleOutput(vtkHyperTreeGrid* input,
+                                                                vtkPolyData* output,
+                                                                const CellArrays& arrays,
+                                                                vtkIdType cells, bool segments)
 {
   vtkNew<vtkPoints> points;
   points->SetData(arrays.Points);
@@ -426,8 +448,9 @@ void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPo
     {
       continue;
     }
-    if (!this->Fields.empty() &&
-        std::find(this->Fields.begin(), this->Fields.end(), array->GetName()) == this->Fields.end())
+    if (!this->Filter.Fields.empty() &&
+        std::find(this->Filter.Fields.begin(), this->Filter.Fields.end(), array->GetName()) ==
+            this->Filter.Fields.end())
     {
       continue;
     }
@@ -443,7 +466,7 @@ void vtkCanopyViewDependentFilter::AssembleOutput(vtkHyperTreeGrid* input, vtkPo
   }
 }
 
-void vtkCanopyViewDependentFilter::AddAxisNormals(vtkPolyData* output)
+void vtkCanopyViewDependentFilter::vtkInternals::AddAxisNormals(vtkPolyData* output)
 {
   auto normals = this->ReusableArray<vtkFloatArray>("Normals", VTK_FLOAT);
   normals->SetName("Normals");
@@ -482,7 +505,7 @@ void vtkCanopyViewDependentFilter::AddAxisNormals(vtkPolyData* output)
 
 bool vtkCanopyViewDependentFilter::GetLastTopologyKept() const
 {
-  return this->Topology->lastWasKept();
+  return this->Internals->Topology->lastWasKept();
 }
 
 void vtkCanopyViewDependentFilter::PrintSelf(ostream& os, vtkIndent indent)

@@ -16,7 +16,7 @@
 #pragma once
 
 #include "ForestLayout.h"
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <array>
 #include <cstddef>

@@ -16,7 +16,7 @@
 #pragma once
 
 #include "BlockCells.h"
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <cstddef>
 #include <memory>

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "ForestLayout.h"
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 namespace canopy
 {

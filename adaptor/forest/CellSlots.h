@@ -13,7 +13,7 @@
 #include "ForestLayout.h"
 #include "FreshMemory.h"
 #include "StorageSlots.h"
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <cstdint>
 #include <memory>

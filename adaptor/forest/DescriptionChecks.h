@@ -2,7 +2,7 @@
 // how a tree is named in a message, counting set bytes, pointer alignment.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <cstddef>
 #include <cstdint>

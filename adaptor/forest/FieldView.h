@@ -6,7 +6,7 @@
 // fields (restriction of leaf values, borrowing arrays) uses this one form.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <cstddef>
 #include <cstring>

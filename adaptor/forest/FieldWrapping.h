@@ -4,8 +4,8 @@
 #include "BlockCells.h"
 #include "CellSlots.h"
 #include "LeafRestriction.h"
-#include "canopy/ForestDescription.h"
-#include "canopy/ForestValidation.h"
+#include <canopy/ForestDescription.h>
+#include <canopy/ForestValidation.h>
 
 #include <vtkSmartPointer.h>
 

@@ -1,4 +1,4 @@
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 namespace canopy
 {

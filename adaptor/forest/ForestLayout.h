@@ -4,7 +4,7 @@
 // face of the same pass is canopy/ForestValidation.h (validateForest, counts only).
 #pragma once
 
-#include "canopy/ForestValidation.h"
+#include <canopy/ForestValidation.h>
 
 #include <array>
 #include <cstddef>

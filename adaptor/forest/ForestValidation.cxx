@@ -1,5 +1,5 @@
-#include "canopy/ForestValidation.h"
 #include "ForestLayout.h"
+#include <canopy/ForestValidation.h>
 
 #include "BlockValidation.h"
 #include "DescriptionChecks.h"

@@ -8,8 +8,8 @@
 #include "CellSlots.h"
 #include "ForestLayout.h"
 #include "LeafRestriction.h"
-#include "canopy/ForestDescription.h"
-#include "canopy/HtgBuilder.h"
+#include <canopy/ForestDescription.h>
+#include <canopy/HtgBuilder.h>
 
 #include <vtkSmartPointer.h>
 

@@ -1,4 +1,4 @@
-#include "canopy/GridBuilder.h"
+#include <canopy/GridBuilder.h>
 
 #include "ByteHash.h"
 #include "GridAssembly.h"

@@ -1,4 +1,4 @@
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include "GridAssembly.h"
 #include "TopologyStamp.h"

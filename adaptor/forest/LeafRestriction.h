@@ -11,7 +11,7 @@
 
 #include "CellSlots.h"
 #include "ForestLayout.h"
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <cstdint>
 #include <memory>

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "ForestLayout.h"
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <cstddef>
 

@@ -2,16 +2,18 @@
 // ForestDescription and InSitu. Each runs its body through guarded() (or
 // onHandle(), creating(): CApiStatus.h), so no exception crosses into C; the
 // checks of their arguments are in CApiArguments.h.
-#include "canopy/canopy.h"
+#include <canopy/canopy.h>
 
 #include "CApiArguments.h"
 #include "CApiStatus.h"
 
-#include "canopy/ForestValidation.h"
-#include "canopy/InSitu.h"
+#include <canopy/ForestValidation.h>
+#include <canopy/InSitu.h>
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <map>
 #include <memory>
 #include <string>
 #include <tuple>
@@ -34,12 +36,30 @@ struct canopy_forest
 struct canopy_insitu
 {
   std::unique_ptr<canopy::InSitu> driver;
+  /// The last evaluated step's values: expressions and queries, by their text.
+  std::map<std::string, double> queryValues;
+  bool queriesEvaluated = false;
 };
 
 using namespace canopy::capi;
 
 namespace
 {
+
+/// Keeps the step's query values for canopy_query_value (when it evaluated them).
+void keepQueryValues(canopy_insitu& handle, const canopy::StepReport& report)
+{
+  if (!report.queriesEvaluated)
+  {
+    return;
+  }
+  handle.queriesEvaluated = true;
+  handle.queryValues = report.expressions;
+  for (const auto& [text, result] : report.queries)
+  {
+    handle.queryValues[text] = result.value;
+  }
+}
 
 /// An options call: `change` gets the options once the handle is checked.
 template <typename Change>
@@ -312,6 +332,28 @@ extern "C"
                            values.stepTimeLimitSeconds = seconds;
                            return succeed();
                          });
+  }
+
+  int canopy_options_add_query(canopy_options* options, const char* expression)
+  {
+    static const char* const function = "canopy_options_add_query";
+    return changeOptionsWithText(function, options, "expression", expression, false,
+                                 [&](canopy::InSituOptions& values)
+                                 {
+                                   values.queries.emplace_back(expression);
+                                   return succeed();
+                                 });
+  }
+
+  int canopy_options_add_field_name(canopy_options* options, const char* name)
+  {
+    static const char* const function = "canopy_options_add_field_name";
+    return changeOptionsWithText(function, options, "name", name, false,
+                                 [&](canopy::InSituOptions& values)
+                                 {
+                                   values.fields.emplace_back(name);
+                                   return succeed();
+                                 });
   }
 
   int canopy_forest_create(int dimension, int branch_factor, int max_levels, const double* x,
@@ -765,6 +807,7 @@ extern "C"
                       static const canopy::ForestDescription nothing{};
                       const auto report = handle.driver->execute(
                           step, time, forest ? forest->description : nothing);
+                      keepQueryValues(handle, report);
                       std::string message =
                           forest ? "" : "canopy_execute: the forest handle is NULL on this rank";
                       for (const auto& failure : report.failures)
@@ -778,6 +821,54 @@ extern "C"
                       return report.failures.empty()
                                  ? succeed()
                                  : fail(CANOPY_STEP_FAILED, "%s", message.c_str());
+                    });
+  }
+
+  int canopy_will_execute_forest(canopy_insitu* insitu, int64_t step, double time,
+                                 const canopy_forest* forest, int* will_execute)
+  {
+    static const char* const function = "canopy_will_execute_forest";
+    return onHandle(
+        function, CANOPY_STEP_FAILED, insitu, "insitu",
+        [&](canopy_insitu& handle)
+        {
+          // Collective whatever the arguments, like canopy_execute.
+          static const canopy::ForestDescription nothing{};
+          const bool will =
+              handle.driver->willExecute(step, time, forest ? forest->description : nothing);
+          if (will_execute == nullptr)
+          {
+            return fail(CANOPY_INVALID_ARGUMENT, "%s: the result pointer is NULL", function);
+          }
+          *will_execute = will ? 1 : 0;
+          return succeed();
+        });
+  }
+
+  int canopy_query_value(canopy_insitu* insitu, const char* expression, double* value)
+  {
+    static const char* const function = "canopy_query_value";
+    return onHandle(function, CANOPY_INVALID_ARGUMENT, insitu, "insitu",
+                    [&](canopy_insitu& handle)
+                    {
+                      if (expression == nullptr || value == nullptr)
+                      {
+                        return fail(CANOPY_INVALID_ARGUMENT,
+                                    "%s: the expression or the value pointer is NULL", function);
+                      }
+                      *value = std::numeric_limits<double>::quiet_NaN();
+                      const auto found = handle.queryValues.find(expression);
+                      if (found == handle.queryValues.end())
+                      {
+                        return handle.queriesEvaluated
+                                   ? fail(CANOPY_INVALID_ARGUMENT,
+                                          "%s: '%s' is neither a query nor an expression of "
+                                          "this run",
+                                          function, expression)
+                                   : succeed();
+                      }
+                      *value = found->second;
+                      return succeed();
                     });
   }
 

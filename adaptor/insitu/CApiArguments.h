@@ -3,8 +3,8 @@
 // ("<function>: ..."), so an entry point returns it as it is.
 #pragma once
 
-#include "canopy/ForestDescription.h"
-#include "canopy/canopy.h"
+#include <canopy/ForestDescription.h>
+#include <canopy/canopy.h>
 
 #include <cstddef>
 

@@ -3,7 +3,7 @@
 // frames would terminate the simulation), so each call's body runs guarded().
 #pragma once
 
-#include "canopy/canopy.h"
+#include <canopy/canopy.h>
 
 #include <new>
 #include <stdexcept>

@@ -26,6 +26,7 @@ struct Run
   MPI_Comm reductions;
   const CollectiveAgreement* agreement;
   StepWatchdog* watchdog;
+  std::map<std::string, double> queryValues; ///< the step's (setQueryValues)
 };
 
 // Python's objects live as long as the process's interpreter: created once,
@@ -38,7 +39,7 @@ PyTypeObject* runSettingsType = nullptr;
 
 /// The methods connect() requires of a side: what PythonSide calls.
 const char* const sideMethods[] = {"take_failure", "take_measures", "discard_outputs",
-                                   "install_interrupt"};
+                                   "install_interrupt", "plot_history"};
 
 /// Text for Python, as os.environ decodes it: UTF-8, undecodable bytes kept as
 /// surrogates (paths and arguments arrive intact whatever their bytes).
@@ -156,6 +157,26 @@ PyObject* scriptArguments(PyObject*, PyObject* arguments)
   return list.ReleaseReference();
 }
 
+PyObject* queryValues(PyObject*, PyObject*)
+{
+  const Run* run = requireRun();
+  if (run == nullptr)
+  {
+    return nullptr;
+  }
+  vtkSmartPyObject values(PyDict_New());
+  for (const auto& [text, value] : run->queryValues)
+  {
+    vtkSmartPyObject key(toPython(text));
+    vtkSmartPyObject number(PyFloat_FromDouble(value));
+    if (!key || !number || PyDict_SetItem(values, key, number) != 0)
+    {
+      return nullptr;
+    }
+  }
+  return values.ReleaseReference();
+}
+
 PyObject* reduceOverRanks(PyObject*, PyObject* arguments)
 {
   PyObject* values = nullptr;
@@ -270,6 +291,9 @@ PyMethodDef methods[] = {
     {"script_arguments", &scriptArguments, METH_VARARGS,
      "script_arguments(path) -> [str]: the arguments the simulation gave the script at path "
      "([] if none)."},
+    {"query_values", &queryValues, METH_NOARGS,
+     "query_values() -> {str: float}: the step's queries and InSituOptions::queries by their "
+     "text (docs/queries.md), the same on every rank; {} when none ran this step."},
     {"reduce", &reduceOverRanks, METH_VARARGS,
      "reduce(values, operation) -> [float]: values reduced element-wise over the ranks with "
      "'min', 'max' or 'sum'. Collective: every rank calls it, with as many values."},
@@ -281,7 +305,8 @@ PyMethodDef methods[] = {
      "call must stop."},
     {"connect", &connectSide, METH_VARARGS,
      "connect(side): registers the object the driver calls: take_failure(), "
-     "take_measures(evaluate), discard_outputs(script_path), install_interrupt(signal_number)."},
+     "take_measures(evaluate), discard_outputs(script_path), install_interrupt(signal_number), "
+     "plot_history(csv_path, png_path)."},
     {nullptr, nullptr, 0, nullptr}};
 
 PyModuleDef definition = {PyModuleDef_HEAD_INIT,
@@ -434,6 +459,24 @@ bool PythonSide::installInterrupt(int signalNumber)
   return installed.GetPointer() == Py_True;
 }
 
+std::string PythonSide::plotHistory(const std::string& csvPath, const std::string& pngPath)
+{
+  vtkPythonScopeGilEnsurer gil;
+  if (side == nullptr)
+  {
+    return "no Python side to plot the query history with";
+  }
+  vtkSmartPyObject csv(toPython(csvPath));
+  vtkSmartPyObject png(toPython(pngPath));
+  vtkSmartPyObject problem(
+      callSide("plot_history", false, "(OO)", csv.GetPointer(), png.GetPointer()));
+  if (!problem)
+  {
+    return "plotting the query history raised an error";
+  }
+  return fromPython(problem);
+}
+
 void interruptScriptByPendingCall()
 {
   Py_AddPendingCall(&raisePendingInterrupt, nullptr);
@@ -458,12 +501,20 @@ CanopyModule::CanopyModule(PythonRunSettings settings, MPI_Comm communicator,
     install();
   }
   openRun = std::make_unique<Run>(
-      Run{std::move(settings), this->Reductions->get(), &agreement, &watchdog});
+      Run{std::move(settings), this->Reductions->get(), &agreement, &watchdog, {}});
 }
 
 CanopyModule::~CanopyModule()
 {
   openRun.reset();
+}
+
+void CanopyModule::setQueryValues(std::map<std::string, double> values)
+{
+  if (openRun != nullptr)
+  {
+    openRun->queryValues = std::move(values);
+  }
 }
 
 std::string CanopyModule::importHelperModules(const std::string& pipelinesDirectory)

@@ -16,6 +16,9 @@
 //       the ranks' agreement between a script's catalyst_execute and its extracts;
 //       `outcome` "" where the script succeeded, else its failure; collective, on the
 //       driver's agreement communicator
+//   query_values() -> {str: float}
+//       the step's query values (StepReport::queries' values and ::expressions) by their
+//       text, the same on every rank; {} when no query ran at this step
 //   interrupt_wanted() -> str or None
 //       the step time limit's message when the running script call must stop
 //   connect(side)
@@ -31,6 +34,7 @@
 //   take_measures(evaluate) -> {name: total over ranks}
 //   discard_outputs(script_path)
 //   install_interrupt(signal_number) -> bool
+//   plot_history(csv_path, png_path) -> str   ("" when written, else why not)
 //
 // Why a module in sys.modules and not PyImport_AppendInittab: in a plain run Python
 // starts here (ParaView's Catalyst start leaves it to the driver), but it may
@@ -42,7 +46,7 @@
 // the first time the driver opens in the process.
 #pragma once
 
-#include "canopy/InSitu.h"
+#include <canopy/InSitu.h>
 
 #include <mpi.h>
 
@@ -100,6 +104,10 @@ public:
   /// StepTimeLimitExceeded in the script when interrupt_wanted() says so. False
   /// when not installed (the simulation handles that signal itself).
   static bool installInterrupt(int signalNumber);
+
+  /// Plots the query history (QueryHistoryFile's CSV at `csvPath`) into `pngPath`: each
+  /// query against time, the triggers' firings marked. Empty on success, else why not.
+  static std::string plotHistory(const std::string& csvPath, const std::string& pngPath);
 };
 
 /// Asks Python to raise StepTimeLimitExceeded on the main thread, if the step
@@ -127,6 +135,9 @@ public:
   /// which guards ParaView's calls into scripts and registers its side (connect).
   /// Empty on success, else what went wrong (Python's message printed above).
   std::string importHelperModules(const std::string& pipelinesDirectory);
+
+  /// What `_canopy.query_values()` gives the scripts of this step (set before they run).
+  static void setQueryValues(std::map<std::string, double> values);
 
 private:
   std::unique_ptr<OwnCommunicator> Reductions;

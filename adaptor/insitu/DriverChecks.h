@@ -2,7 +2,7 @@
 // and before each step that runs scripts (the output directory).
 #pragma once
 
-#include "canopy/InSitu.h"
+#include <canopy/InSitu.h>
 
 #include <mpi.h>
 

@@ -1,4 +1,4 @@
-#include "canopy/InSitu.h"
+#include <canopy/InSitu.h>
 
 #include "CanopyModule.h"
 #include "CatalystScript.h"
@@ -13,11 +13,12 @@
 #include "RenderDecision.h"
 #include "RuntimePaths.h"
 #include "StepRequests.h"
+#include "StepTriggers.h"
 #include "StepWatchdog.h"
 #include "XDisplayConnection.h"
 
-#include "canopy/GridBuilder.h"
-#include "canopy/HtgBuilder.h"
+#include <canopy/GridBuilder.h>
+#include <canopy/HtgBuilder.h>
 
 #include <vtkHyperTreeGrid.h>
 #include <vtkLogger.h>
@@ -57,6 +58,7 @@ public:
   ~Driver() { this->close(); }
 
   bool willExecute(std::int64_t step, double time);
+  bool willExecute(std::int64_t step, double time, const ForestDescription& forest);
   StepReport execute(std::int64_t step, double time, const ForestDescription& forest);
   void close();
   bool isOpen() const { return this->Open; }
@@ -66,6 +68,8 @@ private:
   void startScripts(const std::vector<PipelineScript>& scripts);
   /// The requests willExecute made for this step, or new ones.
   StepRequests takeRequests(std::int64_t step, double time);
+  /// The step's queries and triggers (evaluated once per step; collective).
+  TriggerOutcome takeTriggers(std::int64_t step, double time, const ForestDescription& forest);
   /// The grid with the fields the due scripts need; null (and the failures in
   /// `report`) if some rank cannot build it or write its output.
   vtkSmartPointer<vtkHyperTreeGrid> buildGrid(const ForestDescription& forest,
@@ -75,6 +79,9 @@ private:
   void runScript(CatalystScript& script, vtkHyperTreeGrid* grid, std::int64_t step,
                  StepReport& report);
   void finalizeScripts();
+  /// Rank 0: the query history as a PNG beside its CSV (each query against time,
+  /// the triggers' firings marked), through Python; a failure is only logged.
+  void plotHistory();
   /// The step's Catalyst Live exchange, when some script (or the options) asked
   /// for Live and some script ran (the same on every rank).
   void runLive(std::int64_t step, double time, StepReport& report);
@@ -101,6 +108,9 @@ private:
   /// Keeps the grid from step to step, rebuilding only what changed.
   GridBuilder Builder;
   std::optional<StepRequests> Requested;
+  /// Triggers and queries of the scripts and options; what willExecute evaluated.
+  std::unique_ptr<StepTriggers> Triggers;
+  std::optional<TriggerOutcome> Evaluated;
   bool CanRender = false;
   bool Open = false;
   std::unique_ptr<FinalizeGuard> Guard;
@@ -142,6 +152,13 @@ InSitu::Driver::Driver(MPI_Comm communicator, InSituOptions options) : Options(s
   this->CanRender = plan.canRender;
 
   prepareOutputDirectory(this->Options.outputDirectory); // created now; reported at each step
+  // Triggers and queries are parsed and checked before Catalyst starts (the same
+  // options on every rank: every rank refuses alike).
+  const std::string history =
+      this->Options.queryHistoryFile.empty()
+          ? std::string()
+          : this->Options.outputDirectory + "/" + this->Options.queryHistoryFile;
+  this->Triggers = std::make_unique<StepTriggers>(plan.scripts, this->Options, history, this->Rank);
   this->Session = std::make_unique<CatalystSession>(comm);
   if (!this->Agreement->allOf(this->Session->started()))
   {
@@ -209,6 +226,44 @@ bool InSitu::Driver::willExecute(std::int64_t step, double time)
   return !this->Requested->failures.empty() || this->Requested->anyDue();
 }
 
+bool InSitu::Driver::willExecute(std::int64_t step, double time, const ForestDescription& forest)
+{
+  if (!this->Open)
+  {
+    return false;
+  }
+  this->Requested = this->takeRequests(step, time);
+  if (!this->Triggers->active())
+  {
+    return !this->Requested->failures.empty() || this->Requested->anyDue();
+  }
+  this->Evaluated = this->takeTriggers(step, time, forest);
+  bool any = !this->Requested->failures.empty() || !this->Evaluated->failure.empty();
+  for (std::size_t i = 0; i < this->Requested->due.size(); ++i)
+  {
+    any = any || (this->Requested->due[i] && this->Evaluated->allowed[i]);
+  }
+  return any;
+}
+
+TriggerOutcome InSitu::Driver::takeTriggers(std::int64_t step, double time,
+                                            const ForestDescription& forest)
+{
+  std::optional<TriggerOutcome> evaluated;
+  evaluated.swap(this->Evaluated);
+  if (evaluated && evaluated->step == step && evaluated->time == time)
+  {
+    return std::move(*evaluated);
+  }
+  TriggerOutcome outcome = this->Triggers->evaluate(this->Communicator->get(), step, time, forest);
+  if (!outcome.warning.empty())
+  {
+    vtkLogF(WARNING, "canopy: rank %d, step %lld: %s", this->Rank, static_cast<long long>(step),
+            outcome.warning.c_str());
+  }
+  return outcome;
+}
+
 StepReport& InSitu::Driver::finish(StepReport& report, std::int64_t step, double time,
                                    std::chrono::steady_clock::time_point start) const
 {
@@ -221,7 +276,7 @@ StepReport& InSitu::Driver::finish(StepReport& report, std::int64_t step, double
             static_cast<long long>(step), time, joined(report.pipelinesRun, ", ").c_str(),
             report.failures.size(), static_cast<long long>(report.localCells), report.seconds,
             report.buildSeconds, report.treesRebuilt, report.treesRebuilt + report.treesKept,
-            measuresText(report.measures).c_str());
+            (measuresText(report.measures) + measuresText(report.expressions)).c_str());
   }
   return report;
 }
@@ -236,9 +291,33 @@ StepReport InSitu::Driver::execute(std::int64_t step, double time, const ForestD
                               std::to_string(step) + ": execute() after close()");
     return this->finish(report, step, time, start);
   }
-  const StepRequests requests = this->takeRequests(step, time);
+  StepRequests requests = this->takeRequests(step, time);
   report.failures = requests.failures;
-  report.executed = requests.anyDue() || !requests.failures.empty();
+  if (this->Triggers->active())
+  {
+    TriggerOutcome outcome = this->takeTriggers(step, time, forest);
+    report.queriesEvaluated = true;
+    report.queries = std::move(outcome.queries);
+    report.expressions = std::move(outcome.expressions);
+    report.triggersFired = std::move(outcome.fired);
+    report.querySeconds = outcome.seconds;
+    if (!outcome.failure.empty())
+    {
+      report.failures.push_back(outcome.failure);
+    }
+    for (std::size_t i = 0; i < requests.due.size(); ++i)
+    {
+      requests.due[i] = requests.due[i] && outcome.allowed[i];
+    }
+  }
+  // What the scripts of this step read with canopy_catalyst.query_values().
+  std::map<std::string, double> values = report.expressions;
+  for (const auto& [text, result] : report.queries)
+  {
+    values[text] = result.value;
+  }
+  CanopyModule::setQueryValues(std::move(values));
+  report.executed = requests.anyDue() || !report.failures.empty();
   if (!requests.anyDue())
   {
     return this->finish(report, step, time, start);
@@ -433,6 +512,25 @@ void InSitu::Driver::finalizeScripts()
                          &finalizing);
 }
 
+void InSitu::Driver::plotHistory()
+{
+  const std::string csv = this->Triggers ? this->Triggers->writtenHistory() : std::string();
+  if (csv.empty() || !this->Python)
+  {
+    return;
+  }
+  this->Triggers.reset(); // the file closed, every row in it
+  const std::string png =
+      (csv.size() > 4 && csv.compare(csv.size() - 4, 4, ".csv") == 0 ? csv.substr(0, csv.size() - 4)
+                                                                     : csv) +
+      ".png";
+  const std::string problem = PythonSide::plotHistory(csv, png);
+  if (!problem.empty())
+  {
+    vtkLogF(WARNING, "canopy: close: %s", problem.c_str());
+  }
+}
+
 void InSitu::Driver::close()
 {
   if (!this->Open)
@@ -442,9 +540,11 @@ void InSitu::Driver::close()
   this->Open = false;
   this->Guard->disarm();
   this->finalizeScripts();
+  this->plotHistory();
   this->Python.reset(); // _canopy's functions raise from now on
   this->Live.reset();
   this->Scripts.clear();
+  this->Triggers.reset(); // closes the history file
   this->Session.reset();
   this->Display.reset();
   this->Failures.reset();
@@ -463,6 +563,11 @@ InSitu::~InSitu() = default;
 bool InSitu::willExecute(std::int64_t step, double time)
 {
   return this->Impl->willExecute(step, time);
+}
+
+bool InSitu::willExecute(std::int64_t step, double time, const ForestDescription& forest)
+{
+  return this->Impl->willExecute(step, time, forest);
 }
 
 StepReport InSitu::execute(std::int64_t step, double time, const ForestDescription& forest)

@@ -6,7 +6,7 @@
 
 #include "XDisplayConnection.h"
 
-#include "canopy/InSitu.h"
+#include <canopy/InSitu.h>
 
 #include <mpi.h>
 

@@ -7,8 +7,8 @@
 #include "CollectiveAgreement.h"
 #include "FailureLog.h"
 
-#include "canopy/ForestDescription.h"
-#include "canopy/HtgBuilder.h"
+#include <canopy/ForestDescription.h>
+#include <canopy/HtgBuilder.h>
 
 #include <cstdint>
 #include <memory>

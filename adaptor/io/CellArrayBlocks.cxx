@@ -1,4 +1,4 @@
-#include "CellArrayBlocks.h"
+#include <canopy/io/CellArrayBlocks.h>
 
 // Canopy's own array class: its typed reads go through the cell -> slot table
 // without a virtual call or a conversion to double.

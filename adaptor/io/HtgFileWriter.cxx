@@ -1,8 +1,8 @@
-#include "HtgFileWriter.h"
+#include <canopy/io/HtgFileWriter.h>
 
-#include "CellArrayBlocks.h"
 #include "CellArraySelection.h"
-#include "HyperTreeGridPiece.h"
+#include <canopy/io/CellArrayBlocks.h>
+#include <canopy/io/HyperTreeGridPiece.h>
 
 #include <vtkDataArray.h>
 #include <vtkHyperTreeGrid.h>

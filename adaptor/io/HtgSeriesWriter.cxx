@@ -1,7 +1,7 @@
-#include "HtgSeriesWriter.h"
+#include <canopy/io/HtgSeriesWriter.h>
 
-#include "HtgFileWriter.h"
 #include "WriterAgreement.h"
+#include <canopy/io/HtgFileWriter.h>
 
 #include <algorithm>
 #include <cerrno>

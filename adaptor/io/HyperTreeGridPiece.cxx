@@ -1,4 +1,4 @@
-#include "HyperTreeGridPiece.h"
+#include <canopy/io/HyperTreeGridPiece.h>
 
 #include <vtkBitArray.h>
 #include <vtkHyperTree.h>

@@ -1,10 +1,10 @@
 // This rank's rows of a VTKHDF step (see VtkHdfPieceRows.h).
 #include "VtkHdfPieceRows.h"
 
-#include "CellArrayBlocks.h"
-#include "HyperTreeGridPiece.h"
 #include "VtkHdfLayout.h"
 #include "VtkHdfRowTransfer.h"
+#include <canopy/io/CellArrayBlocks.h>
+#include <canopy/io/HyperTreeGridPiece.h>
 
 #include <vtkDataArray.h>
 #include <vtkHyperTreeGrid.h>

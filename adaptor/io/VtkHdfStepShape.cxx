@@ -1,8 +1,8 @@
 // What the ranks of a VTKHDF writer gather about a step (see VtkHdfStepShape.h).
 #include "VtkHdfStepShape.h"
 
-#include "HyperTreeGridPiece.h"
 #include "WriterAgreement.h"
+#include <canopy/io/HyperTreeGridPiece.h>
 
 #include <vtkDataArray.h>
 #include <vtkHyperTreeGrid.h>

@@ -7,11 +7,10 @@
 // VtkHdfLayout.h) and its arrays known to every rank, the rows written, then the
 // step's offsets and NSteps, the file closed and made durable. A problem on any
 // rank stops every rank at the same phase, and rank 0 undoes the step.
-#include "VtkHdfWriter.h"
+#include <canopy/io/VtkHdfWriter.h>
 
 #include "GatherText.h"
 #include "HdfHandle.h"
-#include "HyperTreeGridPiece.h"
 #include "StepRollback.h"
 #include "VtkHdfArrays.h"
 #include "VtkHdfLayout.h"
@@ -19,6 +18,7 @@
 #include "VtkHdfRowTransfer.h"
 #include "VtkHdfStepShape.h"
 #include "WriterAgreement.h"
+#include <canopy/io/HyperTreeGridPiece.h>
 
 #include <vtkHyperTreeGrid.h>
 

@@ -1,6 +1,6 @@
-#include "vtkCanopyHyperTreeGridHDFWriter.h"
+#include <canopy/io/vtkCanopyHyperTreeGridHDFWriter.h>
 
-#include "VtkHdfWriter.h"
+#include <canopy/io/VtkHdfWriter.h>
 
 #include <vtkObjectFactory.h>
 

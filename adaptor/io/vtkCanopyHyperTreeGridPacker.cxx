@@ -1,7 +1,7 @@
-#include "vtkCanopyHyperTreeGridPacker.h"
+#include <canopy/io/vtkCanopyHyperTreeGridPacker.h>
 
-#include "HtgFileWriter.h"
 #include "PackedGridFrame.h"
+#include <canopy/io/HtgFileWriter.h>
 
 #include <vtkCellArray.h>
 #include <vtkFieldData.h>

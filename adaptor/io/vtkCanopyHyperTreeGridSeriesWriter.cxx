@@ -1,6 +1,6 @@
-#include "vtkCanopyHyperTreeGridSeriesWriter.h"
+#include <canopy/io/vtkCanopyHyperTreeGridSeriesWriter.h>
 
-#include "HtgSeriesWriter.h"
+#include <canopy/io/HtgSeriesWriter.h>
 
 #include <vtkObjectFactory.h>
 

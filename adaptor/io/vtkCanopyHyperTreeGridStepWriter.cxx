@@ -1,7 +1,7 @@
-#include "vtkCanopyHyperTreeGridStepWriter.h"
+#include <canopy/io/vtkCanopyHyperTreeGridStepWriter.h>
 
 #include "ControllerCommunicator.h"
-#include "WriteError.h"
+#include <canopy/io/WriteError.h>
 
 #include <vtkDataObject.h>
 #include <vtkErrorCode.h>

@@ -1,7 +1,7 @@
-#include "vtkCanopyHyperTreeGridUnpacker.h"
+#include <canopy/io/vtkCanopyHyperTreeGridUnpacker.h>
 
 #include "PackedGridFrame.h"
-#include "vtkCanopyHyperTreeGridPacker.h"
+#include <canopy/io/vtkCanopyHyperTreeGridPacker.h>
 
 #include <vtkDataObject.h>
 #include <vtkDataSet.h>

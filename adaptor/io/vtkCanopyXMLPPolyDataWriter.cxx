@@ -1,4 +1,4 @@
-#include "vtkCanopyXMLPPolyDataWriter.h"
+#include <canopy/io/vtkCanopyXMLPPolyDataWriter.h>
 
 #include "FailSafeXmlPieceWriters.h"
 

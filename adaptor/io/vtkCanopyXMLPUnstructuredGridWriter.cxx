@@ -1,4 +1,4 @@
-#include "vtkCanopyXMLPUnstructuredGridWriter.h"
+#include <canopy/io/vtkCanopyXMLPUnstructuredGridWriter.h>
 
 #include "FailSafeXmlPieceWriters.h"
 

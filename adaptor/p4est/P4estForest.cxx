@@ -1,8 +1,8 @@
-#include "canopy/P4estForest.h"
+#include <canopy/P4estForest.h>
 
 // Internal to Canopy (adaptor/common, not installed): validateForest's problem list.
 #include "ProblemList.h"
-#include "canopy/ForestValidation.h"
+#include <canopy/ForestValidation.h>
 
 #include <p4est.h>
 #include <p4est_connectivity.h>

@@ -25,9 +25,9 @@
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSlice.h"
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include <vtkAdaptiveDataSetSurfaceFilter.h>
 #include <vtkCamera.h>

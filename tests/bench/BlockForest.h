@@ -5,7 +5,7 @@
 // the interior (filled with a sentinel Canopy must never read), doubles.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <algorithm>
 #include <array>

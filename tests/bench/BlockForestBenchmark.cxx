@@ -55,10 +55,10 @@
 #include "GridAssembly.h"
 #include "HyperTreeAccess.h"
 
-#include "canopy/GridBuilder.h"
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSlice.h"
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/GridBuilder.h>
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include <vtkBitArray.h>
 #include <vtkCamera.h>

@@ -15,8 +15,8 @@
 // a release build.
 #include "SyntheticForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyContour.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyContour.h>
 
 #include <vtkCellArray.h>
 #include <vtkHyperTreeGrid.h>

@@ -6,7 +6,7 @@
 // Used by WrapBenchmark.cxx and BlockForestBenchmark.cxx.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>

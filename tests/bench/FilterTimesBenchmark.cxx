@@ -10,10 +10,10 @@
 // docs/benchmarks.md, "T-junction vertices", compares two builds of it.
 #include "SyntheticForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSlice.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <vtkCamera.h>
 #include <vtkHyperTreeGrid.h>

@@ -15,9 +15,9 @@
 #include "ForestFingerprint.h"
 #include "SyntheticForest.h"
 
-#include <HtgSeriesWriter.h>
-#include <VtkHdfWriter.h>
 #include <canopy/HtgBuilder.h>
+#include <canopy/io/HtgSeriesWriter.h>
+#include <canopy/io/VtkHdfWriter.h>
 
 #include <mpi.h>
 #include <vtkHyperTreeGrid.h>

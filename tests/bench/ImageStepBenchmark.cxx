@@ -38,8 +38,8 @@
 #include "MiniAppForest.h"
 #include "SyntheticForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "canopy/InSitu.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/InSitu.h>
 
 #include <mpi.h>
 #include <vtkHyperTreeGrid.h>

@@ -16,8 +16,8 @@
 #include "ForestFingerprint.h"
 #include "SyntheticForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "canopy/InSitu.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/InSitu.h>
 
 #include <mpi.h>
 #include <vtkHyperTreeGrid.h>

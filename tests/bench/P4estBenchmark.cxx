@@ -7,8 +7,8 @@
 // Usage: mpirun -np N canopy_bench_p4est [--repetitions R] [--2d]
 // Prints a Markdown table (rank 0); times are the slowest rank's.
 #include "ForestFingerprint.h"
-#include "canopy/HtgBuilder.h"
-#include "canopy/P4estForest.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/P4estForest.h>
 
 #include <mpi.h>
 #include <p4est_extended.h>

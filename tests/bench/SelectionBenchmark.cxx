@@ -6,8 +6,8 @@
 #include "ForestFingerprint.h"
 #include "SyntheticForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>

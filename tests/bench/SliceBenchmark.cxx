@@ -38,11 +38,11 @@
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
 
-#include "canopy/GridBuilder.h"
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSlice.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/GridBuilder.h>
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <vtkBitArray.h>
 #include <vtkCamera.h>

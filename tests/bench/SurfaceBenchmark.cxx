@@ -19,8 +19,8 @@
 #include "OffscreenRenderer.h"
 #include "SyntheticForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include <vtkAdaptiveDataSetSurfaceFilter.h>
 #include <vtkCamera.h>

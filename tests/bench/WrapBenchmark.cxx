@@ -16,8 +16,8 @@
 #include "MiniAppForest.h"
 #include "SyntheticForest.h"
 
-#include "canopy/GridBuilder.h"
-#include "canopy/HtgBuilder.h"
+#include <canopy/GridBuilder.h>
+#include <canopy/HtgBuilder.h>
 
 #include <vtkBitArray.h>
 #include <vtkCellData.h>

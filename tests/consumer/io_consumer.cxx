@@ -3,9 +3,9 @@
 // .pvd series ParaView 5.11 opens, on MPI_COMM_WORLD.
 //
 // Usage: canopy_io_consumer OUTPUT_DIR
-#include <HtgSeriesWriter.h>
-#include <VtkHdfWriter.h>
 #include <canopy/GridBuilder.h>
+#include <canopy/io/HtgSeriesWriter.h>
+#include <canopy/io/VtkHdfWriter.h>
 
 #include <mpi.h>
 #include <vtkHyperTreeGrid.h>

@@ -73,9 +73,9 @@
 #include "RankPart.h"
 #include "VoxelBoundary.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <vtkBitArray.h>
 #include <vtkCallbackCommand.h>

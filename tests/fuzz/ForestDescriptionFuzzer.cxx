@@ -43,7 +43,7 @@
 //               (4 NaN, 5 +inf, 6 -inf, 7 -0.0), bit 7 null pointer when there is nothing
 //            C: defect, v % 32 (FieldDefect; below 18: none)
 //   request  with "some": one byte, bit i selects field i
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <vtkAbstractArray.h>
 #include <vtkBitArray.h>

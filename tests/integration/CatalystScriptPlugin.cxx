@@ -5,7 +5,7 @@
 #include "DescriptorForest.h"
 #include "PaperCaseDefinitions.h"
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <mpi.h>
 #include <vtkCPDataDescription.h>

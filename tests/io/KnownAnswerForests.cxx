@@ -11,8 +11,8 @@
 // Usage: canopy_vtkhdf_known_answer_write --output DIR
 //   1 rank:  DIR/a_2d_binary.vtkhdf ... DIR/e_two_steps.vtkhdf
 //   2 ranks: DIR/f_two_pieces.vtkhdf (each rank one piece with its own tree)
-#include <VtkHdfWriter.h>
 #include <canopy/HtgBuilder.h>
+#include <canopy/io/VtkHdfWriter.h>
 
 #include <mpi.h>
 #include <vtkHyperTreeGrid.h>

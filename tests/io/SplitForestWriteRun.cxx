@@ -16,8 +16,8 @@
 #include "PartitionedForest.h"
 #include "RandomForest.h"
 
-#include <VtkHdfWriter.h>
 #include <canopy/HtgBuilder.h>
+#include <canopy/io/VtkHdfWriter.h>
 
 #include <mpi.h>
 #include <vtkHyperTreeGrid.h>

@@ -19,10 +19,10 @@
 #include "RandomForest.h"
 #include "RankPart.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSlice.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <vtkBitArray.h>
 #include <vtkCellArray.h>

@@ -12,9 +12,9 @@
 #include "RandomForest.h"
 #include "RankPart.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSlice.h"
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include <gtest/gtest.h>
 #include <vtkHyperTreeGrid.h>

@@ -3,8 +3,8 @@
 // p4est splits trees between ranks. Every quadrant p4est_iterate visits on a
 // rank must be a visible leaf of that rank's grid, at the same place, with the
 // same values, and nothing else; the values are read in place.
-#include "canopy/P4estForest.h"
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/P4estForest.h>
 
 #include "HtgWalk.h"
 

@@ -12,9 +12,9 @@
 #include "OffscreenRenderer.h"
 #include "RandomForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSlice.h"
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include <gtest/gtest.h>
 #include <vtkCamera.h>

@@ -5,10 +5,10 @@
 #include "LevelJumpForest.h"
 #include "OffscreenRenderer.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyContour.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyContour.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <vtkCamera.h>
 #include <vtkCellData.h>

@@ -6,8 +6,8 @@
 #include "PaperCaseDefinitions.h"
 #include "SyntheticForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include <gtest/gtest.h>
 #include <vtkCamera.h>

@@ -9,7 +9,7 @@
 
 #include "RandomForest.h"
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <array>
 #include <cstdint>

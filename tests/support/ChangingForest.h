@@ -4,7 +4,7 @@
 // "leafValue"), with a slot map that is not breadth-first when asked.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <array>
 #include <cmath>

@@ -3,7 +3,7 @@
 // (and any pixel much larger than a leaf) averages the two mapped colours.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <array>
 #include <cstdint>

@@ -2,7 +2,7 @@
 // strings, so tests can describe the same grid to Canopy and to VTK.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <array>
 #include <cstdint>

@@ -6,7 +6,7 @@
 // masked). The checkers compare what a file holds with this.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <ostream>
 #include <string>

@@ -5,7 +5,7 @@
 // exercise where trees meet. Owns everything its description borrows.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <algorithm>
 #include <array>

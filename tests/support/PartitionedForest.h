@@ -5,7 +5,7 @@
 // leaf at its coarsest node.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <cstdint>
 #include <vector>

@@ -2,7 +2,7 @@
 // simulation's data, for tests and benchmarks.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <array>
 #include <cstdint>

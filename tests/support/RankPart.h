@@ -7,7 +7,7 @@
 
 #include "PartitionedForest.h"
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <cstdint>
 #include <vector>

@@ -9,8 +9,8 @@
 #include "HtgWalk.h"
 #include "RandomForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include <gtest/gtest.h>
 #include <vtkCamera.h>

@@ -9,9 +9,9 @@
 #include "RandomForest.h"
 #include "RankPart.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>

@@ -13,8 +13,8 @@
 #include "RandomForest.h"
 #include "RankPart.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSlice.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
 
 #include <gtest/gtest.h>
 #include <vtkCamera.h>

@@ -12,9 +12,9 @@
 #include "SurfaceRuns.h"
 #include "VoxelBoundary.h"
 
-#include "canopy/GridBuilder.h"
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/GridBuilder.h>
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>

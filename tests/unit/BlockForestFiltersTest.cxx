@@ -7,10 +7,10 @@
 #include "BlockForest.h"
 #include "ErrorMessages.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSlice.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSlice.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>

@@ -11,9 +11,9 @@
 #include "BlockForest.h"
 #include "HtgWalk.h"
 
-#include "canopy/ForestValidation.h"
-#include "canopy/GridBuilder.h"
-#include "canopy/HtgBuilder.h"
+#include <canopy/ForestValidation.h>
+#include <canopy/GridBuilder.h>
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>

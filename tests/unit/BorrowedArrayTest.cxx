@@ -3,7 +3,7 @@
 // never write simulation memory.
 #include "RandomForest.h"
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkAOSDataArrayTemplate.h>

@@ -250,7 +250,8 @@ TEST_F(CanopyModuleTest, ConnectRefusesAnIncompleteSide)
                 "    def take_failure(self): return None\n"
                 "    def take_measures(self, evaluate): return {}\n"
                 "    discard_outputs = None\n"
-                "    def install_interrupt(self, number): return False\n"),
+                "    def install_interrupt(self, number): return False\n"
+                "    def plot_history(self, csv, png): return ''\n"),
             "");
   EXPECT_EQ(run("_canopy.connect(Incomplete())"),
             "TypeError: connect: the side has no method discard_outputs()");
@@ -272,6 +273,9 @@ TEST_F(CanopyModuleTest, DriverCallsReachTheRegisteredSide)
                 "    def install_interrupt(self, number):\n"
                 "        self.calls.append(('install_interrupt', number))\n"
                 "        return number == 23\n"
+                "    def plot_history(self, csv, png):\n"
+                "        self.calls.append(('plot_history', csv, png))\n"
+                "        return 'no rows'\n"
                 "side = FakeSide()\n"
                 "_canopy.connect(side)\n"),
             "");
@@ -286,10 +290,11 @@ TEST_F(CanopyModuleTest, DriverCallsReachTheRegisteredSide)
   canopy::PythonSide::discardOutputs("/out/\xc3\xa9/script.py");
   EXPECT_TRUE(canopy::PythonSide::installInterrupt(23));
   EXPECT_FALSE(canopy::PythonSide::installInterrupt(24));
+  EXPECT_EQ(canopy::PythonSide::plotHistory("/out/q.csv", "/out/q.png"), "no rows");
   EXPECT_EQ(evaluate("side.calls"),
             "['take_failure', ('take_measures', True), ('take_measures', False), "
             "('discard_outputs', '/out/é/script.py'), ('install_interrupt', 23), "
-            "('install_interrupt', 24)]");
+            "('install_interrupt', 24), ('plot_history', '/out/q.csv', '/out/q.png')]");
 
   // A side that raises: nothing taken, nothing left raised for the driver's caller.
   ASSERT_EQ(run("def broken(*arguments): raise RuntimeError('broken')\n"

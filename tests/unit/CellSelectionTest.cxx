@@ -11,7 +11,7 @@
 #include "CellSelection.h"
 #include "RandomForest.h"
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>

@@ -7,13 +7,13 @@
 // the domain: no crack and no uncovered boundary strip), and, on uniform
 // forests, through the same edge crossings as VTK's contour of an image of the
 // leaf centres.
-#include "vtkCanopyContour.h"
+#include <canopy/filters/vtkCanopyContour.h>
 
 #include "ErrorMessages.h"
 #include "LevelJumpForest.h"
 #include "RandomForest.h"
 #include "RankPart.h"
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>

@@ -7,8 +7,8 @@
 #include "PaperCaseDefinitions.h"
 #include "RandomForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>

@@ -5,8 +5,8 @@
 // and filters downstream see every change.
 #include "ChangingForest.h"
 
-#include "canopy/GridBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
+#include <canopy/GridBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>

@@ -5,10 +5,10 @@
 #include "SameGrid.h"
 #include "SyntheticForest.h"
 
-#include <HtgFileWriter.h>
-#include <HyperTreeGridPiece.h>
+#include <canopy/io/HtgFileWriter.h>
+#include <canopy/io/HyperTreeGridPiece.h>
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>

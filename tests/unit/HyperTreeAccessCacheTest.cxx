@@ -12,7 +12,7 @@
 #include "HyperTreeAccessCache.h"
 #include "ChangingForest.h"
 
-#include "canopy/GridBuilder.h"
+#include <canopy/GridBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>

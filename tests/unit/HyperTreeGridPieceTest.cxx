@@ -2,7 +2,7 @@
 // through a per-node table (VTK's explicit global indices, as readers and other
 // producers build them) rather than Canopy's implicit breadth-first numbering:
 // the writers must still fetch each node's own cell, trees in memory order.
-#include <HyperTreeGridPiece.h>
+#include <canopy/io/HyperTreeGridPiece.h>
 
 #include <gtest/gtest.h>
 #include <vtkHyperTree.h>

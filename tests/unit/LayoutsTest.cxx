@@ -5,7 +5,7 @@
 #include "HtgWalk.h"
 #include "RandomForest.h"
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>

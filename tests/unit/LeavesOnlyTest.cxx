@@ -3,7 +3,7 @@
 // computed bottom-up. Expected values below are worked out by hand.
 #include "RandomForest.h"
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>

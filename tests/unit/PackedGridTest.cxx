@@ -6,7 +6,7 @@
 #include "SameGrid.h"
 #include "SyntheticForest.h"
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <canopy/io/vtkCanopyHyperTreeGridPacker.h>
 #include <canopy/io/vtkCanopyHyperTreeGridUnpacker.h>

@@ -3,9 +3,9 @@
 #include "HtgWalk.h"
 #include "PaperCaseDefinitions.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>

@@ -9,9 +9,9 @@
 #include "PureMaskCheck.h"
 #include "SelectedRegionCase.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyAdaptiveSurface.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>

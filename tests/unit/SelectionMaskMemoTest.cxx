@@ -8,8 +8,8 @@
 // first global index moved; every tree when the selection itself changed.
 #include "ChangingForest.h"
 
-#include "canopy/GridBuilder.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/GridBuilder.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>

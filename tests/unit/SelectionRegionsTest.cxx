@@ -10,8 +10,8 @@
 #include "HtgWalk.h"
 #include "RandomForest.h"
 
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <gtest/gtest.h>
 #include <vtkCamera.h>

@@ -15,7 +15,7 @@
 #include "JobOutput.h"
 #include "StepWatchdog.h"
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <mpi.h>

@@ -9,9 +9,9 @@
 #include "HyperTreeAccess.h"
 #include "TopologyKeys.h"
 
-#include "canopy/GridBuilder.h"
-#include "canopy/HtgBuilder.h"
-#include "vtkCanopyExtractSelection.h"
+#include <canopy/GridBuilder.h>
+#include <canopy/HtgBuilder.h>
+#include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 #include "PaperCaseDefinitions.h"
 
 #include "ForestLayout.h" // layoutForest: the internal layout these tests check
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>

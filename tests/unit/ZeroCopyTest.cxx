@@ -2,7 +2,7 @@
 // writes it.
 #include "RandomForest.h"
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <gtest/gtest.h>
 #include <vtkCellData.h>

@@ -5,7 +5,7 @@
 // and nothing is built from a description that is wrong anywhere.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
 
 #include <array>
 #include <cstddef>

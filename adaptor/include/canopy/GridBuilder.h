@@ -20,7 +20,7 @@
 // from an earlier build keeps that build's trees and arrays.
 #pragma once
 
-#include "canopy/HtgBuilder.h"
+#include <canopy/HtgBuilder.h>
 
 #include <vtkSmartPointer.h>
 

@@ -1,8 +1,8 @@
 // Builds a vtkHyperTreeGrid from a ForestDescription without copying field data.
 #pragma once
 
-#include "canopy/ForestDescription.h"
-#include "canopy/ForestValidation.h"
+#include <canopy/ForestDescription.h>
+#include <canopy/ForestValidation.h>
 
 #include <vtkSmartPointer.h>
 

@@ -11,7 +11,8 @@
 // leaves a rank waiting for the others; see docs/insitu.md.
 #pragma once
 
-#include "canopy/ForestDescription.h"
+#include <canopy/ForestDescription.h>
+#include <canopy/Queries.h>
 
 #include <mpi.h>
 
@@ -28,6 +29,10 @@ namespace canopy
 
 /// A Catalyst pipeline script and the arguments it reads through
 /// canopy_catalyst.settings() (e.g. "--frequency=5", "--fields=density").
+/// Two arguments are also the driver's (docs/queries.md): "--trigger=<condition>"
+/// (e.g. "--trigger=max(scalar) > 0.9": the script runs only at the steps its
+/// frequency names where the condition's trigger fires) and
+/// "--trigger-mode=while|rising|every:N" (default while).
 struct PipelineScript
 {
   std::string path;
@@ -48,6 +53,16 @@ struct InSituOptions
   int verbosity = -10;
   /// Log one line per executed step (rank 0): pipelines run, cells, times.
   bool stepSummary = false;
+  /// Numbers computed at every step and reported (StepReport::expressions, the
+  /// history file): expressions of the query language, e.g. "max(scalar)",
+  /// "volume(scalar, 0.5, 1) - prev(volume(scalar, 0.5, 1))" (docs/queries.md).
+  std::vector<std::string> queries;
+  /// The fields the simulation describes, for checking triggers and queries at
+  /// open (an unknown field is refused then); empty: checked when they first run.
+  std::vector<std::string> fields;
+  /// The history of queries (one row per evaluated step) in the output directory,
+  /// written by rank 0 when there are triggers or queries; empty: none.
+  std::string queryHistoryFile = "canopy_queries.csv";
   /// The longest any call into a script may take (its import, its
   /// RequestDataDescription, its catalyst_execute with its extracts, its
   /// catalyst_finalize), in seconds; 0: no limit. A script still running then is
@@ -100,6 +115,18 @@ struct StepReport
   std::vector<std::string> liveWarnings;
   /// Wall time of the step's Catalyst Live exchange on this rank (0 without Live).
   double liveSeconds = 0.0;
+  /// Whether this step's queries ran (there are triggers or queries, and the step
+  /// was evaluated by willExecute(step, time, forest) or execute()).
+  bool queriesEvaluated = false;
+  /// The step's queries (those of the triggers and of InSituOptions::queries), by
+  /// their text (Query::text()), the same on every rank.
+  std::map<std::string, QueryResult> queries;
+  /// InSituOptions::queries' values, by the text given, the same on every rank.
+  std::map<std::string, double> expressions;
+  /// Scripts whose trigger fired at this step (whether their frequency made them due or not).
+  std::vector<std::string> triggersFired;
+  /// Wall time of the step's queries and triggers on this rank.
+  double querySeconds = 0.0;
 };
 
 class InSitu
@@ -120,6 +147,13 @@ public:
   /// step and time returns at once, and the simulation may skip preparing its
   /// forest. Collective, cheap (no grid is built).
   bool willExecute(std::int64_t step, double time);
+
+  /// The same, with the step's forest: also runs the step's queries (one
+  /// collective for all of them, no grid built) and evaluates the triggers, so
+  /// the answer is exact for scripts with a trigger; execute() then reuses them.
+  /// Without the forest, a script with a trigger counts as due whenever its
+  /// frequency says so. `forest` is only read during the call.
+  bool willExecute(std::int64_t step, double time, const ForestDescription& forest);
 
   /// Runs the pipelines due at this step on the rank's part of the forest
   /// (only its own trees). Builds the grid only when some pipeline runs, and wraps

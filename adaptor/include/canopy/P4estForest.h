@@ -24,8 +24,8 @@
 // well and must stay alive while a grid built from the description is in use.
 #pragma once
 
-#include "canopy/ForestDescription.h"
-#include "canopy/ForestValidation.h"
+#include <canopy/ForestDescription.h>
+#include <canopy/ForestValidation.h>
 
 #include <cstddef>
 #include <memory>

@@ -274,6 +274,30 @@ module canopy
       type(c_ptr), value :: options
       type(c_ptr), intent(out) :: insitu
     end function
+    integer(c_int) function canopy_options_add_query(options, expression) bind(c)
+      import :: c_int, c_ptr, c_char
+      type(c_ptr), value :: options
+      character(kind=c_char), dimension(*), intent(in) :: expression
+    end function
+    integer(c_int) function canopy_options_add_field_name(options, name) bind(c)
+      import :: c_int, c_ptr, c_char
+      type(c_ptr), value :: options
+      character(kind=c_char), dimension(*), intent(in) :: name
+    end function
+    integer(c_int) function canopy_will_execute_forest(insitu, step, time, forest, will_execute) &
+        bind(c)
+      import :: c_int, c_ptr, c_int64_t, c_double
+      type(c_ptr), value :: insitu, forest
+      integer(c_int64_t), value :: step
+      real(c_double), value :: time
+      integer(c_int) :: will_execute
+    end function
+    integer(c_int) function canopy_query_value(insitu, expression, value) bind(c)
+      import :: c_int, c_ptr, c_char, c_double
+      type(c_ptr), value :: insitu
+      character(kind=c_char), dimension(*), intent(in) :: expression
+      real(c_double) :: value
+    end function
     integer(c_int) function canopy_will_execute(insitu, step, time, will_execute) bind(c)
       import :: c_int, c_ptr, c_int64_t, c_double
       type(c_ptr), value :: insitu

@@ -119,6 +119,12 @@ extern "C"
   /* The longest a call into a script may take, in seconds (0: no limit); see
    * InSituOptions::stepTimeLimitSeconds. */
   int canopy_options_set_step_time_limit(canopy_options* options, double seconds);
+  /* [in] expression  copied; a query-language expression computed every evaluated step
+   *                   (docs/queries.md), e.g. "max(density)"; read with canopy_query_value. */
+  int canopy_options_add_query(canopy_options* options, const char* expression);
+  /* [in] name  copied; a field the simulation describes: triggers and queries naming
+   *            another field are then refused at open. */
+  int canopy_options_add_field_name(canopy_options* options, const char* name);
 
   /* ---- forest (borrowed views of the simulation's arrays) ---------------- */
   /* The root grid: rectilinear point coordinates per axis; a 2D forest has one
@@ -304,6 +310,17 @@ extern "C"
   /* [in] forest  this rank's forest; its borrowed arrays are read during the call.
    *              NULL still takes part in the collective: every rank skips the step. */
   int canopy_execute(canopy_insitu* insitu, int64_t step, double time, const canopy_forest* forest);
+  /* canopy_will_execute with the step's forest: also runs the step's queries (one
+   * collective, no grid built) and decides the scripts' triggers (docs/queries.md).
+   * [in] forest  read during the call; NULL still takes part (the queries then fail). */
+  int canopy_will_execute_forest(canopy_insitu* insitu, int64_t step, double time,
+                                 const canopy_forest* forest, int* will_execute);
+  /* The value of a query-language expression given with canopy_options_add_query (or a
+   * query of a trigger, by its text, e.g. "max(density)") at the last canopy_execute
+   * that evaluated the queries; the same on every rank. Not collective.
+   * [in] expression  as given; [out] value  NaN when not evaluated (CANOPY_INVALID_ARGUMENT
+   *                  when the expression is unknown). */
+  int canopy_query_value(canopy_insitu* insitu, const char* expression, double* value);
   /* Finalizes and frees; *insitu becomes NULL. */
   int canopy_close(canopy_insitu** insitu);
 

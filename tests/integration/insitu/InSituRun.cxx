@@ -25,6 +25,10 @@
 //                             the free space looking ample: errors in the middle of
 //                             writing; WORDS aim at one rank or kind of write, see the
 //                             shim; the pair may be given for several steps)
+//   --query EXPR             (InSituOptions::queries; printed each step: "  query TEXT = V")
+//   --known-fields A,B       (InSituOptions::fields: triggers checked against them at open)
+//   --will-execute           (willExecute(step, time, forest) before each execute;
+//                             printed: "step S will execute 0|1")
 //   --obstruct-step S --obstruct NAME  (before step S, a folder NAME in the output
 //                             directory stands where a pipeline writes a file)
 #include "DescriptorForest.h"
@@ -32,7 +36,7 @@
 #include "PaperCaseDefinitions.h"
 #include "SyntheticForest.h"
 
-#include "canopy/InSitu.h"
+#include <canopy/InSitu.h>
 
 #include <mpi.h>
 #include <sys/resource.h>
@@ -71,6 +75,9 @@ struct Arguments
   int limitStep = -1;
   std::string limitFile;
   bool close = true;
+  std::vector<std::string> queries;
+  std::vector<std::string> knownFields;
+  bool willExecute = false;
   bool summary = false;
   bool forestJson = false;
   std::map<std::string, std::string> renamedFields;
@@ -126,6 +133,16 @@ Arguments parse(int argc, char** argv)
     }
     else if (key == "--no-close")
       a.close = false;
+    else if (key == "--query")
+      a.queries.push_back(value());
+    else if (key == "--known-fields")
+    {
+      std::stringstream names(value());
+      for (std::string name; std::getline(names, name, ',');)
+        a.knownFields.push_back(name);
+    }
+    else if (key == "--will-execute")
+      a.willExecute = true;
     else if (key == "--summary")
       a.summary = true;
     else if (key == "--forest-json")
@@ -541,6 +558,8 @@ int main(int argc, char** argv)
     options.outputDirectory = args.output;
     options.stepSummary = args.summary;
     options.stepTimeLimitSeconds = args.timeLimit;
+    options.queries = args.queries;
+    options.fields = args.knownFields;
     insitu = std::make_unique<canopy::InSitu>(MPI_COMM_WORLD, options);
 
     std::ofstream expected;
@@ -637,6 +656,12 @@ int main(int argc, char** argv)
           mkdir((args.output + "/" + args.obstruct).c_str(), 0755);
         MPI_Barrier(MPI_COMM_WORLD);
       }
+      std::string willText;
+      if (args.willExecute)
+      {
+        const bool will = insitu->willExecute(step, time, *local);
+        willText = "step " + std::to_string(step) + " will execute " + (will ? "1" : "0") + "\n";
+      }
       const auto report = insitu->execute(step, time, *local);
       if (!filler.empty())
         std::remove(filler.c_str());
@@ -647,6 +672,12 @@ int main(int argc, char** argv)
         // One write per report: the checker reads stdout and ParaView's stderr
         // from one pipe, and whole lines must not interleave.
         std::ostringstream text;
+        text << willText;
+        text.precision(17);
+        for (const auto& [name, value] : report.expressions)
+          text << "  query " << name << " = " << value << "\n";
+        for (const auto& name : report.triggersFired)
+          text << "  fired " << name << "\n";
         text << "step " << step << (report.executed ? " executed" : " idle") << " ran "
              << report.pipelinesRun.size() << " failures " << report.failures.size() << "\n";
         for (const auto& failure : report.failures)

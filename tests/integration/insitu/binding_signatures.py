@@ -146,6 +146,8 @@ def expected_declaration(ptype, structs):
                 "a handle Canopy sets (by reference)")
     if ptype == "int *":
         return {"integer(c_int)", "integer(c_int) intent(out)"}, "a result Canopy sets"
+    if ptype == "double *":
+        return {"real(c_double)", "real(c_double) intent(out)"}, "a result Canopy sets"
     # Handles and every array Canopy may keep: an address by value, never an
     # array dummy a compiler could satisfy with a temporary copy.
     return {"type(c_ptr) value"}, "an address (c_loc of a target), as Canopy may keep it"

@@ -165,6 +165,11 @@ int main(int argc, char** argv)
   CHECK(canopy_options_set_step_time_limit(options, -1.0) == CANOPY_INVALID_ARGUMENT,
         "a negative time limit refused");
   CHECK(canopy_options_set_step_time_limit(options, 120.0) == CANOPY_OK, "a time limit");
+  CHECK(canopy_options_add_query(options, "") == CANOPY_INVALID_ARGUMENT, "an empty query refused");
+  CHECK(canopy_options_add_query(options, "max(density)") == CANOPY_OK, "a query");
+  CHECK(canopy_options_add_query(options, "volume(density, 1.5, 3.5) * 2") == CANOPY_OK,
+        "an expression");
+  CHECK(canopy_options_add_field_name(options, "density") == CANOPY_OK, "a field name");
 
   canopy_insitu* insitu = NULL;
   CHECK(canopy_open(MPI_COMM_NULL, options, &insitu) == CANOPY_INVALID_ARGUMENT && insitu == NULL,
@@ -188,11 +193,29 @@ int main(int argc, char** argv)
   {
     describe(forest, owns_root0, owns_root1, step >= 4, refined, leaf, my_density, my_nodes);
     int will = -1;
-    CHECK(canopy_will_execute(insitu, step, 0.5 * step, &will) == CANOPY_OK, "will_execute");
+    if (step < 3)
+      CHECK(canopy_will_execute(insitu, step, 0.5 * step, &will) == CANOPY_OK, "will_execute");
+    else /* with the forest: the queries run there, execute reuses them */
+      CHECK(canopy_will_execute_forest(insitu, step, 0.5 * step, forest, &will) == CANOPY_OK,
+            "will_execute_forest");
     /* Step 0 imports the script; then every second step. */
     CHECK(will == (step % 2 == 0), "will_execute says whether the pipeline runs");
     CHECK(canopy_execute(insitu, step, 0.5 * step, forest) == CANOPY_OK, "execute");
   }
+  /* The queries of step 5, on every rank: leaves only (the coarse 0.5 is not one). */
+  double value = 0.0;
+  CHECK(canopy_query_value(insitu, "max(density)", &value) == CANOPY_OK && value == 4.0,
+        "max(density) is the largest leaf");
+  /* Leaves 2.0 and 3.0 (a quarter of root 0 each) and 2.5 (root 1) in [1.5, 3.5]. */
+  CHECK(canopy_query_value(insitu, "volume(density, 1.5, 3.5) * 2", &value) == CANOPY_OK &&
+            value == 3.0,
+        "an expression's value");
+  CHECK(canopy_query_value(insitu, "volume(density, 1.5, 3.5)", &value) == CANOPY_OK &&
+            value == 1.5,
+        "and its query's, by its text");
+  CHECK(canopy_query_value(insitu, "min(density)", &value) == CANOPY_INVALID_ARGUMENT &&
+            value != value,
+        "an expression not asked for is refused (NaN)");
   /* Leaves 2.0, 3.0 and 2.5 are in [1.5, 3.5]; the coarse 0.5 and leaves 1.0, 4.0 are not. */
   long total = 0;
   for (int r = 0; r < size; ++r)

@@ -11,6 +11,7 @@ rank number):
   --loop-at=finalize     loop forever in catalyst_finalize
   --collective=0         catalyst_execute without @canopy.collective
   --collective-call=1    catalyst_execute ends with a collective (a reduction over ranks)
+  --record-queries=1     write canopy_catalyst.query_values() to queries_<step>_<rank>.json
 catalyst_finalize writes finalized.txt (rank 0)."""
 import os
 import sys
@@ -26,7 +27,8 @@ def my_rank():
 
 settings = canopy.settings(fail_steps="", exit_steps="", exit_at="", fail_ranks="all",
                            fail_import_rank=-1, loop_steps="", loop_at="", collective=True,
-                           collective_call=False, fail_message="")
+                           collective_call=False, fail_message="",
+                           record_queries=False)
 
 
 def failing_rank():
@@ -64,6 +66,11 @@ def execute(info):
         loop_forever()
     with open(os.path.join(settings.output_directory, "ran_%06d.txt" % info.timestep), "w") as out:
         out.write("rank %d\n" % my_rank())
+    if settings.record_queries:
+        import json
+        name = "queries_%06d_%d.json" % (info.timestep, my_rank())
+        with open(os.path.join(settings.output_directory, name), "w") as out:
+            json.dump(canopy.query_values(), out)
 
 
 if settings.collective:

@@ -32,7 +32,7 @@
 #pragma once
 
 #include "CanopyFiltersModule.h"
-#include "vtkCanopyViewDependentFilter.h"
+#include <canopy/filters/vtkCanopyViewDependentFilter.h>
 
 #include <array>
 #include <vector>

@@ -39,14 +39,9 @@
 #pragma once
 
 #include "CanopyFiltersModule.h"
-#include "vtkCanopyViewDependentFilter.h"
+#include <canopy/filters/vtkCanopyViewDependentFilter.h>
 
-#include <vector>
-
-namespace canopy
-{
-struct TreeCells;
-}
+#include <memory>
 
 class CANOPYFILTERS_EXPORT vtkCanopyAdaptiveSurface : public vtkCanopyViewDependentFilter
 {
@@ -76,6 +71,7 @@ private:
   vtkCanopyAdaptiveSurface(const vtkCanopyAdaptiveSurface&) = delete;
   void operator=(const vtkCanopyAdaptiveSurface&) = delete;
 
-  /// 3D: the builder's per-tree cell buffers, kept between executions.
-  std::vector<canopy::TreeCells> CellBuffers;
+  /// What the surface keeps between executions (its builder's buffers).
+  struct vtkSurfaceInternals;
+  std::unique_ptr<vtkSurfaceInternals> SurfaceInternals;
 };

@@ -57,7 +57,7 @@
 
 #include "CanopyFiltersModule.h"
 
-#include "vtkCanopyViewDependentFilter.h"
+#include <canopy/filters/vtkCanopyViewDependentFilter.h>
 
 #include <vtkSmartPointer.h>
 

@@ -65,12 +65,6 @@
 #include <string>
 #include <vector>
 
-namespace canopy
-{
-class HyperTreeAccessCache;
-class SelectionMaskMemo;
-} // namespace canopy
-
 class CANOPYFILTERS_EXPORT vtkCanopyExtractSelection : public vtkDataObjectAlgorithm
 {
 public:
@@ -208,10 +202,8 @@ private:
   /// The Last* values as before any selection (what a failed execution leaves).
   void ResetLastReport();
 
-  /// The input's topology read once while it is unchanged (a value range that
-  /// changes every step re-reads nothing but the values).
-  std::unique_ptr<canopy::HyperTreeAccessCache> Topology;
-  /// The last mask, tree by tree (PreserveTopology): the next execution redoes
-  /// only the trees whose inputs changed.
-  std::unique_ptr<canopy::SelectionMaskMemo> MaskMemo;
+  /// What the filter keeps between executions: the input's topology as read, the
+  /// last mask (vtkCanopyExtractSelection.cxx).
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
 };

@@ -9,7 +9,7 @@
 #pragma once
 
 #include "CanopyIOModule.h"
-#include "HyperTreeGridPiece.h"
+#include <canopy/io/HyperTreeGridPiece.h>
 
 #include <cstddef>
 #include <functional>

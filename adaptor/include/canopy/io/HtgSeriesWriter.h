@@ -14,7 +14,7 @@
 #pragma once
 
 #include "CanopyIOModule.h"
-#include "WriteError.h"
+#include <canopy/io/WriteError.h>
 
 #include <mpi.h>
 

@@ -13,7 +13,7 @@
  */
 #pragma once
 
-#include "vtkCanopyHyperTreeGridStepWriter.h"
+#include <canopy/io/vtkCanopyHyperTreeGridStepWriter.h>
 
 #include <memory>
 
