@@ -42,6 +42,11 @@ public:
                  const std::vector<double>& values, int maximumLevel = -1,
                  const ViewOptions& view = {});
 
+  /// Other ranks' border leaves (borrowed for the builder's life, or nullptr):
+  /// their parts of the grid are seen through them (ContourGhosts.h). Before
+  /// ranges() and run().
+  void setGhosts(const ContourGhosts* ghosts) { Dual.setGhosts(ghosts); }
+
   /// The nodes' value ranges pruning needs (NodeRanges.h), for run(); a
   /// caller may keep them while the grid's topology and the field hold.
   std::shared_ptr<const NodeRanges> ranges(const ProgressShare& progress) const;

@@ -7,6 +7,8 @@
 #include <vtkAOSDataArrayTemplate.h>
 #include <vtkDataArray.h>
 
+#include <limits>
+
 namespace canopy
 {
 
@@ -28,8 +30,20 @@ public:
     }
   }
 
+  /// Ids from `localCells` on are other ranks' leaves (ContourGhosts.h):
+  /// `ghostValues` (borrowed; must outlive the reader), id - localCells.
+  void setGhosts(vtkIdType localCells, const double* ghostValues)
+  {
+    LocalCells = localCells;
+    GhostValues = ghostValues;
+  }
+
   double operator()(vtkIdType cell) const
   {
+    if (cell >= LocalCells)
+    {
+      return GhostValues[cell - LocalCells];
+    }
     const vtkIdType at = cell * Components + Component;
     if (Doubles)
     {
@@ -50,6 +64,8 @@ private:
   const float* Floats = nullptr;
   vtkIdType Components = 1;
   int Component = 0;
+  vtkIdType LocalCells = std::numeric_limits<vtkIdType>::max();
+  const double* GhostValues = nullptr;
 };
 
 } // namespace canopy

@@ -137,8 +137,8 @@ struct ContourPiece
   std::vector<Centroid> centroids;
   std::vector<std::array<double, 3>> points;
   std::vector<ContourPointKey> keys;
-  /// Per point: the leaves at its edge's ends (lower key first) and the
-  /// weight of the second one (the point is at (1 - t) x_low + t x_high).
+  /// Per point: the leaves at its edge's ends (lower position first) and the
+  /// weight of the second one (the point is at (1 - t) x_first + t x_second).
   std::vector<std::array<vtkIdType, 2>> leaves;
   std::vector<double> weights;
   /// Per point: whether another piece may make it too (merged by key).
@@ -170,13 +170,18 @@ struct ContourPiece
     {
       return found.first;
     }
-    // From the lower key, whichever cell asks: the same bits every time.
-    const double t = (value - lo.value) / (hi.value - lo.value);
+    // From the end lower in position (x, then y, then z; the key where they
+    // coincide), whichever cell asks: the same bits every time, and on every
+    // rank (keys are a rank's own numbering; positions are not).
+    const bool keyOrder = lo.x == hi.x ? true : lo.x < hi.x;
+    const DualVertex& p = keyOrder ? lo : hi;
+    const DualVertex& q = keyOrder ? hi : lo;
+    const double t = (value - p.value) / (q.value - p.value);
     const vtkIdType id = found.first;
-    points.push_back({{lo.x[0] + t * (hi.x[0] - lo.x[0]), lo.x[1] + t * (hi.x[1] - lo.x[1]),
-                       lo.x[2] + t * (hi.x[2] - lo.x[2])}});
+    points.push_back({{p.x[0] + t * (q.x[0] - p.x[0]), p.x[1] + t * (q.x[1] - p.x[1]),
+                       p.x[2] + t * (q.x[2] - p.x[2])}});
     keys.push_back(key);
-    leaves.push_back({{lo.leaf, hi.leaf}});
+    leaves.push_back({{p.leaf, q.leaf}});
     weights.push_back(t);
     // An edge with a centroid is one cell's own.
     const bool own = (lo.own && hi.own) || (lo.key >> 63) != 0 || (hi.key >> 63) != 0;

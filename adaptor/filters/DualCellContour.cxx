@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace canopy
@@ -61,6 +62,14 @@ bool DualCellContour::enter(const DualGroup& group, unsigned axes)
       const DualNode& n = *group[s];
       if ((s & ~axes) == 0 && (n.kind == DualNode::Inner || n.kind == DualNode::Leaf))
       {
+        if (n.remote || (Dual.ghosts() && n.tree->hasAbsentDescendant(n.node)))
+        {
+          // Another rank's (a ghost), or a node with other ranks' parts below
+          // (its range covers this rank's leaves only): descended.
+          range.add(
+              {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
+          continue;
+        }
         range.add(Ranges->at(static_cast<std::size_t>(n.tree - Grid.trees().data()), n.node));
       }
     }
@@ -111,13 +120,13 @@ bool DualCellContour::vertex(const DualGroup& group, unsigned s, DualVertex& v)
   {
     return false;
   }
-  v.leaf = n->tree->globalIndex(n->node);
+  v.leaf = Dual.leafId(*n);
   v.key = static_cast<std::uint64_t>(v.leaf) * 64 + sides;
   v.value = Field(v.leaf);
   if (sides == 0)
   {
     v.x = nodeCentre(Grid, *n);
-    v.own = insideItsTree(*n);
+    v.own = !n->remote && insideItsTree(*n);
     return true;
   }
   std::array<double, 3> lo;
@@ -152,6 +161,20 @@ void DualCellContour::cell(const DualGroup& group)
   ++DualCells;
   Cached = 0;
   const unsigned corners = 1u << Dual.dimension();
+  // Where ranks meet, every rank that sees the cell (one of its leaves here,
+  // the others as ghosts) sees it alike: it is drawn by the owner of its lowest
+  // slot's leaf (an Outside slot has none), by no other (ContourGhosts.h).
+  for (unsigned s = 0; s < corners; ++s)
+  {
+    if (group[s]->kind != DualNode::Outside)
+    {
+      if (group[s]->remote)
+      {
+        return;
+      }
+      break;
+    }
+  }
   std::array<DualVertex, 8> v;
   // Values first: most cells met are not crossed, and a leaf's centre costs
   // more than its value. Boundary vertices are made whole (their value needs
@@ -161,10 +184,10 @@ void DualCellContour::cell(const DualGroup& group)
     const DualNode& n = *group[s];
     if (n.kind == DualNode::Leaf)
     {
-      v[s].leaf = n.tree->globalIndex(n.node);
+      v[s].leaf = Dual.leafId(n);
       v[s].key = static_cast<std::uint64_t>(v[s].leaf) * 64;
       v[s].value = Field(v[s].leaf);
-      v[s].own = insideItsTree(n);
+      v[s].own = !n.remote && insideItsTree(n);
     }
     else if (!vertex(group, s, v[s]))
     {

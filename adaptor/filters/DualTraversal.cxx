@@ -58,6 +58,18 @@ DualNode DualTraversal::root(const std::array<long, 3>& p) const
   if (tree == nullptr)
   {
     n.kind = DualNode::Hidden;
+    if (Grid.treeElsewhere(ijk[0], ijk[1], ijk[2]))
+    {
+      // Another rank's tree: its ghosts, if it sent any.
+      n.remote = 1;
+      const std::array<unsigned int, 3> at{{static_cast<unsigned int>(ijk[0]),
+                                            static_cast<unsigned int>(ijk[1]),
+                                            static_cast<unsigned int>(ijk[2])}};
+      if (const TreeAccess* stand = Ghosts ? Ghosts->elsewhere(at) : nullptr)
+      {
+        classifyGhost(n, *stand, 0, {{0, 0, 0}});
+      }
+    }
     return n;
   }
   classify(n, *tree, 0, 0, {{0, 0, 0}});

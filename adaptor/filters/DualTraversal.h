@@ -35,6 +35,7 @@
 // and area).
 #pragma once
 
+#include "ContourGhosts.h"
 #include "HyperTreeAccess.h"
 #include "ViewVolume.h"
 
@@ -63,6 +64,10 @@ struct DualNode
   Kind kind;
   /// Outside only: bit 2i, below the domain along active axis i; bit 2i + 1, above.
   unsigned char outside;
+  /// Another rank's: a ghost node (Leaf or Inner; `node` is its index in
+  /// ContourGhosts, `tree` the local tree or a stand-in), or (Hidden) a part
+  /// of another rank no ghost covers.
+  unsigned char remote;
 };
 
 /// 2^d nodes, slot s's bit i the side along active axis i (only the slots of
@@ -85,11 +90,61 @@ public:
                          const ViewVolume* view = nullptr, bool levelOfDetail = false,
                          double pixelThreshold = 1.0);
 
+  /// Other ranks' leaves to see where this grid has their parts (borrowed, or
+  /// nullptr: those parts are Hidden). Set before any task runs.
+  void setGhosts(const ContourGhosts* ghosts) { Ghosts = ghosts; }
+  const ContourGhosts* ghosts() const { return Ghosts; }
+
+  /// A leaf's id: its global index, or, for a ghost, the number of the grid's
+  /// cells plus its ghost index (what ContourField reads).
+  vtkIdType leafId(const DualNode& n) const
+  {
+    return n.remote ? Grid.numberOfCells() + n.node : n.tree->globalIndex(n.node);
+  }
+  /// The rank a visible node belongs to (`self` for a local one).
+  int ownerOf(const DualNode& n, int self) const { return n.remote ? Ghosts->owner(n.node) : self; }
+
+  /// The root node of root cell (i, j, k) (3D indices, inside the root grid),
+  /// classified as the traversal classifies it.
+  DualNode rootNode(const std::array<long, 3>& rootIJK) const
+  {
+    std::array<long, 3> p{{0, 0, 0}};
+    for (int i = 0; i < D; ++i)
+    {
+      p[static_cast<std::size_t>(i)] =
+          rootIJK[static_cast<std::size_t>(Axes[static_cast<std::size_t>(i)])];
+    }
+    return root(p);
+  }
+  /// Fills `out` with child c (VTK's child order) of the Inner node `n`.
+  void childNode(DualNode& out, const DualNode& n, int c) const
+  {
+    const auto& digit = Grid.childDigits(c);
+    std::array<std::int64_t, 3> ijk;
+    for (std::size_t a = 0; a < 3; ++a)
+    {
+      ijk[a] = digit[a] < 0 ? n.ijk[a] : n.ijk[a] * F + digit[a];
+    }
+    if (n.remote)
+    {
+      classifyGhost(out, *n.tree, n.level + 1, ijk);
+      return;
+    }
+    classify(out, *n.tree, n.tree->firstChild(n.node) + c, n.level + 1, ijk);
+  }
+
   /// Whether a node is a leaf of the forest the traversal sees.
   bool isLeaf(const TreeAccess& tree, vtkIdType node, int level,
               const std::array<std::int64_t, 3>& ijk) const
   {
-    return level == MaximumLevel || tree.isLeaf(node) ||
+    // A node with other ranks' parts below is never a leaf before its own
+    // leaves: no rank could draw it alone (ContourGhosts.h).
+    return tree.isLeaf(node) || (!tree.hasAbsentDescendant(node) && coarseLeaf(tree, level, ijk));
+  }
+  /// Whether a node is a leaf by the maximum level or the level of detail.
+  bool coarseLeaf(const TreeAccess& tree, int level, const std::array<std::int64_t, 3>& ijk) const
+  {
+    return (MaximumLevel >= 0 && level >= MaximumLevel) ||
            (View && LevelOfDetail && footprint(tree, level, ijk) <= PixelThreshold);
   }
   int maximumLevel() const { return MaximumLevel; }
@@ -134,10 +189,63 @@ private:
     n.level = level;
     n.ijk = ijk;
     n.outside = 0;
+    n.remote = 0;
     const vtkIdType global = tree.globalIndex(node);
-    n.kind = Grid.isMasked(global) || Grid.isAbsent(global)
+    if (Grid.isAbsent(global))
+    {
+      classifyGhost(n, tree, level, ijk);
+      return;
+    }
+    n.kind = Grid.isMasked(global)
                  ? DualNode::Hidden
                  : (isLeaf(tree, node, level, ijk) ? DualNode::Leaf : DualNode::Inner);
+  }
+
+  /// Fills `n` with the ghost at a node of another rank's part (Hidden when
+  /// no rank sent one).
+  void classifyGhost(DualNode& n, const TreeAccess& tree, int level,
+                     const std::array<std::int64_t, 3>& ijk) const
+  {
+    n.tree = &tree;
+    n.level = level;
+    n.ijk = ijk;
+    n.outside = 0;
+    n.remote = 1;
+    std::int64_t ghost = Ghosts ? Ghosts->find(tree, level, ijk) : -1;
+    if (ghost < 0 && Ghosts)
+    {
+      // This grid may split another rank's part finer than that rank's
+      // leaves: the node is then inside a ghost leaf of a coarser level,
+      // which fills its slot as a coarse leaf fills several.
+      std::array<std::int64_t, 3> up = ijk;
+      for (int l = level - 1; l >= 0 && ghost < 0; --l)
+      {
+        for (int i = 0; i < D; ++i)
+        {
+          up[static_cast<std::size_t>(Axes[static_cast<std::size_t>(i)])] /= F;
+        }
+        ghost = Ghosts->find(tree, l, up);
+        if (ghost >= 0)
+        {
+          if (!Ghosts->isLeaf(ghost) && (Ghosts->mixed(ghost) || !coarseLeaf(tree, l, up)))
+          {
+            ghost = -1; // an inner node that did not send this part: unknown
+            break;
+          }
+          n.level = l;
+          n.ijk = up;
+        }
+      }
+    }
+    n.node = static_cast<vtkIdType>(ghost);
+    if (ghost < 0)
+    {
+      n.kind = DualNode::Hidden;
+      return;
+    }
+    n.kind = Ghosts->isLeaf(ghost) || (!Ghosts->mixed(ghost) && coarseLeaf(tree, n.level, n.ijk))
+                 ? DualNode::Leaf
+                 : DualNode::Inner;
   }
 
   /// Fills `out` with the child of the refined node `n` with digit digits[i]
@@ -149,15 +257,7 @@ private:
     {
       c = c * F + digits[static_cast<std::size_t>(i)];
     }
-    const TreeAccess& tree = *n.tree;
-    const vtkIdType first = tree.firstChild(n.node);
-    std::array<std::int64_t, 3> ijk;
-    const auto& digit = Grid.childDigits(c);
-    for (std::size_t a = 0; a < 3; ++a)
-    {
-      ijk[a] = digit[a] < 0 ? n.ijk[a] : n.ijk[a] * F + digit[a];
-    }
-    classify(out, tree, first + c, n.level + 1, ijk);
+    childNode(out, n, c);
   }
 
   /// The root node at ringed root position p (per active axis, -1 .. n).
@@ -171,6 +271,7 @@ private:
   int F = 2;
   int MaximumLevel = -1;
   const ViewVolume* View = nullptr;
+  const ContourGhosts* Ghosts = nullptr;
   bool LevelOfDetail = false;
   double PixelThreshold = 1.0;
   std::array<int, 3> Axes{{0, 1, 2}};

@@ -28,37 +28,15 @@ DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper, bool farC
       return none; // the domain's boundary
     }
   }
-  const TreeAccess* tree = Grid.treeAt(rootIJK[0], rootIJK[1], rootIJK[2]);
-  if (tree == nullptr)
+  // Down from the root, as the traversal classifies nodes: other ranks' parts
+  // through their ghosts (ContourGhosts.h), so every rank finds the same leaves.
+  DualNode n = Dual.rootNode(rootIJK);
+  while (n.kind == DualNode::Inner)
   {
-    none.kind = DualNode::Hidden;
-    return none;
-  }
-  vtkIdType node = 0;
-  int level = 0;
-  std::array<std::int64_t, 3> ijk{{0, 0, 0}};
-  for (;;)
-  {
-    const vtkIdType global = tree->globalIndex(node);
-    if (Grid.isMasked(global) || Grid.isAbsent(global))
-    {
-      none.kind = DualNode::Hidden;
-      return none;
-    }
-    if (Dual.isLeaf(*tree, node, level, ijk))
-    {
-      DualNode n{};
-      n.tree = tree;
-      n.node = node;
-      n.level = level;
-      n.ijk = ijk;
-      n.kind = DualNode::Leaf;
-      return n;
-    }
     int c = 0;
-    if (level < leaf.level)
+    if (n.level < leaf.level)
     {
-      c = Grid.childToward(level, leaf.level, target);
+      c = Grid.childToward(n.level, leaf.level, target);
     }
     else
     {
@@ -72,17 +50,23 @@ DualNode LeafGradient::across(const DualNode& leaf, int i, bool upper, bool farC
         weight *= Grid.branchFactor();
       }
     }
-    ijk = Grid.childPosition(ijk, c);
-    node = tree->firstChild(node) + c;
-    ++level;
+    DualNode child;
+    Dual.childNode(child, n, c);
+    n = child;
   }
+  if (n.kind != DualNode::Leaf)
+  {
+    none.kind = DualNode::Hidden;
+    return none;
+  }
+  return n;
 }
 
 std::array<double, 3> LeafGradient::at(const DualNode& leaf) const
 {
   const int d = Dual.dimension();
   const std::array<double, 3> c = nodeCentre(Grid, leaf);
-  const double f = Field(leaf.tree->globalIndex(leaf.node));
+  const double f = Field(Dual.leafId(leaf));
   // Normal equations in the active axes: A g = b.
   double A[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
   double b[3] = {0, 0, 0};
@@ -101,7 +85,7 @@ std::array<double, 3> LeafGradient::at(const DualNode& leaf) const
         continue;
       }
       const std::array<double, 3> cn = nodeCentre(Grid, n);
-      const double df = Field(n.tree->globalIndex(n.node)) - f;
+      const double df = Field(Dual.leafId(n)) - f;
       double off[3];
       for (int j = 0; j < d; ++j)
       {

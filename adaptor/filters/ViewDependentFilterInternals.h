@@ -55,6 +55,7 @@ struct vtkCanopyViewDependentFilter::vtkInternals
     ViewResources();
     ~ViewResources();
     ViewResources(ViewResources&&) noexcept;
+    ViewResources& operator=(ViewResources&&) noexcept;
   };
   /// Fills the builders' view options from the properties; the resources they
   /// point to must outlive them. Throws std::invalid_argument when ColorField

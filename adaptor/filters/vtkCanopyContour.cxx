@@ -2,6 +2,8 @@
 
 #include "ContourBuilder.h"
 #include "ContourField.h"
+#include "ContourGhosts.h"
+#include "GatherFromAll.h"
 #include "HyperTreeAccessCache.h"
 #include "NodeRanges.h"
 #include "TreeProgress.h"
@@ -17,6 +19,7 @@
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
+#include <vtkMultiProcessController.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -202,6 +205,8 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
   this->LastCulled = 0;
   this->LastRangesKept = false;
   this->LastDualCells = 0;
+  this->LastGhostsReceived = 0;
+  this->LastGhostBytesReceived = 0;
   vtkPolyData* output = vtkPolyData::SafeDownCast(outputObject);
   if (!input || !output)
   {
@@ -209,69 +214,152 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
     return 0;
   }
   output->Initialize();
+  // On several processes the exchange of border leaves is collective: every
+  // rank takes part, whatever its own checks found (an empty share), and
+  // fails after it, so that no rank waits for one that gave up.
+  vtkMultiProcessController* controller = this->Controller;
+  const bool exchange = controller && controller->GetNumberOfProcesses() > 1;
+  std::string problem;
   canopy::CameraParameters camera;
-  if (!this->Internals->CurrentView(camera))
-  {
-    return 0; // said why
-  }
+  const bool viewUsable = this->Internals->CurrentView(camera); // says why when not
   vtkDataArray* array = contouredArray(input, this->GetInputArrayInformation(0));
+  std::vector<vtkDataArray*> interpolated;
   if (!array)
   {
-    vtkErrorMacro("no cell field to contour: select one with SetInputArrayToProcess");
-    return 0;
+    problem = "no cell field to contour: select one with SetInputArrayToProcess";
   }
-  if (this->ArrayComponent < 0 || this->ArrayComponent >= array->GetNumberOfComponents())
+  else if (this->ArrayComponent < 0 || this->ArrayComponent >= array->GetNumberOfComponents())
   {
-    vtkErrorMacro("component " << this->ArrayComponent << " of " << array->GetName()
-                               << ", which has " << array->GetNumberOfComponents());
-    return 0;
+    problem = "component " + std::to_string(this->ArrayComponent) + " of " +
+              (array->GetName() ? array->GetName() : "the field") + ", which has " +
+              std::to_string(array->GetNumberOfComponents());
   }
-  std::vector<vtkDataArray*> interpolated;
   for (const std::string& name : this->InterpolatedFields)
   {
     vtkDataArray* other = input->GetCellData()->GetArray(name.c_str());
-    if (!other)
+    if (!other && problem.empty())
     {
-      vtkErrorMacro("no cell field " << name << " to interpolate");
-      return 0;
+      problem = "no cell field " + name + " to interpolate";
     }
     interpolated.push_back(other);
   }
   const std::vector<double> values(this->ContourValues->GetValues(),
                                    this->ContourValues->GetValues() +
                                        this->ContourValues->GetNumberOfContours());
-  if (values.empty())
-  {
-    return 1;
-  }
 
   canopy::ContourResult result;
+  std::shared_ptr<const canopy::HyperTreeAccess> access;
   try
   {
     // Explicit global indices read once into tables (kept with the access
     // while the topology holds): the traversal asks for one per node, and the
     // pruning pass for every node. No masked-descendant flags.
-    const auto access = this->Internals->Topology->get(input, true, false);
+    access = this->Internals->Topology->get(input, true, false);
     auto tooShort = [&](vtkDataArray* a)
-    { return a->GetNumberOfTuples() < access->numberOfCells(); };
-    if (tooShort(array) || std::any_of(interpolated.begin(), interpolated.end(), tooShort))
+    { return a && a->GetNumberOfTuples() < access->numberOfCells(); };
+    if (problem.empty() &&
+        (tooShort(array) || std::any_of(interpolated.begin(), interpolated.end(), tooShort)))
     {
-      vtkErrorMacro("a field has fewer values than the grid has cells");
-      return 0;
+      problem = "a field has fewer values than the grid has cells";
     }
-    const canopy::ContourField field(array, this->ArrayComponent);
-    const int maximumLevel = std::max(this->MaximumLevel, -1);
-    canopy::ViewOptions options;
-    const vtkInternals::ViewResources resources = this->Internals->ViewOptionsFor(camera, input, options);
+  }
+  catch (const std::exception& e)
+  {
+    this->Internals->Topology->clear();
+    problem = std::string("cannot contour: ") + e.what();
+  }
+  const int maximumLevel = std::max(this->MaximumLevel, -1);
+  canopy::ViewOptions options;
+  vtkInternals::ViewResources resources;
+  try
+  {
+    if (problem.empty() && viewUsable)
+    {
+      resources = this->Internals->ViewOptionsFor(camera, input, options);
+    }
+  }
+  catch (const std::exception& e)
+  {
+    problem = std::string("cannot contour: ") + e.what();
+  }
+  const bool contouring = problem.empty() && viewUsable && !values.empty();
+  canopy::ContourField field =
+      contouring ? canopy::ContourField(array, this->ArrayComponent) : canopy::ContourField();
+  std::unique_ptr<canopy::ContourGhosts> ghosts;
+  if (exchange)
+  {
+    std::vector<double> mine;
+    std::vector<int> components;
+    try
+    {
+      if (contouring)
+      {
+        mine = canopy::ContourGhosts::collect(*access, field, interpolated, maximumLevel, options);
+        for (vtkDataArray* other : interpolated)
+        {
+          components.push_back(other->GetNumberOfComponents());
+        }
+      }
+    }
+    catch (const std::exception& e)
+    {
+      mine.clear();
+      problem = std::string("cannot collect the border leaves: ") + e.what();
+    }
+    std::vector<vtkIdType> counts;
+    const std::vector<double> all = canopy::gatherFromAll(controller, mine, counts);
+    try
+    {
+      if (contouring && problem.empty())
+      {
+        std::vector<std::vector<double>> records(counts.size());
+        std::size_t at = 0;
+        for (std::size_t r = 0; r < counts.size(); ++r)
+        {
+          records[r].assign(all.begin() + static_cast<std::ptrdiff_t>(at),
+                            all.begin() + static_cast<std::ptrdiff_t>(at + counts[r]));
+          at += static_cast<std::size_t>(counts[r]);
+        }
+        ghosts = std::make_unique<canopy::ContourGhosts>(
+            *access, records, controller->GetLocalProcessId(), components);
+        field.setGhosts(access->numberOfCells(), ghosts->values().data());
+        this->LastGhostsReceived = static_cast<vtkIdType>(ghosts->size());
+        this->LastGhostBytesReceived = static_cast<vtkIdType>(ghosts->bytesReceived());
+      }
+    }
+    catch (const std::exception& e)
+    {
+      problem = std::string("cannot use the other ranks' border leaves: ") + e.what();
+    }
+  }
+  if (!problem.empty())
+  {
+    vtkErrorMacro(<< problem);
+    return 0;
+  }
+  if (!viewUsable)
+  {
+    return 0; // said why
+  }
+  if (values.empty())
+  {
+    return 1;
+  }
+
+  try
+  {
     canopy::ContourBuilder builder(*access, field, values, maximumLevel, options);
+    builder.setGhosts(ghosts.get());
     canopy::TreeProgress progress(this);
     const canopy::ProgressShare share{&progress};
     std::shared_ptr<const canopy::NodeRanges> ranges;
     if (this->Pruning)
     {
       KeptRanges& kept = *this->Kept;
-      // With a view, which nodes are leaves depends on it: not kept.
-      this->LastRangesKept = !options.view && kept.ranges && kept.access == access &&
+      // With a view, which nodes are leaves depends on it: not kept. With
+      // other ranks' leaves, the boundary gradients along the rank borders
+      // depend on theirs: not kept either.
+      this->LastRangesKept = !options.view && !ghosts && kept.ranges && kept.access == access &&
                              kept.array == array && kept.arrayTime == array->GetMTime() &&
                              kept.component == this->ArrayComponent &&
                              kept.maximumLevel == maximumLevel;
@@ -356,7 +444,7 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
   {
     pointData->SetNormals(pointNormals(result));
   }
-  for (vtkDataArray* other : interpolated)
+  for (vtkDataArray* const& other : interpolated)
   {
     vtkNew<vtkDoubleArray> out;
     out->SetName(other->GetName());
@@ -364,17 +452,24 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
     out->SetNumberOfComponents(components);
     out->SetNumberOfTuples(points);
     // A leaf's value, or a centroid's: its leaves' weighted sum.
+    const std::size_t which = static_cast<std::size_t>(&other - interpolated.data());
+    const vtkIdType local = access->numberOfCells();
+    auto leafValue = [&](vtkIdType leaf, int c)
+    {
+      return leaf < local ? other->GetComponent(leaf, c)
+                          : ghosts->interpolated(which, leaf - local, c);
+    };
     auto valueAt = [&](vtkIdType leaf, int c)
     {
       if (leaf >= 0)
       {
-        return other->GetComponent(leaf, c);
+        return leafValue(leaf, c);
       }
       const auto& centroid = result.centroids[static_cast<std::size_t>(-leaf - 1)];
       double sum = 0;
       for (std::size_t j = 0; j < static_cast<std::size_t>(centroid.count); ++j)
       {
-        sum += centroid.weights[j] * other->GetComponent(centroid.leaves[j], c);
+        sum += centroid.weights[j] * leafValue(centroid.leaves[j], c);
       }
       return sum;
     };
@@ -413,4 +508,6 @@ void vtkCanopyContour::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastCulled: " << this->LastCulled << "\n";
   os << indent << "LastRangesKept: " << this->LastRangesKept << "\n";
   os << indent << "LastDualCells: " << this->LastDualCells << "\n";
+  os << indent << "LastGhostsReceived: " << this->LastGhostsReceived << "\n";
+  os << indent << "LastGhostBytesReceived: " << this->LastGhostBytesReceived << "\n";
 }

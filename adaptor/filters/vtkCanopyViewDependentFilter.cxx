@@ -57,6 +57,9 @@ vtkCanopyViewDependentFilter::vtkInternals::ViewResources::ViewResources() = def
 vtkCanopyViewDependentFilter::vtkInternals::ViewResources::~ViewResources() = default;
 vtkCanopyViewDependentFilter::vtkInternals::ViewResources::ViewResources(ViewResources&&) noexcept =
     default;
+vtkCanopyViewDependentFilter::vtkInternals::ViewResources&
+vtkCanopyViewDependentFilter::vtkInternals::ViewResources::operator=(ViewResources&&) noexcept =
+    default;
 
 vtkCanopyViewDependentFilter::vtkInternals::vtkInternals(vtkCanopyViewDependentFilter& filter)
     : Topology(std::make_unique<canopy::HyperTreeAccessCache>()), Filter(filter)

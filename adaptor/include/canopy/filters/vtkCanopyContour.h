@@ -153,6 +153,11 @@ public:
   /// Groups the last execution skipped as outside the view (ViewCulling).
   vtkGetMacro(LastCulled, vtkIdType);
   vtkGetMacro(LastDualCells, vtkIdType);
+  /// On several processes (Controller): the other ranks' border leaves and
+  /// their ancestors the last execution received, and their bytes (the
+  /// exchange that makes the ranks' contours meet without a gap).
+  vtkGetMacro(LastGhostsReceived, vtkIdType);
+  vtkGetMacro(LastGhostBytesReceived, vtkIdType);
 
   /// Includes the contour values' modification time.
   vtkMTimeType GetMTime() override;
@@ -176,6 +181,8 @@ protected:
   vtkIdType LastPruned = 0;
   vtkIdType LastCulled = 0;
   vtkIdType LastDualCells = 0;
+  vtkIdType LastGhostsReceived = 0;
+  vtkIdType LastGhostBytesReceived = 0;
   bool LastRangesKept = false;
   /// The value ranges of the last execution and what they were made of.
   struct KeptRanges;
