@@ -26,6 +26,7 @@
 #include <vtkPolyData.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -207,6 +208,7 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
   this->LastDualCells = 0;
   this->LastGhostsReceived = 0;
   this->LastGhostBytesReceived = 0;
+  this->LastGhostSeconds = 0;
   vtkPolyData* output = vtkPolyData::SafeDownCast(outputObject);
   if (!input || !output)
   {
@@ -286,6 +288,7 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
   canopy::ContourField field =
       contouring ? canopy::ContourField(array, this->ArrayComponent) : canopy::ContourField();
   std::unique_ptr<canopy::ContourGhosts> ghosts;
+  const auto exchangeStart = std::chrono::steady_clock::now();
   if (exchange)
   {
     std::vector<double> mine;
@@ -332,6 +335,8 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
       problem = std::string("cannot use the other ranks' border leaves: ") + e.what();
     }
   }
+  this->LastGhostSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - exchangeStart).count();
   if (!problem.empty())
   {
     vtkErrorMacro(<< problem);
@@ -510,4 +515,5 @@ void vtkCanopyContour::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastDualCells: " << this->LastDualCells << "\n";
   os << indent << "LastGhostsReceived: " << this->LastGhostsReceived << "\n";
   os << indent << "LastGhostBytesReceived: " << this->LastGhostBytesReceived << "\n";
+  os << indent << "LastGhostSeconds: " << this->LastGhostSeconds << "\n";
 }

@@ -158,6 +158,9 @@ public:
   /// exchange that makes the ranks' contours meet without a gap).
   vtkGetMacro(LastGhostsReceived, vtkIdType);
   vtkGetMacro(LastGhostBytesReceived, vtkIdType);
+  /// The exchange's wall time on this rank (finding the border leaves, the
+  /// collective, indexing what came).
+  vtkGetMacro(LastGhostSeconds, double);
 
   /// Includes the contour values' modification time.
   vtkMTimeType GetMTime() override;
@@ -183,6 +186,7 @@ protected:
   vtkIdType LastDualCells = 0;
   vtkIdType LastGhostsReceived = 0;
   vtkIdType LastGhostBytesReceived = 0;
+  double LastGhostSeconds = 0;
   bool LastRangesKept = false;
   /// The value ranges of the last execution and what they were made of.
   struct KeptRanges;
