@@ -1482,8 +1482,9 @@ TEST(ContourSplit, EachRankDrawsItsOwnPartNoOverlap)
   // contour is part of the whole forest's (the same triangles, point for point,
   // away from the domain's boundary, where a boundary vertex's gradient may
   // miss another rank's leaves) and no triangle is drawn by two ranks: a dual
-  // cell touching another rank's part is left out (the gap the exchange of a
-  // later stage closes).
+  // cell touching another rank's part is left out: without a controller a part
+  // is contoured alone (the exchange between real ranks: SplitContour.* in
+  // tests/mpi/SplitContourTest.cxx).
   for (int dimension : {2, 3})
   {
     RandomForestOptions o;

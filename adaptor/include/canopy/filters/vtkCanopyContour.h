@@ -21,11 +21,17 @@
  * Points are computed from their dual edge alone, in one order, and shared
  * through the edge's key: no geometric point locator.
  *
- * Masked cells, other processes' parts of split trees (absent cells) and root
- * cells without a tree are hidden: a dual cell touching one is not contoured,
- * so the contour stops (open) at a hidden region. Grids split between processes
- * are not yet exchanged: each process contours its own part, leaving a gap of
- * one dual cell along its parts' borders (docs/filters.md).
+ * Masked cells and root cells without a tree are hidden: a dual cell touching
+ * one is not contoured, so the contour stops (open) at a hidden region. Grids
+ * split between processes (other processes' parts absent, or their trees
+ * elsewhere): with a Controller of several processes, every execution is
+ * collective over it. Each process sends its border leaves (those sharing a
+ * vertex with another's part, with their face neighbours and ancestors) to all
+ * in one AllGatherV and sees the others' parts through them; a dual cell is
+ * drawn by the process owning its lowest slot's leaf. The processes' contours
+ * together are the one-process contour, to the bit (docs/filters.md). A node
+ * with several processes' leaves below is never contoured as a coarse leaf.
+ * Without a controller a part is contoured alone, open along its borders.
  *
  * Field: the cell array selected with SetInputArrayToProcess(0, 0, 0,
  * vtkDataObject::FIELD_ASSOCIATION_CELLS, name) (default: the cell data's
