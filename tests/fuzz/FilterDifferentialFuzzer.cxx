@@ -23,6 +23,10 @@
 //    rules give on VTK's cursors' nodes (docs/filters.md), with the counters, the
 //    bounds, the cells' geometry and fields; then the masked grid's full surface, and
 //    the same selection inverted on the masked grid (the pipelines' chain).
+//  - vtkCanopyContour (2D, 3D) of a linear field read from the input, in full and with the
+//    view's level of detail: every point on the field's plane, none inside a masked cell,
+//    no cell twice, and without masks or missing trees watertight (every edge or segment
+//    end off the domain's boundary used exactly twice).
 //  - split forests (masked too: each rank masks what the whole forest masks): every
 //    rank's part alone as above, and the ranks together: the same cells as the whole
 //    forest (selections, 1D and 2D surfaces; without a mask, 3D faces), each once; with
@@ -64,6 +68,7 @@
 //            box: 2 bytes per axis (bit 7: a leaf's bound, 0x7f: infinite, else a fraction)
 //            frustum: source (camera planes, camera corners, six axis-aligned planes,
 //                   random planes), near, far, aspect, then 6 or 18 bytes of planes
+//   contour  the linear field's gradient (3 bytes), the value's place in its range
 #include "CameraPlanes.h"
 #include "ConvexClip.h"
 #include "FlatPolygons.h"
@@ -75,6 +80,7 @@
 
 #include <canopy/HtgBuilder.h>
 #include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyContour.h>
 #include <canopy/filters/vtkCanopyExtractSelection.h>
 
 #include <vtkBitArray.h>
@@ -85,7 +91,9 @@
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
+#include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkIdList.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
 #include <vtkIdTypeArray.h>
@@ -617,7 +625,7 @@ struct View
     return overlapsPlanes(g, b, inner, outer);
   }
 
-  void configure(vtkCanopyAdaptiveSurface* filter) const
+  void configure(vtkCanopyViewDependentFilter* filter) const
   {
     filter->SetViewportSize(width, height);
     filter->SetPixelThreshold(threshold);
@@ -2540,6 +2548,146 @@ extern "C" int LLVMFuzzerInitialize(int*, char***)
   return 0;
 }
 
+/// vtkCanopyContour (2D, 3D) of a linear field f = a . x on the grid, at a value
+/// inside its range, in full and with the view's level of detail (no culling):
+/// every point on the plane f = c (to rounding), none strictly inside a hidden
+/// leaf or a root cell without a tree, no cell twice, and, with neither, every
+/// triangle edge (3D) or segment end (2D) not on the domain's boundary used
+/// exactly twice (watertight: DualTraversal.h's claim, checked on any forest).
+void checkContour(const GridTruth& g, const View& view, const std::array<double, 3>& a,
+                  double fraction, bool anyHidden, const std::string& label)
+{
+  if (g.dimension < 2)
+  {
+    return;
+  }
+  vtkNew<vtkDoubleArray> linear;
+  linear->SetName("fuzz_linear");
+  linear->SetNumberOfTuples(g.htg->GetNumberOfCells());
+  linear->Fill(0);
+  double low = 1e300;
+  double high = -1e300;
+  for (std::size_t id = 0; id < g.nodes.size(); ++id)
+  {
+    const NodeTruth& n = g.nodes[id];
+    if (!n.reached)
+    {
+      continue;
+    }
+    double f = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      f += a[static_cast<std::size_t>(k)] * 0.5 * (n.b[2 * k] + n.b[2 * k + 1]);
+    }
+    linear->SetValue(static_cast<vtkIdType>(id), f);
+    low = std::min(low, f);
+    high = std::max(high, f);
+  }
+  g.htg->GetCellData()->AddArray(linear);
+  const double value = low + (high - low) * fraction;
+  const double slope = std::abs(a[0]) + std::abs(a[1]) + std::abs(a[2]);
+  vtkNew<vtkCanopyContour> filter;
+  ErrorWatch errors(filter);
+  filter->SetController(nullptr);
+  filter->SetInputData(g.htg);
+  filter->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "fuzz_linear");
+  filter->SetValue(0, value);
+  auto run = [&](const std::string& what)
+  {
+    Stage = label + ", contour " + what;
+    filter->Update();
+    errors.check(Stage);
+    vtkPolyData* out = filter->GetOutput();
+    for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+    {
+      double x[3];
+      out->GetPoint(p, x);
+      const double f = a[0] * x[0] + a[1] * x[1] + a[2] * x[2];
+      if (std::abs(f - value) > 1e-9 * slope * g.scale)
+      {
+        fail(Stage + ": a point off the plane: f = " + str(f) + ", the value " + str(value));
+      }
+      for (std::size_t id = 0; id < g.nodes.size(); ++id)
+      {
+        const NodeTruth& n = g.nodes[id];
+        if (!n.reached || !n.masked)
+        {
+          continue;
+        }
+        bool inside = true;
+        for (int k : g.active)
+        {
+          inside = inside && x[k] > n.b[2 * k] + g.tol && x[k] < n.b[2 * k + 1] - g.tol;
+        }
+        if (inside)
+        {
+          fail(Stage + ": a point inside masked cell " + std::to_string(id));
+        }
+      }
+    }
+    std::map<std::vector<vtkIdType>, int> cells;
+    std::map<std::vector<vtkIdType>, int> uses;
+    vtkCellArray* drawn = g.dimension == 2 ? out->GetLines() : out->GetPolys();
+    vtkNew<vtkIdList> ids;
+    drawn->InitTraversal();
+    while (drawn->GetNextCell(ids))
+    {
+      std::vector<vtkIdType> c(ids->GetPointer(0), ids->GetPointer(0) + ids->GetNumberOfIds());
+      std::sort(c.begin(), c.end());
+      if (++cells[c] > 1)
+      {
+        fail(Stage + ": a cell drawn twice");
+      }
+      for (std::size_t i = 0; i < c.size(); ++i)
+      {
+        if (g.dimension == 2)
+        {
+          ++uses[{c[i]}];
+        }
+        for (std::size_t j = i + 1; g.dimension == 3 && j < c.size(); ++j)
+        {
+          ++uses[{c[i], c[j]}];
+        }
+      }
+    }
+    if (anyHidden)
+    {
+      return;
+    }
+    for (const auto& [key, count] : uses)
+    {
+      // Along the boundary: every end on one side of the domain's box (boundary
+      // vertices lie exactly on it).
+      bool boundary = false;
+      for (int k : g.active)
+      {
+        for (int side = 0; side < 2; ++side)
+        {
+          bool all = true;
+          for (vtkIdType id : key)
+          {
+            all = all && out->GetPoint(id)[k] == g.bounds[2 * k + side];
+          }
+          boundary = boundary || all;
+        }
+      }
+      if (!boundary && count != 2)
+      {
+        fail(Stage + ": " + (g.dimension == 2 ? "a segment end" : "a triangle edge") +
+             " used by " + std::to_string(count) + " cells (a crack)");
+      }
+    }
+  };
+  filter->ViewDependentOff();
+  run("without a view");
+  filter->ViewDependentOn();
+  filter->SetViewCulling(false);
+  filter->SetLevelOfDetail(true);
+  view.configure(filter);
+  run("with level of detail");
+  g.htg->GetCellData()->RemoveArray("fuzz_linear");
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   using namespace canopy::testing;
@@ -2580,7 +2728,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Decoded += "; " + viewStr(view) + "; selection: " + selection.describe;
 
   const int f = spec.options.branchFactor;
+  // The contour's field and value (bytes after the selection: older inputs read 0s).
+  std::array<double, 3> gradient{{1 + in.byte() / 64.0, in.byte() / 64.0 - 2, in.byte() / 80.0}};
+  const double fraction = 0.05 + 0.9 * in.byte() / 255.0;
   const SurfaceRuns surfaces = checkSurfaces(whole, view, f, true, "whole forest");
+  checkContour(whole, view, gradient, fraction,
+               spec.options.maskProbability > 0 || spec.options.skipEveryOtherRoot,
+               "whole forest");
   const auto selected = checkSelection(whole, selection, true, "whole forest");
   if (spec.ranks > 1)
   {
