@@ -28,11 +28,11 @@ struct BorderLeaves
   {
     for (unsigned s = 0; s < corners; ++s)
     {
-      const DualNode& n = *group[s];
       if ((s & ~axes) != 0)
       {
-        continue;
+        continue; // not a slot of this group (no node)
       }
+      const DualNode& n = *group[s];
       if ((n.kind == DualNode::Hidden && n.remote) ||
           (n.kind == DualNode::Inner && n.tree->hasAbsentDescendant(n.node)))
       {

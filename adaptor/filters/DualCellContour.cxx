@@ -29,8 +29,12 @@ bool DualCellContour::enter(const DualGroup& group, unsigned axes)
     bool any = false;
     for (unsigned s = 0; s < (1u << Dual.dimension()); ++s)
     {
+      if ((s & ~axes) != 0)
+      {
+        continue; // not a slot of this group (no node)
+      }
       const DualNode& n = *group[s];
-      if ((s & ~axes) != 0 || (n.kind != DualNode::Inner && n.kind != DualNode::Leaf))
+      if (n.kind != DualNode::Inner && n.kind != DualNode::Leaf)
       {
         continue;
       }
@@ -59,8 +63,12 @@ bool DualCellContour::enter(const DualGroup& group, unsigned axes)
     ValueRange range;
     for (unsigned s = 0; s < corners; ++s)
     {
+      if ((s & ~axes) != 0)
+      {
+        continue; // not a slot of this group (no node)
+      }
       const DualNode& n = *group[s];
-      if ((s & ~axes) == 0 && (n.kind == DualNode::Inner || n.kind == DualNode::Leaf))
+      if (n.kind == DualNode::Inner || n.kind == DualNode::Leaf)
       {
         if (n.remote || (Dual.ghosts() && n.tree->hasAbsentDescendant(n.node)))
         {
