@@ -126,6 +126,8 @@ if settings.contour_field:
                                    PixelThreshold=settings.pixel_threshold)
     contour_display = image.show(contour, follows_view=follows, colored=False, edges=False)
     contour_display.Opacity = settings.contour_opacity
+    if settings.contour_opacity == 1.0:
+        canopy.force_opaque(contour_display)
 outline = None
 if settings.outline:
     outline = simple.Box()
