@@ -206,14 +206,14 @@ int main(int argc, char** argv)
   options.scripts = {{"surface_image.py", {frequency, "--color-by=density"}}};
 #else
   // 3D: slices through the centre with the front's isosurface (density 1.5, the
-  // sphere itself), and the dense region (inside the sphere) with the octant towards
-  // the camera cut away: what is inside shows.
-  options.scripts = {
-      {"slice_image.py",
-       {frequency, "--color-by=density", "--contour-field=density", "--contour-values=1.5"}},
-      {"surface_image.py",
-       {frequency, "--color-by=density", "--select-field=density", "--select-range=1.5,1e30",
-        "--cut-away=octant", "--file-prefix=region"}}};
+  // sphere itself), written as .pvtp too, and the dense region (inside the sphere)
+  // with the octant towards the camera cut away: what is inside shows.
+  options.scripts = {{"slice_image.py",
+                      {frequency, "--color-by=density", "--contour-field=density",
+                       "--contour-values=1.5", "--slice-extract=1"}},
+                     {"surface_image.py",
+                      {frequency, "--color-by=density", "--select-field=density",
+                       "--select-range=1.5,1e30", "--cut-away=octant", "--file-prefix=region"}}};
 #endif
   options.scripts.push_back(
       {"selection_extract.py",
