@@ -156,9 +156,6 @@ def contour_step():
     """This step's contour values (contour_count spread inside the field's range,
     agreed over ranks) and colours. Collective."""
     from paraview.simple import GetColorTransferFunction
-    if not canopy.has_cell_field(image.grid, settings.contour_field):
-        raise ValueError("contour_field %r: no rank's grid has a cell field of that name"
-                         % settings.contour_field)
     if not given_contour_values:
         low, high = canopy.field_range(image.grid, settings.contour_field)
         count = settings.contour_count
@@ -187,6 +184,9 @@ def place(bounds):
 
 def catalyst_execute(info):
     # Collective (bounds and colour ranges agree over ranks): every rank calls it.
+    if contour is not None and not canopy.has_cell_field(image.grid, settings.contour_field):
+        raise ValueError("contour_field %r: no rank's grid has a cell field of that name"
+                         % settings.contour_field)
     place(canopy.grid_bounds(image.grid))
     if contour is not None:
         contour_step()

@@ -6,6 +6,7 @@ simulation's own final state, arrays untouched), insitu_blocks (the same with
 --blocks N: every block cell of the extracts against values recomputed from the
 dump), insitu_3d_defaults (the default 3D images: the blob's isosurface drawn where
 the blob is), isosurface_extract_3d (the isosurface's .pvtp as ParaView reads it),
+contour_settings_refused (slice_image.py's wrong contour settings, each refused),
 same_answer (COMMAND is run at 1, 2 and 4 ranks; final states must agree)
 or exact_solution_order (COMMAND in --exact-solution mode at several levels:
 errors against the exact solution shrink at the expected order).
@@ -434,6 +435,45 @@ def check_isosurface_extract_3d(output, command):
             expect(triangles == other[0] and abs(area - other[1]) <= 1e-9 * other[1],
                    "step %d: %d triangles of area %.9g, the 1-rank run %d of area %.9g"
                    % (step, triangles, area, other[0], other[1]))
+
+
+REFUSED_CONTOUR_SETTINGS = [
+    (["--contour-field=scalar", "--contour-opacity=0,5"],
+     "setting --contour-opacity: a number expected (got '0,5')"),
+    (["--contour-field=scalar", "--contour-opacity=0"],
+     "contour_opacity: greater than 0, at most 1 (got 0.0)"),
+    (["--contour-field=scalar", "--contour-opacity=1.5"],
+     "contour_opacity: greater than 0, at most 1 (got 1.5)"),
+    (["--contour-field=scalar", "--contour-values=0.2;0.5"],
+     "contour_values: numbers separated by commas, e.g. '0.5' or '0.2,0.5' (got '0.2;0.5')"),
+    (["--contour-field=scalar", "--contour-values=0.5,nan"],
+     "contour_values: finite numbers (got '0.5,nan')"),
+    (["--contour-values=0.5"], "contour_values='0.5' needs contour_field"),
+    (["--contour-field=scalar", "--contour-count=0"], "contour_count: at least 1 (got 0)"),
+    (["--contour-field=scalar", "--contour-count=two"],
+     "setting --contour-count: an integer expected (got 'two')"),
+    (["--contour-field=scalar", "--contour-level-of-detail=maybe"],
+     "setting --contour-level-of-detail: true or false (1/0, yes/no, on/off) expected "
+     "(got 'maybe')"),
+    (["--contour-field=nosuch"],
+     "contour_field 'nosuch': no rank's grid has a cell field of that name"),
+]
+"""slice_image.py's contour settings that are refused, each with the error it must give."""
+
+
+def check_contour_settings_refused(output, command):
+    """COMMAND runs the mini-app with slice_image.py as its only pipeline; each of
+    REFUSED_CONTOUR_SETTINGS is added to it in turn: the script fails (at import, or at
+    its first step for a field the grid lacks), the run goes on and reports one pipeline
+    failure, and the failure's message is the one expected, naming the setting."""
+    shutil.rmtree(output, ignore_errors=True)
+    for given, message in REFUSED_CONTOUR_SETTINGS:
+        arguments = [word for argument in given for word in ("--pipeline-arg", argument)]
+        code, log = run(command + arguments)
+        expect(code == 0 and "1 pipeline failure(s)" in log and
+               re.search(r"rank 0, step 0: the script '.*slice_image.py' .*ValueError: " +
+                         re.escape(message), log) is not None,
+               "%s: the script is refused with \"%s\", the run goes on" % (" ".join(given), message))
 
 
 def check_same_answer_repartitioning(output, command):
