@@ -7,6 +7,7 @@ simulation's own final state, arrays untouched), insitu_blocks (the same with
 dump), insitu_3d_defaults (the default 3D images: the blob's isosurface drawn where
 the blob is), isosurface_extract_3d (the isosurface's .pvtp as ParaView reads it),
 contour_settings_refused (slice_image.py's wrong contour settings, each refused),
+contour_level_of_detail (the isosurface following the view: fewer triangles, closed),
 same_answer (COMMAND is run at 1, 2 and 4 ranks; final states must agree)
 or exact_solution_order (COMMAND in --exact-solution mode at several levels:
 errors against the exact solution shrink at the expected order).
@@ -435,6 +436,36 @@ def check_isosurface_extract_3d(output, command):
             expect(triangles == other[0] and abs(area - other[1]) <= 1e-9 * other[1],
                    "step %d: %d triangles of area %.9g, the 1-rank run %d of area %.9g"
                    % (step, triangles, area, other[0], other[1]))
+
+
+def check_contour_level_of_detail(output, command):
+    """COMMAND runs slice_image.py with the blob's isosurface, slice_extract and a large
+    pixel_threshold, contour_level_of_detail on; after --then, the same with it off (each
+    --output its own). At the last image step both extracts (ParaView's reader) are
+    closed, with as many triangles as the step line says; the one that follows the
+    view has fewer, but some: nodes below the threshold are contoured as leaves."""
+    split = command.index("--then")
+    runs = {"on": command[:split], "off": command[split + 1:]}
+    shutil.rmtree(output, ignore_errors=True)
+    counts = {}
+    for name, run_command_ in runs.items():
+        code, log = run(run_command_)
+        expect(code == 0 and "0 pipeline failure(s)" in log,
+               "level of detail %s: the mini-app exits normally, no pipeline failed" % name)
+        lines = image_step_lines(log)
+        if code != 0 or not lines:
+            return
+        last = max(lines)
+        folder = option(run_command_, "--output", output)
+        read = read_with_paraview(os.path.join(folder, "slices_contour_%06d.pvtp" % last),
+                                  os.environ["PVPYTHON"])
+        counts[name] = contour_triangles(lines[last])
+        centre = read["points"].mean(axis=0) if read is not None else [0.0] * 3
+        check_isosurface_extract(read, "level of detail %s, step %d" % (name, last), "scalar",
+                                 BLOB_LEVEL, counts[name], centre)
+    expect(0 < counts["on"] < counts["off"],
+           "following the view, the isosurface has %d triangles, at full resolution %d"
+           % (counts["on"], counts["off"]))
 
 
 REFUSED_CONTOUR_SETTINGS = [
