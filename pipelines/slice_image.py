@@ -21,7 +21,9 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   contour_values    their values, e.g. '0.5' or '0.2,0.5' ("")
   contour_count     without contour_values: this many values spread evenly inside the
                     field's range this step (agreed over ranks) (1)
-  contour_opacity   the isosurfaces' opacity, in (0, 1] (1.0)
+  contour_opacity   the isosurfaces' opacity, in (0, 1] (1.0; below 1 on several ranks
+                    ParaView 5.11 redistributes the geometry for ordered compositing, and
+                    the slices' mesh lines then show the triangles it cuts quads into)
   contour_level_of_detail   the isosurfaces follow the view as the slices do: nothing
                     finer than pixel_threshold pixels (a node that small is contoured
                     as a leaf holding its own value, crack-free alike), nothing outside
@@ -126,8 +128,6 @@ if settings.contour_field:
                                    PixelThreshold=settings.pixel_threshold)
     contour_display = image.show(contour, follows_view=follows, colored=False, edges=False)
     contour_display.Opacity = settings.contour_opacity
-    if settings.contour_opacity == 1.0:
-        canopy.force_opaque(contour_display)
 outline = None
 if settings.outline:
     outline = simple.Box()
