@@ -28,9 +28,10 @@ namespace
 {
 
 /// The default pipelines. 2D: images of the adaptive surface and a zoomed view;
-/// 3D: images of three slices through the domain's centre and of the blob's
-/// region (scalar >= 0.5) with the octant towards the camera cut away, so the
-/// inside shows. Then a selection of the blob (scalar above 0.5) and full data
+/// 3D: images of three slices through the domain's centre with the blob's
+/// isosurface (scalar = 0.5), and of the blob's region (scalar >= 0.5) with the
+/// octant towards the camera cut away, so the inside shows. Then a selection of
+/// the blob (scalar above 0.5) and full data
 /// extracts (the grid as VTKHDF for current ParaView and as the .pvd series
 /// ParaView 5.11 opens), from Canopy's pipelines/.
 std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOptions& o)
@@ -53,7 +54,12 @@ std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOption
   if (o.dimension == 3)
   {
     auto slices = image;
-    slices.push_back("--file-prefix=slices");
+    // The blob's isosurface at the level its region and selection use: the smooth
+    // boundary of what region_<step>.png draws as cells. Opaque: a translucent one on
+    // several ranks makes ParaView 5.11 redistribute every display's geometry for
+    // ordered compositing, and the slices' mesh lines then show its triangles.
+    slices.insert(slices.end(),
+                  {"--contour-field=scalar", "--contour-values=0.5", "--file-prefix=slices"});
     scripts.push_back({dir + "/slice_image.py", slices});
     auto region = image;
     region.insert(region.end(), {"--select-field=scalar", "--select-range=0.5,1e30",
@@ -88,19 +94,25 @@ std::vector<canopy::PipelineScript> pipelineScripts(const miniamr::MiniAppOption
 }
 
 /// "  quads: surface 1234, zoom 56" from what the image scripts measured (their
-/// "<prefix> quads"), empty when no image was drawn this step.
+/// "<prefix> quads"), then "  triangles: slices contour 789" (slice_image.py's
+/// "<prefix> contour triangles"); empty when no image was drawn this step.
 std::string quadsDrawn(const canopy::StepReport& report)
 {
   std::string text;
-  const std::string suffix = " quads";
-  for (const auto& [name, value] : report.measures)
+  for (const std::string suffix : {" quads", " triangles"})
   {
-    if (name.size() > suffix.size() &&
-        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+    std::string part;
+    for (const auto& [name, value] : report.measures)
     {
-      text += (text.empty() ? "  quads: " : ", ") + name.substr(0, name.size() - suffix.size()) +
-              " " + std::to_string(static_cast<long long>(value));
+      if (name.size() > suffix.size() &&
+          name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      {
+        part += (part.empty() ? "  " + suffix.substr(1) + ": " : ", ") +
+                name.substr(0, name.size() - suffix.size()) + " " +
+                std::to_string(static_cast<long long>(value));
+      }
     }
+    text += part;
   }
   return text;
 }

@@ -113,13 +113,28 @@ class Settings(dict):
         return [convert(item.strip()) for item in text.split(",") if item.strip()] if text else []
 
 
-def _converted(text, default):
-    if isinstance(default, bool):
-        return str(text).lower() in ("1", "true", "yes", "on")
-    if isinstance(default, int):
-        return int(text)
-    if isinstance(default, float):
-        return float(text)
+TRUE_WORDS = ("1", "true", "yes", "on")
+FALSE_WORDS = ("0", "false", "no", "off", "")
+
+
+def _converted(text, default, name=None):
+    """`text` as the type of the setting's default; an unreadable value is a ValueError
+    naming the setting (a typo such as --contour-opacity=0,5 must not pass as something
+    else)."""
+    kind = ("true or false (1/0, yes/no, on/off)" if isinstance(default, bool)
+            else "an integer" if isinstance(default, int) else "a number")
+    try:
+        if isinstance(default, bool):
+            word = str(text).strip().lower()
+            if word not in TRUE_WORDS + FALSE_WORDS:
+                raise ValueError(word)
+            return word in TRUE_WORDS
+        if isinstance(default, int):
+            return int(text)
+        if isinstance(default, float):
+            return float(text)
+    except ValueError:
+        raise ValueError("setting %s: %s expected (got %r)" % (name, kind, text)) from None
     return str(text)
 
 
@@ -134,9 +149,9 @@ def settings(**defaults):
     for name, default in merged.items():
         text = os.environ.get("CANOPY_" + name.upper())
         if text is not None:
-            values[name] = _converted(text, default)
+            values[name] = _converted(text, default, "CANOPY_" + name.upper())
     for name, text in _run_settings().items():
-        values[name] = _converted(text, merged[name])
+        values[name] = _converted(text, merged[name], name)
     for argument in _script_arguments():
         if not argument.startswith("--") or "=" not in argument:
             raise ValueError("script argument %r is not of the form --name=value" % argument)
@@ -145,7 +160,7 @@ def settings(**defaults):
         if name not in merged:
             raise ValueError("script argument %r: no setting named %r (known: %s)"
                              % (argument, name, ", ".join(sorted(merged))))
-        values[name] = _converted(text, merged[name])
+        values[name] = _converted(text, merged[name], argument.split("=", 1)[0])
     return values
 
 
@@ -365,6 +380,12 @@ def color_by(display, view, grid, field, fixed_range=None):
     high = high if high > low else low + 1
     GetColorTransferFunction(field).RescaleTransferFunction(low, high)
     return (low, high)
+
+
+def has_cell_field(grid, field):
+    """Whether some rank's grid has the cell field `field`. Collective."""
+    data = _local_data(grid)
+    return _any_rank(data is not None and data.GetCellData().GetArray(field) is not None)
 
 
 def field_range(grid, field):
@@ -625,18 +646,22 @@ class ImageScript:
         self.legend = color_legend(self.view, values.color_by) if values.legend else None
         self.label = time_label(self.view) if values.time_label else None
 
-    def show(self, proxy, flat=False, follows_view=True, colored=True):
+    def show(self, proxy, flat=False, follows_view=True, colored=True, edges=True):
         """Shows `proxy` in the view: flat (unlit, slices) or shaded; a filter that
-        follows the view (CanopyAdaptiveSurface, CanopyAdaptiveSlice) gets the
-        view's camera each step; colored by color_by unless colored=False."""
+        follows the view (CanopyAdaptiveSurface, CanopyAdaptiveSlice, CanopyContour
+        with level of detail) gets the view's camera each step; colored by color_by
+        unless colored=False; with show_edges its cells' edges unless edges=False
+        (an isosurface's triangles are not the grid's cells: their edges would only
+        darken it)."""
         from paraview.simple import Show
         display = Show(proxy, self.view)
         shade(display, flat)
         self.shaded.append((display, flat))
-        if self.settings.show_edges and follows_view and self.settings.edge_spacing > 0:
+        edges = edges and self.settings.show_edges
+        if edges and follows_view and self.settings.edge_spacing > 0:
             overlay, overlay_display = edge_overlay(proxy, self.view, self.settings)
             self.edges.append((proxy, display, flat, overlay, overlay_display))
-        elif self.settings.show_edges:
+        elif edges:
             display.SetRepresentationType("Surface With Edges")
             display.EdgeColor = EDGE_COLOR
         if follows_view:

@@ -21,7 +21,13 @@ Settings (defaults; environment CANOPY_<NAME>; script arguments --name=value):
   contour_values    their values, e.g. '0.5' or '0.2,0.5' ("")
   contour_count     without contour_values: this many values spread evenly inside the
                     field's range this step (agreed over ranks) (1)
-  contour_opacity   the isosurfaces' opacity (1.0)
+  contour_opacity   the isosurfaces' opacity, in (0, 1] (1.0; below 1 on several ranks
+                    ParaView 5.11 redistributes the geometry for ordered compositing, and
+                    the slices' mesh lines then show the triangles it cuts quads into)
+  contour_level_of_detail   the isosurfaces follow the view as the slices do: nothing
+                    finer than pixel_threshold pixels (a node that small is contoured
+                    as a leaf holding its own value, crack-free alike), nothing outside
+                    the view; false: the full-resolution isosurfaces (true)
   slice_extract     also write what was drawn: the slices, the region's surface and
                     the isosurfaces, as .pvtp with their fields (false)
   file_prefix       the files' names: <prefix>_<step>.png, ... ("slices")
@@ -52,7 +58,7 @@ from paraview import simple
 settings = canopy.settings(**dict(canopy.IMAGE_DEFAULTS, file_prefix="slices"),
                            slices="center", outline=True, slice_extract=False,
                            contour_field="", contour_values="", contour_count=1,
-                           contour_opacity=1.0)
+                           contour_opacity=1.0, contour_level_of_detail=True)
 
 
 def planes(text):
@@ -70,7 +76,30 @@ def planes(text):
     return found
 
 
+def contour_values(values):
+    """The contour settings, checked: the values given (a list of finite numbers, [] for
+    contour_count values spread inside the range). Raises ValueError naming the setting."""
+    import math
+    text = str(values.contour_values)
+    try:
+        given = values.list("contour_values", float)
+    except ValueError:
+        raise ValueError("contour_values: numbers separated by commas, e.g. '0.5' or "
+                         "'0.2,0.5' (got %r)" % text) from None
+    if not all(math.isfinite(value) for value in given):
+        raise ValueError("contour_values: finite numbers (got %r)" % text)
+    if given and not values.contour_field:
+        raise ValueError("contour_values=%r needs contour_field (the cell field to contour)" % text)
+    if values.contour_field and not given and values.contour_count < 1:
+        raise ValueError("contour_count: at least 1 (got %d)" % values.contour_count)
+    if not 0.0 < values.contour_opacity <= 1.0:
+        raise ValueError("contour_opacity: greater than 0, at most 1 (got %r)"
+                         % values.contour_opacity)
+    return given
+
+
 given = planes(settings.slices)
+given_contour_values = contour_values(settings)
 image = canopy.ImageScript(settings)
 options = image.options
 
@@ -86,14 +115,18 @@ if image.region is not image.grid:
 contour = None
 contour_display = None
 if settings.contour_field:
-    if settings.contour_count < 1 and not settings.contour_values:
-        raise ValueError("contour_count: at least 1 (got %d)" % settings.contour_count)
     interpolated = [settings.color_by] if settings.color_by not in ("", settings.contour_field) \
         else []
+    follows = bool(settings.contour_level_of_detail)
+    # With level of detail the contour takes the view each step (ImageScript.execute) and
+    # stops at nodes of pixel_threshold pixels, as the slices do; without, the filter's
+    # own default: the full-resolution contour whatever the camera.
     contour = simple.CanopyContour(Input=image.grid, ContourBy=["CELLS", settings.contour_field],
-                                   ContourValues=settings.list("contour_values", float),
-                                   InterpolatedFields=interpolated)
-    contour_display = image.show(contour, follows_view=False, colored=False)
+                                   ContourValues=given_contour_values,
+                                   InterpolatedFields=interpolated, ViewDependent=int(follows),
+                                   LevelOfDetail=1, ViewCulling=1,
+                                   PixelThreshold=settings.pixel_threshold)
+    contour_display = image.show(contour, follows_view=follows, colored=False, edges=False)
     contour_display.Opacity = settings.contour_opacity
 outline = None
 if settings.outline:
@@ -123,7 +156,7 @@ def contour_step():
     """This step's contour values (contour_count spread inside the field's range,
     agreed over ranks) and colours. Collective."""
     from paraview.simple import GetColorTransferFunction
-    if not settings.contour_values:
+    if not given_contour_values:
         low, high = canopy.field_range(image.grid, settings.contour_field)
         count = settings.contour_count
         contour.ContourValues = ([low + (high - low) * (i + 1) / (count + 1) for i in range(count)]
@@ -151,6 +184,9 @@ def place(bounds):
 
 def catalyst_execute(info):
     # Collective (bounds and colour ranges agree over ranks): every rank calls it.
+    if contour is not None and not canopy.has_cell_field(image.grid, settings.contour_field):
+        raise ValueError("contour_field %r: no rank's grid has a cell field of that name"
+                         % settings.contour_field)
     place(canopy.grid_bounds(image.grid))
     if contour is not None:
         contour_step()

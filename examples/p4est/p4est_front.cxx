@@ -205,9 +205,12 @@ int main(int argc, char** argv)
 #ifndef P4_TO_P8
   options.scripts = {{"surface_image.py", {frequency, "--color-by=density"}}};
 #else
-  // 3D: slices through the centre, and the dense region (inside the sphere) with
-  // the octant towards the camera cut away: what is inside shows.
-  options.scripts = {{"slice_image.py", {frequency, "--color-by=density"}},
+  // 3D: slices through the centre with the front's isosurface (density 1.5, the
+  // sphere itself), written as .pvtp too, and the dense region (inside the sphere)
+  // with the octant towards the camera cut away: what is inside shows.
+  options.scripts = {{"slice_image.py",
+                      {frequency, "--color-by=density", "--contour-field=density",
+                       "--contour-values=1.5", "--slice-extract=1"}},
                      {"surface_image.py",
                       {frequency, "--color-by=density", "--select-field=density",
                        "--select-range=1.5,1e30", "--cut-away=octant", "--file-prefix=region"}}};
@@ -251,6 +254,10 @@ int main(int argc, char** argv)
       const canopy::StepReport report = insitu.execute(step, time, described.description());
       for (const std::string& failure : report.failures)
         std::fprintf(stderr, "canopy: %s\n", failure.c_str());
+      // What the pipelines measured (the quads and triangles they drew, all ranks).
+      if (rank == 0)
+        for (const auto& [name, value] : report.measures)
+          std::printf("p4est_front: step %ld: %s %.17g\n", step, name.c_str(), value);
     }
   }
   insitu.close();

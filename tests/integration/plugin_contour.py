@@ -124,6 +124,33 @@ open_edges = [e for e, n in edges.items() if n != 2 and not all(
 check(not open_edges, "3D: every edge inside the domain shared by two triangles (%d open)"
       % len(open_edges))
 
+# The view, through the proxy: off by default (the full contour whatever the camera);
+# on, a far camera on a small viewport stops at nodes of PixelThreshold pixels: fewer
+# triangles, still watertight inside the domain.
+full = len(triangles)
+check(contour.ViewDependent == 0 and contour.LevelOfDetail == 1 and contour.ViewCulling == 1,
+      "3D: ViewDependent off by default, LevelOfDetail and ViewCulling on")
+centre = [0.5 * (bounds[2 * a] + bounds[2 * a + 1]) for a in range(3)]
+contour.CameraFocalPoint = centre
+contour.CameraPosition = [centre[0], centre[1], centre[2] + 40.0]
+contour.CameraViewUp = [0.0, 1.0, 0.0]
+contour.ParallelProjection = 0
+contour.ViewAngle = 30.0
+contour.ViewportSize = [64, 64]
+contour.PixelThreshold = 4.0
+out = servermanager.Fetch(contour)
+check(len(cells_of(out.GetPolys())) == full, "3D: moving the camera alone changes nothing "
+      "while ViewDependent is off (%d triangles)" % len(cells_of(out.GetPolys())))
+contour.ViewDependent = 1
+out = servermanager.Fetch(contour)
+coarse = cells_of(out.GetPolys())
+edges = Counter(tuple(sorted((t[k], t[(k + 1) % 3]))) for t in coarse for k in range(3))
+open_edges = [e for e, n in edges.items() if n != 2 and not all(
+    any(out.GetPoint(p)[a] in (bounds[2 * a], bounds[2 * a + 1]) for a in range(3)) for p in e)]
+check(0 < len(coarse) < full and not open_edges,
+      "3D: ViewDependent on, seen far away on 64 x 64 pixels: %d triangles instead of %d, "
+      "%d edges inside the domain open" % (len(coarse), full, len(open_edges)))
+
 if failures:
     print("%d check(s) failed" % len(failures))
     sys.exit(1)

@@ -4,7 +4,11 @@ usage: python3 miniapp_check.py CHECK OUTPUT_DIR -- COMMAND...
 CHECK: insitu (images, selection, HTG and surface extracts against the
 simulation's own final state, arrays untouched), insitu_blocks (the same with
 --blocks N: every block cell of the extracts against values recomputed from the
-dump), same_answer (COMMAND is run at 1, 2 and 4 ranks; final states must agree)
+dump), insitu_3d_defaults (the default 3D images: the blob's isosurface drawn where
+the blob is), isosurface_extract_3d (the isosurface's .pvtp as ParaView reads it),
+contour_settings_refused (slice_image.py's wrong contour settings, each refused),
+contour_level_of_detail (the isosurface following the view: fewer triangles, closed),
+same_answer (COMMAND is run at 1, 2 and 4 ranks; final states must agree)
 or exact_solution_order (COMMAND in --exact-solution mode at several levels:
 errors against the exact solution shrink at the expected order).
 """
@@ -19,9 +23,10 @@ import sys
 import numpy
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from output_checks import (cell_array, compare_images, expect, finish,  # noqa: E402
-                           read_htg_pieces, read_multiblock, read_png, read_polydata, read_unstructured,
-                           run_command, vtkhdf_cells_per_step)
+from output_checks import (cell_array, check_isosurface_extract, compare_images,  # noqa: E402
+                           expect, finish, read_htg_pieces, read_multiblock, read_png,
+                           read_polydata, read_unstructured, read_with_paraview, run_command,
+                           vtkhdf_cells_per_step)
 
 
 def run(command):
@@ -234,6 +239,272 @@ def check_insitu_3d(output, command):
                        "%s identical to the 1-rank run (%d pixels differ, %d of them not a "
                        "depth tie where planes meet)"
                        % (os.path.basename(name), differing, unexplained))
+
+
+BLOB_LEVEL = 0.5
+"""The level of the default 3D isosurface (miniapp/main.cxx), its region and selection."""
+
+
+def projected_box(lo, hi, width, height):
+    """The pixel box (x0, x1, y0, y1; y up from the bottom row, as read_png's rows) of the box lo-hi seen by the
+    image scripts' default camera on the unit domain (canopy_catalyst.frame_bounds:
+    perspective, 30 degrees, from centre + (1.2, 0.9, 1.5) x diagonal, y up), projected
+    with VTK's own camera."""
+    from paraview.vtk.vtkRenderingCore import vtkCamera
+    camera = vtkCamera()
+    diagonal = math.sqrt(3.0)
+    camera.SetFocalPoint(0.5, 0.5, 0.5)
+    camera.SetPosition(0.5 + 1.2 * diagonal, 0.5 + 0.9 * diagonal, 0.5 + 1.5 * diagonal)
+    camera.SetViewUp(0.0, 1.0, 0.0)
+    camera.SetViewAngle(30.0)
+    camera.SetClippingRange(0.01, 100.0)  # x and y do not depend on it
+    matrix = camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1)
+    xs, ys = [], []
+    for corner in range(8):
+        point = [hi[a] if (corner >> a) & 1 else lo[a] for a in range(3)] + [1.0]
+        clip = [sum(matrix.GetElement(r, c) * point[c] for c in range(4)) for r in range(4)]
+        xs.append((clip[0] / clip[3] + 1) / 2 * width)
+        ys.append((1 + clip[1] / clip[3]) / 2 * height)
+    return min(xs), max(xs), min(ys), max(ys)
+
+
+def image_step_lines(log):
+    """{step: line} of the steps that drew images (their line says the quads)."""
+    return {int(step): line for step, line in
+            re.findall(r"^step\s+(\d+)\s(.*quads:.*)$", log, re.M)}
+
+
+def contour_triangles(line):
+    found = re.search(r"triangles: slices contour (\d+)", line)
+    return int(found.group(1)) if found else -1
+
+
+def check_insitu_3d_defaults(output, command):
+    """README's 3D job with the default pipelines (no --pipeline): the slices image
+    draws the blob's isosurface. COMMAND is the default run, then after --then the same
+    run with slice_image.py given the default image arguments but no contour (its
+    --output a folder of its own). At the last step, against the dump: the images differ
+    only inside the projection of the blob's region (the leaves with scalar >= 0.5,
+    grown by a finest cell: the isosurface lies between their centres and their
+    neighbours'), and there on at least 5% of it (the surface is drawn where the
+    blob is); every image step's line says the contour's triangles (> 0). With
+    REFERENCE=<dir> (the 1-rank run): the images equal its own (slices up to depth ties
+    where planes meet; the region up to compositing rounding on mesh lines) and each
+    step drew as many triangles."""
+    split = command.index("--then")
+    default, without = command[:split], command[split + 1:]
+    shutil.rmtree(output, ignore_errors=True)
+    code, log = run(default + ["--dump", os.path.join(output, "final.txt")])
+    os.makedirs(output, exist_ok=True)
+    with open(os.path.join(output, "log.txt"), "w") as saved:
+        saved.write(log)
+    expect(code == 0, "the default run exits normally")
+    expect(re.search(r"0 pipeline failure\(s\)", log) is not None, "no pipeline failed")
+    expect("simulation arrays untouched by Canopy: yes" in log, "Canopy left the arrays untouched")
+    noisy = [line for line in log.splitlines() if re.search(r"WARN|Warning|ERROR", line)]
+    expect(not noisy, "no warning or error in the output (%d line(s)%s)"
+           % (len(noisy), (": " + noisy[0].strip()) if noisy else ""))
+    if code != 0:
+        return
+    lines = image_step_lines(log)
+    expect(len(lines) >= 2 and all(contour_triangles(line) > 0 for line in lines.values()),
+           "every image step's line says the isosurface's triangles: %s"
+           % {step: contour_triangles(line) for step, line in sorted(lines.items())})
+    last = max(lines)
+    name = "slices_%06d.png" % last
+    mine = read_png(os.path.join(output, name))
+    other_folder = option(without, "--output", None)
+    code, _ = run(without)
+    expect(code == 0, "the run without the contour exits normally")
+    if code != 0 or other_folder is None:
+        return
+    plain = read_png(os.path.join(other_folder, name))
+    height, width, _ = mine.shape
+    differing = (mine != plain).any(axis=2)
+    roots = int(option(default, "--roots", 16))
+    final = read_dump(os.path.join(output, "final.txt"))
+    finest = 1.0 / (roots * 2 ** max(level for level, _, _, _ in final))
+    blob = [(lo, hi) for lo, hi, value in leaf_boxes(final, roots) if value >= BLOB_LEVEL]
+    expect(len(blob) > 0, "%d leaves with scalar >= %g at step %d" % (len(blob), BLOB_LEVEL, last))
+    if not blob:
+        return
+    lo = [min(box[0][a] for box in blob) - finest for a in range(3)]
+    hi = [max(box[1][a] for box in blob) + finest for a in range(3)]
+    x0, x1, y0, y1 = projected_box(lo, hi, width, height)
+    x0, y0 = max(0, int(math.floor(x0)) - 2), max(0, int(math.floor(y0)) - 2)
+    x1, y1 = min(width, int(math.ceil(x1)) + 3), min(height, int(math.ceil(y1)) + 3)
+    inside = int(differing[y0:y1, x0:x1].sum())
+    area = (x1 - x0) * (y1 - y0)
+    expect(inside >= 0.05 * area and inside == int(differing.sum()),
+           "%s: the isosurface changes %d pixels, %d of them inside the blob's projected box "
+           "[%d, %d) x [%d, %d) (%d pixels; at least 5%% of them expected, none outside)"
+           % (name, int(differing.sum()), inside, x0, x1, y0, y1, area))
+    for image in sorted(glob.glob(os.path.join(output, "*.png"))):
+        expect(len(numpy.unique(read_png(image).reshape(-1, 3), axis=0)) > 50,
+               "%s shows the colour map" % os.path.basename(image))
+
+    reference = os.environ.get("REFERENCE")
+    if not reference:
+        return
+    with open(os.path.join(reference, "log.txt")) as saved:
+        theirs = image_step_lines(saved.read())
+    expect({s: contour_triangles(l) for s, l in lines.items()} ==
+           {s: contour_triangles(l) for s, l in theirs.items()},
+           "each image step drew as many isosurface triangles as the 1-rank run (%s, 1 rank %s)"
+           % ({s: contour_triangles(l) for s, l in sorted(lines.items())},
+              {s: contour_triangles(l) for s, l in sorted(theirs.items())}))
+    for image in sorted(glob.glob(os.path.join(output, "*.png"))):
+        base = os.path.basename(image)
+        pixels, other = read_png(image), read_png(os.path.join(reference, base))
+        if base.startswith("region"):
+            # As miniapp.blocks_3d_np2: anti-aliased mesh lines composited from several
+            # ranks round a few pixels differently; everything else must be equal.
+            change = numpy.abs(pixels.astype(int) - other.astype(int)).max(axis=2)
+            count = int((change > 0).sum())
+            expect(change.max() <= 8 and count <= 0.002 * change.size,
+                   "%s equal to the 1-rank run's but for compositing rounding on mesh lines: "
+                   "%d pixels differ, by at most %d" % (base, count, change.max()))
+            continue
+        differing_count, unexplained = compare_images(pixels, other, 8)
+        expect(unexplained == 0, "%s identical to the 1-rank run's (%d pixels differ, %d of "
+               "them not a depth tie where planes meet)" % (base, differing_count, unexplained))
+
+
+def check_isosurface_extract_3d(output, command):
+    """slice_image.py with the blob's isosurface and slice_extract: every image step's
+    slices_contour_<step>.pvtp, opened by ParaView's own reader (pvpython, PVPYTHON in
+    the environment), is what the step line says was drawn (triangles), with its fields
+    (output_checks.check_isosurface_extract: the contour value, Normals pointing out of
+    the blob, closed) and velocity interpolated onto it (the colour field: its z
+    component the swirl's constant 0.5, its x and y the swirl's at the point within
+    0.05). With REFERENCE=<dir> (the 1-rank run): the same triangles and area (1e-9)."""
+    shutil.rmtree(output, ignore_errors=True)
+    code, log = run(command + ["--dump", os.path.join(output, "final.txt")])
+    os.makedirs(output, exist_ok=True)
+    with open(os.path.join(output, "log.txt"), "w") as saved:
+        saved.write(log)
+    expect(code == 0 and re.search(r"0 pipeline failure\(s\)", log) is not None,
+           "the mini-app exits normally, no pipeline failed")
+    noisy = [line for line in log.splitlines() if re.search(r"WARN|Warning|ERROR", line)]
+    expect(not noisy, "no warning or error in the output (%d line(s)%s)"
+           % (len(noisy), (": " + noisy[0].strip()) if noisy else ""))
+    if code != 0:
+        return
+    pvpython = os.environ["PVPYTHON"]
+    lines = image_step_lines(log)
+    expect(len(lines) >= 2, "%d image steps" % len(lines))
+    roots = int(option(command, "--roots", 16))
+    final = read_dump(os.path.join(output, "final.txt"))
+    last = max(lines) if lines else -1
+    found = {}
+    for step, line in sorted(lines.items()):
+        triangles = contour_triangles(line)
+        name = "slices_contour_%06d.pvtp" % step
+        read = read_with_paraview(os.path.join(output, name), pvpython)
+        # Inside: the centre of the blob's leaves (the last step's from the dump; the
+        # initial blob's centre at step 0).
+        if step == last:
+            blob = [(lo, hi) for lo, hi, value in leaf_boxes(final, roots) if value >= BLOB_LEVEL]
+            centre = [sum(lo[a] + hi[a] for lo, hi in blob) / (2.0 * len(blob)) for a in range(3)]
+        elif step == 0:
+            centre = [0.5, 0.72, 0.5]  # Simulation::initialValue's blob
+        else:
+            centre = read["points"].mean(axis=0) if read is not None else [0.0] * 3
+        area, _ = check_isosurface_extract(read, "step %d: %s" % (step, name), "scalar",
+                                           BLOB_LEVEL, triangles, centre, ["velocity"])
+        found[step] = (triangles, area)
+        if read is None or "point:velocity" not in read:
+            continue
+        velocity, points = read["point:velocity"], read["points"]
+        sx, sy = numpy.sin(numpy.pi * points[:, 0]), numpy.sin(numpy.pi * points[:, 1])
+        swirl = numpy.stack([sx * sx * numpy.sin(2 * numpy.pi * points[:, 1]),
+                             -sy * sy * numpy.sin(2 * numpy.pi * points[:, 0])], axis=1)
+        expect(velocity.shape[1] == 3 and numpy.abs(velocity[:, 2] - 0.5).max() < 1e-12 and
+               numpy.abs(velocity[:, :2] - swirl).max() < 0.05,
+               "step %d: velocity interpolated onto the isosurface: z the swirl's 0.5 (largest "
+               "difference %.1e), x and y the swirl's at the points (largest difference %.3f)"
+               % (step, numpy.abs(velocity[:, 2] - 0.5).max(),
+                  numpy.abs(velocity[:, :2] - swirl).max()))
+    with open(os.path.join(output, "found.json"), "w") as saved:
+        json.dump(found, saved)
+    reference = os.environ.get("REFERENCE")
+    if reference:
+        with open(os.path.join(reference, "found.json")) as saved:
+            theirs = {int(step): value for step, value in json.load(saved).items()}
+        for step, (triangles, area) in sorted(found.items()):
+            other = theirs.get(step, (-1, math.nan))
+            expect(triangles == other[0] and abs(area - other[1]) <= 1e-9 * other[1],
+                   "step %d: %d triangles of area %.9g, the 1-rank run %d of area %.9g"
+                   % (step, triangles, area, other[0], other[1]))
+
+
+def check_contour_level_of_detail(output, command):
+    """COMMAND runs slice_image.py with the blob's isosurface, slice_extract and a large
+    pixel_threshold, contour_level_of_detail on; after --then, the same with it off (each
+    --output its own). At the last image step both extracts (ParaView's reader) are
+    closed, with as many triangles as the step line says; the one that follows the
+    view has fewer, but some: nodes below the threshold are contoured as leaves."""
+    split = command.index("--then")
+    runs = {"on": command[:split], "off": command[split + 1:]}
+    shutil.rmtree(output, ignore_errors=True)
+    counts = {}
+    for name, run_command_ in runs.items():
+        code, log = run(run_command_)
+        expect(code == 0 and "0 pipeline failure(s)" in log,
+               "level of detail %s: the mini-app exits normally, no pipeline failed" % name)
+        lines = image_step_lines(log)
+        if code != 0 or not lines:
+            return
+        last = max(lines)
+        folder = option(run_command_, "--output", output)
+        read = read_with_paraview(os.path.join(folder, "slices_contour_%06d.pvtp" % last),
+                                  os.environ["PVPYTHON"])
+        counts[name] = contour_triangles(lines[last])
+        centre = read["points"].mean(axis=0) if read is not None else [0.0] * 3
+        check_isosurface_extract(read, "level of detail %s, step %d" % (name, last), "scalar",
+                                 BLOB_LEVEL, counts[name], centre)
+    expect(0 < counts["on"] < counts["off"],
+           "following the view, the isosurface has %d triangles, at full resolution %d"
+           % (counts["on"], counts["off"]))
+
+
+REFUSED_CONTOUR_SETTINGS = [
+    (["--contour-field=scalar", "--contour-opacity=0,5"],
+     "setting --contour-opacity: a number expected (got '0,5')"),
+    (["--contour-field=scalar", "--contour-opacity=0"],
+     "contour_opacity: greater than 0, at most 1 (got 0.0)"),
+    (["--contour-field=scalar", "--contour-opacity=1.5"],
+     "contour_opacity: greater than 0, at most 1 (got 1.5)"),
+    (["--contour-field=scalar", "--contour-values=0.2;0.5"],
+     "contour_values: numbers separated by commas, e.g. '0.5' or '0.2,0.5' (got '0.2;0.5')"),
+    (["--contour-field=scalar", "--contour-values=0.5,nan"],
+     "contour_values: finite numbers (got '0.5,nan')"),
+    (["--contour-values=0.5"], "contour_values='0.5' needs contour_field"),
+    (["--contour-field=scalar", "--contour-count=0"], "contour_count: at least 1 (got 0)"),
+    (["--contour-field=scalar", "--contour-count=two"],
+     "setting --contour-count: an integer expected (got 'two')"),
+    (["--contour-field=scalar", "--contour-level-of-detail=maybe"],
+     "setting --contour-level-of-detail: true or false (1/0, yes/no, on/off) expected "
+     "(got 'maybe')"),
+    (["--contour-field=nosuch"],
+     "contour_field 'nosuch': no rank's grid has a cell field of that name"),
+]
+"""slice_image.py's contour settings that are refused, each with the error it must give."""
+
+
+def check_contour_settings_refused(output, command):
+    """COMMAND runs the mini-app with slice_image.py as its only pipeline; each of
+    REFUSED_CONTOUR_SETTINGS is added to it in turn: the script fails (at import, or at
+    its first step for a field the grid lacks), the run goes on and reports one pipeline
+    failure, and the failure's message is the one expected, naming the setting."""
+    shutil.rmtree(output, ignore_errors=True)
+    for given, message in REFUSED_CONTOUR_SETTINGS:
+        arguments = [word for argument in given for word in ("--pipeline-arg", argument)]
+        code, log = run(command + arguments)
+        expect(code == 0 and "1 pipeline failure(s)" in log and
+               re.search(r"rank 0, step 0: the script '.*slice_image.py' .*ValueError: " +
+                         re.escape(message), log) is not None,
+               "%s: the script is refused with \"%s\", the run goes on" % (" ".join(given), message))
 
 
 def check_same_answer_repartitioning(output, command):

@@ -16,8 +16,17 @@ shipped pipelines wrote against what the simulation itself counted:
 - images: 2D the adaptive surface (surface_<step>.png), 3D the slices and the dense
   region's surface (slices_<step>.png, region_<step>.png), each showing the density's
   colours (not a blank or single-colour picture);
-- with REFERENCE (the same run on one rank): every image is identical to it.
+- 3D, the front's isosurface (density 1.5: the sphere of radius 0.8 the example moves,
+  centred at (1 + 1.6 t, 1.5, 1)): the slices image shows it where the sphere faces the
+  camera (grey, the colour map's middle, where the slices behind it are red), and
+  slices_contour_<step>.pvtp, opened by ParaView's own reader (pvpython, PVPYTHON in the
+  environment), has as many triangles as the step's "slices contour triangles" measure,
+  density 1.5 at every point, Normals out of the sphere, no open edge, every point at
+  0.8 from the centre to h/8 (h the finest quadrant's side);
+- with REFERENCE (the same run on one rank): every image is identical to it, and 3D
+  isosurfaces have its triangles and area (1e-9).
 """
+import json
 import math
 import os
 import re
@@ -28,9 +37,9 @@ import time
 import numpy
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "support"))
-from output_checks import (cell_array, compare_images, expect, finish,  # noqa: E402
-                           read_htg_pieces, read_png,
-                           read_polydata, read_unstructured, run_command)
+from output_checks import (cell_array, check_isosurface_extract, compare_images,  # noqa: E402
+                           expect, finish, read_htg_pieces, read_png, read_polydata,
+                           read_unstructured, read_with_paraview, run_command)
 from paraview.vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
 from paraview.vtk.vtkCommonDataModel import (  # noqa: E402
     vtkHyperTreeGridNonOrientedGeometryCursor)
@@ -87,6 +96,73 @@ def polygon_areas(polydata):
 def close(value, expected, relative=1e-12):
     return abs(value - expected) <= relative * abs(expected)
 
+
+FRONT_RADIUS = 0.8
+FRONT_LEVEL = 1.5  # the density on the front: 1.5 - 0.5 tanh(0)
+MAX_LEVEL_3D = 4  # the example's default maximum level in 3D (unit trees)
+
+
+def front_centre(step_time):
+    """The front's centre at a time (examples/p4est/p4est_front.cxx, advance)."""
+    return numpy.array([1.0 + 1.6 * step_time, 1.5, 1.0])
+
+
+def facing_pixel(centre, width, height):
+    """(column, row from the bottom) where the sphere's point nearest the camera is seen by
+    the image scripts' default camera (canopy_catalyst.frame_bounds on the 4 x 3 x 2
+    brick: perspective, 30 degrees, from its centre + (1.2, 0.9, 1.5) x its diagonal, y
+    up), projected with VTK's own camera."""
+    from paraview.vtk.vtkRenderingCore import vtkCamera
+    middle = numpy.array([2.0, 1.5, 1.0])
+    diagonal = math.sqrt(4.0 ** 2 + 3.0 ** 2 + 2.0 ** 2)
+    eye = middle + diagonal * numpy.array([1.2, 0.9, 1.5])
+    camera = vtkCamera()
+    camera.SetFocalPoint(*middle)
+    camera.SetPosition(*eye)
+    camera.SetViewUp(0.0, 1.0, 0.0)
+    camera.SetViewAngle(30.0)
+    camera.SetClippingRange(0.01, 100.0)  # x and y do not depend on it
+    matrix = camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1)
+    toward = (eye - centre) / numpy.linalg.norm(eye - centre)
+    point = list(centre + FRONT_RADIUS * toward) + [1.0]
+    clip = [sum(matrix.GetElement(r, c) * point[c] for c in range(4)) for r in range(4)]
+    return (int(round((clip[0] / clip[3] + 1) / 2 * width)),
+            int(round((clip[1] / clip[3] + 1) / 2 * height)))
+
+
+def check_isosurface(output, step, step_time, log, found):
+    """The front's isosurface at a 3D step: in the slices image and as an extract."""
+    name = "%06d" % step
+    centre = front_centre(step_time)
+    image = os.path.join(output, "slices_%s.png" % name)
+    if os.path.exists(image):
+        pixels = read_png(image).astype(int)
+        height, width, _ = pixels.shape
+        column, row = facing_pixel(centre, width, height)
+        patch = pixels[row - 2:row + 3, column - 2:column + 3].reshape(-1, 3)
+        spread = int((patch.max(axis=1) - patch.min(axis=1)).max()) if len(patch) else -1
+        expect(len(patch) == 25 and spread <= 12 and patch.min() >= 150,
+               "step %d: slices_%s.png shows the front's isosurface where the sphere faces the "
+               "camera (pixel %d, %d from the bottom left: grey, the colour map's middle; "
+               "channels %s to %s, spread %d)" % (step, name, column, row,
+                                                  patch.min(axis=0).tolist() if len(patch) else [],
+                                                  patch.max(axis=0).tolist() if len(patch) else [],
+                                                  spread))
+    measured = re.search(r"p4est_front: step %d: slices contour triangles (\d+)" % step, log)
+    expect(measured is not None, "step %d: the example printed the contour's triangles" % step)
+    triangles = int(measured.group(1)) if measured else -1
+    path = os.path.join(output, "slices_contour_%s.pvtp" % name)
+    read = read_with_paraview(path, os.environ["PVPYTHON"])
+    label = "step %d: slices_contour_%s.pvtp" % (step, name)
+    area, _ = check_isosurface_extract(read, label, "density", FRONT_LEVEL, triangles, centre)
+    if read is not None and len(read["points"]):
+        distance = numpy.abs(numpy.linalg.norm(read["points"] - centre, axis=1) - FRONT_RADIUS)
+        h = 1.0 / 2 ** MAX_LEVEL_3D
+        expect(distance.max() <= h / 8, "%s: every point on the front's sphere to %.4f (h/8; "
+               "largest distance %.5f)" % (label, h / 8, distance.max()))
+    found[step] = (triangles, area)
+
+
 separator = sys.argv.index("--")
 arguments = sys.argv[1:separator]
 dimension = int(arguments[0])
@@ -108,6 +184,7 @@ totals = {int(s): (float(m), float(low), float(high)) for s, m, low, high in re.
 expect(sorted(totals) == [step for step, _, _ in steps],
        "the simulation reported mass and density range for its executed steps %s (got %s)"
        % ([step for step, _, _ in steps], sorted(totals)))
+found = {}  # 3D: step -> (isosurface triangles, area)
 for step, quadrants, dense in steps:
     name = "%06d" % step
     mass, low, high = totals.get(step, (math.nan,) * 3)
@@ -163,6 +240,8 @@ for step, quadrants, dense in steps:
                "simulation's %.17g (relative difference %.3g, at most 1e-12)"
                % (step, surface_mass, mass,
                   abs(surface_mass - mass) / abs(mass) if mass else math.inf))
+    if dimension == 3:
+        check_isosurface(output, step, 0.1 * step, log, found)
     for prefix in images if reference else []:
         image = "%s_%s.png" % (prefix, name)
         both = [os.path.join(folder, image) for folder in (output, reference)]
@@ -175,4 +254,15 @@ for step, quadrants, dense in steps:
             expect(unexplained == 0, "step %d: %s identical to the 1-rank run (%d pixels "
                    "differ, %d of them not a depth tie where planes meet)"
                    % (step, image, differing, unexplained))
+if dimension == 3:
+    with open(os.path.join(output, "isosurfaces.json"), "w") as saved:
+        json.dump(found, saved)
+    if reference:
+        with open(os.path.join(reference, "isosurfaces.json")) as saved:
+            theirs = {int(step): value for step, value in json.load(saved).items()}
+        for step, (triangles, area) in sorted(found.items()):
+            other = theirs.get(step, (-1, math.nan))
+            expect(triangles == other[0] and abs(area - other[1]) <= 1e-9 * other[1],
+                   "step %d: the isosurface has %d triangles of area %.9g, the 1-rank run's %d "
+                   "of area %.9g" % (step, triangles, area, other[0], other[1]))
 finish()

@@ -123,3 +123,88 @@ def compare_images(mine, reference, ties=0):
 
 def cell_array(data, name):
     return vtk_to_numpy(data.GetCellData().GetArray(name))
+
+
+def read_with_paraview(path, pvpython):
+    """What ParaView itself reads from a polydata file (paraview_read.py under
+    pvpython: OpenDataFile picks the reader, no Canopy code loaded): a dict of numpy
+    arrays (reader, points, cell_types, offsets, connectivity, point_arrays,
+    "point:<name>"), or None when ParaView could not read it."""
+    import tempfile
+
+    import numpy
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "paraview_read.py")
+    with tempfile.TemporaryDirectory() as folder:
+        out = os.path.join(folder, "read.npz")
+        # hwloc's X probe would print authorization noise under a virtual display.
+        code, _ = run_command([pvpython, script, path, out], tail=600,
+                              extra_env={"HWLOC_COMPONENTS": "-gl"})
+        if code != 0 or not os.path.exists(out):
+            return None
+        with numpy.load(out) as saved:
+            return {name: saved[name] for name in saved.files}
+
+
+VTK_TRIANGLE = 5
+
+
+def triangle_edges(read):
+    """Each triangle's three edges as pairs of point keys (the points' coordinates,
+    exact: pieces of different ranks have points of their own), for watertightness."""
+    import numpy
+    points = read["points"]
+    corners = read["connectivity"].reshape(-1, 3)
+    _, key = numpy.unique(points, axis=0, return_inverse=True)
+    key = key.reshape(-1)[corners]
+    edges = numpy.concatenate([key[:, [0, 1]], key[:, [1, 2]], key[:, [2, 0]]])
+    return numpy.sort(edges, axis=1)
+
+
+def check_isosurface_extract(read, label, field, value, triangles, centre, interpolated=()):
+    """The checks an isosurface extract (slice_image.py's <prefix>_contour_<step>.pvtp,
+    as ParaView read it) must pass: ParaView's polydata reader opened it; triangles
+    only, as many as the pipeline reported (`triangles`, the StepReport measure); the
+    point arrays `field` (every value the contour value), "Normals" (unit vectors
+    pointing away from `centre`, a point inside the closed surface: towards lower
+    values) and each of `interpolated`; closed: every edge shared by exactly two
+    triangles (the surface lies inside the domain). Returns (area, open edges)."""
+    import numpy
+    expect(read is not None, "%s: ParaView opened it" % label)
+    if read is None:
+        return 0.0, -1
+    reader = str(read["reader"])
+    expect(reader in ("XMLPPolyDataReader", "XMLPartitionedPolydataReader"),
+           "%s: ParaView chose its parallel polydata reader (%s)" % (label, reader))
+    types = read["cell_types"]
+    expect(len(types) == triangles and len(types) > 0 and (types == VTK_TRIANGLE).all()
+           and len(read["offsets"]) == len(types) + 1,
+           "%s: %d cells, all triangles; the pipeline reported %d triangles"
+           % (label, len(types), triangles))
+    names = str(read["point_arrays"]).split(",")
+    wanted = [field, "Normals"] + list(interpolated)
+    expect(all(name in names for name in wanted),
+           "%s: point arrays %s hold %s" % (label, names, wanted))
+    if not all(name in names for name in wanted) or len(types) == 0 or \
+            not (types == VTK_TRIANGLE).all():
+        return 0.0, -1
+    values = read["point:" + field]
+    expect(values.shape[1] == 1 and (values == value).all(),
+           "%s: '%s' is the contour value %g at each of the %d points (from %g to %g)"
+           % (label, field, value, len(values), values.min(), values.max()))
+    points = read["points"]
+    normals = read["point:Normals"]
+    length = numpy.linalg.norm(normals, axis=1)
+    outward = numpy.einsum("ij,ij->i", normals, points - numpy.asarray(centre))
+    expect(normals.shape[1] == 3 and numpy.abs(length - 1).max() < 1e-6 and (outward > 0).all(),
+           "%s: Normals unit vectors (largest |length - 1| %.1e) pointing away from the "
+           "inside at (%s) at %d of %d points" % (label, numpy.abs(length - 1).max(),
+                                                  ", ".join("%.3f" % c for c in centre),
+                                                  int((outward > 0).sum()), len(points)))
+    corners = points[read["connectivity"].reshape(-1, 3)]
+    area = 0.5 * float(numpy.linalg.norm(numpy.cross(corners[:, 1] - corners[:, 0],
+                                                     corners[:, 2] - corners[:, 0]), axis=1).sum())
+    _, uses = numpy.unique(triangle_edges(read), axis=0, return_counts=True)
+    open_edges = int((uses != 2).sum())
+    expect(open_edges == 0, "%s: closed, every edge shared by exactly two triangles (%d of %d "
+           "edges are not; area %.6g)" % (label, open_edges, len(uses), area))
+    return area, open_edges
