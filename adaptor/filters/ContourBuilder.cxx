@@ -132,6 +132,7 @@ ContourResult ContourBuilder::merge() const
     }
     result.cellNormals.insert(result.cellNormals.end(), piece.cellNormals.begin(),
                               piece.cellNormals.end());
+    result.foreign.insert(result.foreign.end(), piece.foreign.begin(), piece.foreign.end());
   }
   return result;
 }

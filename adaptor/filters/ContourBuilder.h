@@ -31,6 +31,7 @@ struct ContourResult
   int verticesPerCell = 2;                       ///< 2: segments (2D), 3: triangles (3D)
   std::vector<vtkIdType> cells;
   std::vector<std::array<double, 3>> cellNormals; ///< 3D: per triangle (ContourPiece)
+  std::vector<unsigned char> foreign;             ///< 3D: per triangle (ContourPiece)
 };
 
 class ContourBuilder

@@ -148,6 +148,9 @@ struct ContourPiece
   /// 3D: per triangle, the unit vector against the field's gradient in its
   /// tetrahedron (the linear interpolant's): what the points' normals average.
   std::vector<std::array<double, 3>> cellNormals;
+  /// 3D: per triangle, 1 when another rank draws it (ContourGhosts.h): made
+  /// here only for its points' normals, left out of the output.
+  std::vector<unsigned char> foreign;
   ContourPointIndex index;
 
   /// The key of the next centroid: above every leaf's (bit 63), unique over

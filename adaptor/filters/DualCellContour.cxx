@@ -176,7 +176,11 @@ void DualCellContour::cell(const DualGroup& group)
   {
     if (group[s]->kind != DualNode::Outside)
     {
-      if (group[s]->remote)
+      // 3D: a cell another rank draws is still contoured here when it can be
+      // (its triangles kept for the points' normals only: a point on the
+      // border then averages the same triangles on both ranks).
+      Foreign = group[s]->remote != 0;
+      if (Foreign && Dual.dimension() == 2)
       {
         return;
       }
@@ -671,6 +675,7 @@ void DualCellContour::tetrahedron(const DualVertex* v[4])
       Out.cells.push_back(p1);
       Out.cells.push_back(p2);
       Out.cellNormals.push_back(unitAgainst);
+      Out.foreign.push_back(Foreign ? 1 : 0);
     };
     if (ups == 1 || downs == 1)
     {

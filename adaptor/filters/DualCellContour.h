@@ -114,6 +114,8 @@ private:
   std::unordered_map<vtkIdType, std::array<double, 3>> Gradients;
   const NodeRanges* Ranges = nullptr;
   bool Cull = false;
+  /// The current cell is drawn by another rank (its triangles only inform normals).
+  bool Foreign = false;
   struct CachedPoint
   {
     std::uint64_t a;

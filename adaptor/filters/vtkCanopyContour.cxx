@@ -197,6 +197,74 @@ vtkSmartPointer<vtkDoubleArray> pointNormals(const canopy::ContourResult& result
   return normals;
 }
 
+/// Removes the triangles another rank draws, and the points only they use,
+/// from `result` and from `normals` (per point, or null).
+void dropForeignTriangles(canopy::ContourResult& result, vtkDoubleArray* normals)
+{
+  if (std::none_of(result.foreign.begin(), result.foreign.end(),
+                   [](unsigned char f) { return f != 0; }))
+  {
+    return;
+  }
+  std::vector<vtkIdType> newId(result.points.size(), -1);
+  std::vector<vtkIdType> cells;
+  std::vector<std::array<double, 3>> cellNormals;
+  for (std::size_t t = 0; t < result.foreign.size(); ++t)
+  {
+    if (result.foreign[t])
+    {
+      continue;
+    }
+    for (std::size_t k = 0; k < 3; ++k)
+    {
+      const vtkIdType p = result.cells[3 * t + k];
+      vtkIdType& id = newId[static_cast<std::size_t>(p)];
+      if (id < 0)
+      {
+        id = 0; // numbered below, in the old order
+      }
+      cells.push_back(p);
+    }
+    cellNormals.push_back(result.cellNormals[t]);
+  }
+  vtkIdType next = 0;
+  for (std::size_t p = 0; p < newId.size(); ++p)
+  {
+    if (newId[p] < 0)
+    {
+      continue;
+    }
+    newId[p] = next;
+    const std::size_t to = static_cast<std::size_t>(next++);
+    result.points[to] = result.points[p];
+    result.contours[to] = result.contours[p];
+    result.leaves[to] = result.leaves[p];
+    result.weights[to] = result.weights[p];
+    if (normals)
+    {
+      double n[3];
+      normals->GetTypedTuple(static_cast<vtkIdType>(p), n);
+      normals->SetTypedTuple(static_cast<vtkIdType>(to), n);
+    }
+  }
+  const std::size_t kept = static_cast<std::size_t>(next);
+  result.points.resize(kept);
+  result.contours.resize(kept);
+  result.leaves.resize(kept);
+  result.weights.resize(kept);
+  if (normals)
+  {
+    normals->SetNumberOfTuples(next);
+  }
+  for (vtkIdType& p : cells)
+  {
+    p = newId[static_cast<std::size_t>(p)];
+  }
+  result.cells.swap(cells);
+  result.cellNormals.swap(cellNormals);
+  result.foreign.assign(result.cellNormals.size(), 0);
+}
+
 } // namespace
 
 int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outputObject)
@@ -398,6 +466,15 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
     return 0;
   }
 
+  // Normals over every triangle made here, then the other ranks' triangles
+  // (made for the normals of the points on the border) left out.
+  vtkSmartPointer<vtkDoubleArray> normals;
+  if (this->ComputeNormals && result.verticesPerCell == 3)
+  {
+    normals = pointNormals(result);
+  }
+  dropForeignTriangles(result, normals);
+
   const vtkIdType points = static_cast<vtkIdType>(result.points.size());
   vtkNew<vtkDoubleArray> coordinates;
   coordinates->SetNumberOfComponents(3);
@@ -447,7 +524,7 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
   }
   if (this->ComputeNormals && per == 3)
   {
-    pointData->SetNormals(pointNormals(result));
+    pointData->SetNormals(normals);
   }
   for (vtkDataArray* const& other : interpolated)
   {

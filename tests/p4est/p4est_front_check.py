@@ -250,9 +250,11 @@ for step, quadrants, dense in steps:
         if all(os.path.exists(path) for path in both):
             # Slices: a few depth ties where planes meet (compare_images).
             differing, unexplained = compare_images(*(read_png(path) for path in both),
-                                                    ties=8 if prefix == "slices" else 0)
+                                                    ties=8 if prefix == "slices" else 0,
+                                                    shading=2 if prefix == "slices" else 0)
             expect(unexplained == 0, "step %d: %s identical to the 1-rank run (%d pixels "
-                   "differ, %d of them not a depth tie where planes meet)"
+                   "differ, %d of them not a depth tie where planes meet nor a level of "
+                   "lighting)"
                    % (step, image, differing, unexplained))
 if dimension == 3:
     with open(os.path.join(output, "isosurfaces.json"), "w") as saved:
