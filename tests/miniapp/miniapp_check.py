@@ -248,10 +248,10 @@ BLOB_LEVEL = 0.5
 
 
 def projected_box(lo, hi, width, height):
-    """The pixel box (x0, x1, y0, y1; y up from the bottom row, as read_png's rows) of the box lo-hi seen by the
-    image scripts' default camera on the unit domain (canopy_catalyst.frame_bounds:
-    perspective, 30 degrees, from centre + (1.2, 0.9, 1.5) x diagonal, y up), projected
-    with VTK's own camera."""
+    """The pixel box (x0, x1, y0, y1; y up from the bottom row, as read_png's rows) of
+    the box lo-hi seen by the image scripts' default camera on the unit domain
+    (canopy_catalyst.frame_bounds: perspective, 30 degrees, from centre + (1.2, 0.9, 1.5)
+    x diagonal, y up), projected with VTK's own camera."""
     from paraview.vtk.vtkRenderingCore import vtkCamera
     camera = vtkCamera()
     diagonal = math.sqrt(3.0)
