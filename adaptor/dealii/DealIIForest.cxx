@@ -234,6 +234,8 @@ struct DealIIForest<dim>::State
   std::deque<std::vector<const void*>> addressTables;
   std::deque<std::vector<double>> averages;
   ForestDescription description;
+  /// The per-level tables the constructor walked the mesh with (freed since).
+  std::size_t scratchBytes = 0;
 
   void addField(FieldDescription field)
   {
@@ -396,6 +398,11 @@ DealIIForest<dim>::DealIIForest(const dealii::Triangulation<dim>& triangulation)
     }
     s.trees.push_back(std::move(tree));
   }
+  for (unsigned int l = 0; l < levels; ++l)
+  {
+    s.scratchBytes += slotOf[l].size() * sizeof(std::int64_t) + ownedBelow[l].size();
+  }
+  s.scratchBytes += (level.capacity() + next.capacity()) * sizeof(Node);
   anisotropic.finish(problems);
   moved.finish(problems);
   problems.raiseIfAny<InvalidForest>();
@@ -686,6 +693,34 @@ template <int dim>
 std::size_t DealIIForest<dim>::numberOfLocalTrees() const
 {
   return Impl->trees.size();
+}
+
+template <int dim>
+std::size_t DealIIForest<dim>::memoryWritten() const
+{
+  const State& s = *Impl;
+  std::size_t bytes = s.scratchBytes;
+  for (const DescribedTree& tree : s.trees)
+  {
+    bytes += tree.refinement.size() + tree.absent.size() + tree.slots.size() * sizeof(std::int64_t);
+  }
+  bytes += s.ownedCells.size() * (sizeof(std::pair<int, int>) + 2 * sizeof(std::int64_t));
+  for (const auto& table : s.addressTables)
+  {
+    bytes += table.size() * sizeof(const void*);
+  }
+  for (const auto& values : s.averages)
+  {
+    bytes += values.size() * sizeof(double);
+  }
+  for (const auto& axis : s.lattice.axes)
+  {
+    bytes += axis.size() * sizeof(double);
+  }
+  bytes += s.lattice.rootOfCoarseCell.size() * sizeof(std::int64_t) +
+           s.lattice.boxOfCoarseCell.size() * sizeof(s.lattice.boxOfCoarseCell[0]);
+  return bytes + s.description.trees.size() * sizeof(TreeDescription) +
+         s.description.fields.size() * sizeof(FieldDescription);
 }
 
 template class DealIIForest<2>;

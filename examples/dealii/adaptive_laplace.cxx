@@ -48,7 +48,7 @@ class LaplaceProblem
 {
 public:
   explicit LaplaceProblem(MPI_Comm comm)
-    : comm(comm), triangulation(comm), fe(2), dofs(triangulation)
+      : comm(comm), triangulation(comm), fe(2), dofs(triangulation)
   {
     // A box of 2 x 1 (x 1) unit cells, as subdivided_hyper_rectangle makes it.
     Point<dim> upper;
@@ -167,16 +167,16 @@ void report(const LaplaceProblem<dim>& problem, int cycle, double errorAtLeast)
   flagged = Utilities::MPI::sum(flagged, problem.comm);
   errorSum = Utilities::MPI::sum(errorSum, problem.comm);
   // The integral of u, by deal.II's own quadrature.
-  const double integral = VectorTools::compute_mean_value(problem.dofs, QGauss<dim>(3),
-                                                          problem.solution, 0) *
-                          2.0; // the domain's volume
+  const double integral =
+      VectorTools::compute_mean_value(problem.dofs, QGauss<dim>(3), problem.solution, 0) *
+      2.0; // the domain's volume
   if (Utilities::MPI::this_mpi_process(problem.comm) == 0)
   {
     std::printf("dealii_laplace: cycle %d: %llu cells, %ld with error >= %g\n", cycle,
                 static_cast<unsigned long long>(problem.triangulation.n_global_active_cells()),
                 flagged, errorAtLeast);
-    std::printf("dealii_laplace: cycle %d: integral of u %.17g, error sum %.17g\n", cycle,
-                integral, errorSum);
+    std::printf("dealii_laplace: cycle %d: integral of u %.17g, error sum %.17g\n", cycle, integral,
+                errorSum);
   }
 }
 

@@ -125,6 +125,10 @@ public:
   std::size_t numberOfCells() const;
   /// Coarse cells with a locally owned cell; those shared with other ranks have absent parts.
   std::size_t numberOfLocalTrees() const;
+  /// Bytes describing wrote into memory: the tables this object keeps (refinement,
+  /// absent and slot bytes, address tables, cell averages) and the scratch tables
+  /// it used while walking the mesh. For cost accounting (docs/benchmarks.md).
+  std::size_t memoryWritten() const;
 
 private:
   void addLocalPart(std::string name, ValueType type, const void* localValues,
