@@ -92,6 +92,8 @@ for cycle in sorted(cycles):
         colours = len({tuple(p) for p in pixels.reshape(-1, pixels.shape[2])[::7]})
         expect(colours > 50, "cycle %d: %s shows the colour map (%d colours sampled)"
                % (cycle, os.path.basename(image), colours))
+    expect(0 < flagged < cells, "cycle %d: the program counts %d of %d cells over the "
+           "threshold (the selection is neither empty nor everything)" % (cycle, flagged, cells))
     selection = read_unstructured(os.path.join(output, "selection_%s.pvtu" % name))
     expect(selection.GetNumberOfCells() == flagged,
            "cycle %d: the selection has %d cells, the program counts %d with error >= threshold"
