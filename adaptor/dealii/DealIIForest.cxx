@@ -228,8 +228,7 @@ struct DealIIForest<dim>::State
   /// The locally owned active cells in slot order (= active_cell_index order):
   /// (level, index) and their active and global active indices.
   std::vector<std::pair<int, int>> ownedCells;
-  std::vector<std::int64_t> activeIndex;
-  std::vector<std::int64_t> globalActiveIndex;
+  std::vector<std::uint32_t> activeIndex;
   /// Indirect fields' address tables, and cell averages: Canopy's own memory.
   std::deque<std::vector<const void*>> addressTables;
   std::deque<std::vector<double>> averages;
@@ -292,21 +291,20 @@ DealIIForest<dim>::DealIIForest(const dealii::Triangulation<dim>& triangulation)
   // Which cells have a locally owned active cell at or below them, level by level
   // from the finest up: the others are another rank's (absent) or not described.
   const unsigned int levels = triangulation.n_levels();
-  std::vector<std::vector<std::int64_t>> slotOf(levels);
+  // A leaf's slot, by active_cell_index (-1: not locally owned).
+  std::vector<std::int32_t> slotOfActive(triangulation.n_active_cells(), -1);
   std::vector<std::vector<std::uint8_t>> ownedBelow(levels);
   for (unsigned int l = 0; l < levels; ++l)
   {
-    slotOf[l].assign(triangulation.n_raw_cells(l), -1);
     ownedBelow[l].assign(triangulation.n_raw_cells(l), 0);
   }
   for (const auto& cell : triangulation.active_cell_iterators())
   {
     if (cell->is_locally_owned())
     {
-      slotOf[cell->level()][cell->index()] = static_cast<std::int64_t>(s.ownedCells.size());
+      slotOfActive[cell->active_cell_index()] = static_cast<std::int32_t>(s.ownedCells.size());
       s.ownedCells.emplace_back(cell->level(), cell->index());
-      s.activeIndex.push_back(static_cast<std::int64_t>(cell->active_cell_index()));
-      s.globalActiveIndex.push_back(static_cast<std::int64_t>(cell->global_active_cell_index()));
+      s.activeIndex.push_back(cell->active_cell_index());
       ownedBelow[cell->level()][cell->index()] = 1;
     }
   }
@@ -363,7 +361,7 @@ DealIIForest<dim>::DealIIForest(const dealii::Triangulation<dim>& triangulation)
         }
         if (!refined)
         {
-          tree.slots.push_back(slotOf[cell->level()][cell->index()]);
+          tree.slots.push_back(slotOfActive[cell->active_cell_index()]);
           maxLevel = std::max(maxLevel, cell->level());
           if (!verticesAreBox<dim>(cell, node.box))
           {
@@ -400,8 +398,9 @@ DealIIForest<dim>::DealIIForest(const dealii::Triangulation<dim>& triangulation)
   }
   for (unsigned int l = 0; l < levels; ++l)
   {
-    s.scratchBytes += slotOf[l].size() * sizeof(std::int64_t) + ownedBelow[l].size();
+    s.scratchBytes += ownedBelow[l].size();
   }
+  s.scratchBytes += slotOfActive.size() * sizeof(std::int32_t);
   s.scratchBytes += (level.capacity() + next.capacity()) * sizeof(Node);
   anisotropic.finish(problems);
   moved.finish(problems);
@@ -460,7 +459,7 @@ DealIIForest<dim>& DealIIForest<dim>::operator=(DealIIForest&&) noexcept = defau
 template <int dim>
 void DealIIForest<dim>::addLocalPart(std::string name, ValueType type, const void* localValues,
                                      std::size_t valueBytes,
-                                     const std::vector<std::int64_t>& localIndexOfCell)
+                                     const std::vector<std::uint32_t>& localIndexOfCell)
 {
   State& s = *Impl;
   FieldDescription field;
@@ -475,7 +474,7 @@ void DealIIForest<dim>::addLocalPart(std::string name, ValueType type, const voi
   bool inOrder = true;
   for (std::size_t k = 0; k < localIndexOfCell.size() && inOrder; ++k)
   {
-    inOrder = localIndexOfCell[k] == static_cast<std::int64_t>(k);
+    inOrder = localIndexOfCell[k] == k;
   }
   if (inOrder)
   {
@@ -505,17 +504,20 @@ void DealIIForest<dim>::addLocalPart(std::string name, ValueType type, const voi
 }
 
 template <int dim>
-std::vector<std::int64_t> DealIIForest<dim>::localIndicesOf(std::int64_t first,
-                                                            const dealii::IndexSet& owned,
-                                                            const std::string& name) const
+std::vector<std::uint32_t> DealIIForest<dim>::localIndicesOf(std::int64_t first,
+                                                             const dealii::IndexSet& owned,
+                                                             const std::string& name) const
 {
   const State& s = *Impl;
-  std::vector<std::int64_t> local(s.globalActiveIndex.size());
+  std::vector<std::uint32_t> local(s.ownedCells.size());
   ProblemList problems(problemPrefix);
   ProblemKind outside("cells outside the vector's locally owned range");
   for (std::size_t k = 0; k < local.size(); ++k)
   {
-    const auto global = static_cast<dealii::types::global_dof_index>(s.globalActiveIndex[k]);
+    const typename dealii::Triangulation<dim>::active_cell_iterator cell(
+        s.tria, s.ownedCells[k].first, s.ownedCells[k].second);
+    const auto global =
+        static_cast<dealii::types::global_dof_index>(cell->global_active_cell_index());
     if (!owned.is_element(global))
     {
       outside.add(problems, "field '", name, "': locally owned cell ", s.ownedCells[k].first, ".",
@@ -525,8 +527,8 @@ std::vector<std::int64_t> DealIIForest<dim>::localIndicesOf(std::int64_t first,
                   "global_active_cell_index_partitioner())");
       continue;
     }
-    local[k] = first >= 0 ? static_cast<std::int64_t>(global) - first
-                          : static_cast<std::int64_t>(owned.index_within_set(global));
+    local[k] = static_cast<std::uint32_t>(first >= 0 ? static_cast<std::int64_t>(global) - first
+                                                     : owned.index_within_set(global));
   }
   outside.finish(problems);
   problems.raiseIfAny<InvalidForest>();
@@ -704,7 +706,7 @@ std::size_t DealIIForest<dim>::memoryWritten() const
   {
     bytes += tree.refinement.size() + tree.absent.size() + tree.slots.size() * sizeof(std::int64_t);
   }
-  bytes += s.ownedCells.size() * (sizeof(std::pair<int, int>) + 2 * sizeof(std::int64_t));
+  bytes += s.ownedCells.size() * (sizeof(std::pair<int, int>) + sizeof(std::uint32_t));
   for (const auto& table : s.addressTables)
   {
     bytes += table.size() * sizeof(const void*);

@@ -132,9 +132,9 @@ public:
 
 private:
   void addLocalPart(std::string name, ValueType type, const void* localValues,
-                    std::size_t valueBytes, const std::vector<std::int64_t>& localIndexOfCell);
-  std::vector<std::int64_t> localIndicesOf(std::int64_t first, const dealii::IndexSet& owned,
-                                           const std::string& name) const;
+                    std::size_t valueBytes, const std::vector<std::uint32_t>& localIndexOfCell);
+  std::vector<std::uint32_t> localIndicesOf(std::int64_t first, const dealii::IndexSet& owned,
+                                            const std::string& name) const;
 
   struct State;
   std::unique_ptr<State> Impl;
