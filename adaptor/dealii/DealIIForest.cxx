@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <limits>
 
 namespace canopy
@@ -504,9 +505,10 @@ void DealIIForest<dim>::addLocalPart(std::string name, ValueType type, const voi
 }
 
 template <int dim>
-std::vector<std::uint32_t> DealIIForest<dim>::localIndicesOf(std::int64_t first,
-                                                             const dealii::IndexSet& owned,
-                                                             const std::string& name) const
+std::vector<std::uint32_t> DealIIForest<dim>::localIndicesOf(
+    const dealii::IndexSet& owned,
+    const std::function<std::int64_t(dealii::types::global_dof_index)>& localOf,
+    const std::string& name) const
 {
   const State& s = *Impl;
   std::vector<std::uint32_t> local(s.ownedCells.size());
@@ -527,8 +529,7 @@ std::vector<std::uint32_t> DealIIForest<dim>::localIndicesOf(std::int64_t first,
                   "global_active_cell_index_partitioner())");
       continue;
     }
-    local[k] = static_cast<std::uint32_t>(first >= 0 ? static_cast<std::int64_t>(global) - first
-                                                     : owned.index_within_set(global));
+    local[k] = static_cast<std::uint32_t>(localOf(global));
   }
   outside.finish(problems);
   problems.raiseIfAny<InvalidForest>();
@@ -558,7 +559,11 @@ void DealIIForest<dim>::addCellVector(std::string name,
 {
   const dealii::IndexSet owned = values.locally_owned_elements();
   const auto first = static_cast<std::int64_t>(values.get_partitioner()->local_range().first);
-  const auto local = localIndicesOf(first, owned, name);
+  const auto local = localIndicesOf(
+      owned,
+      [first](dealii::types::global_dof_index global)
+      { return static_cast<std::int64_t>(global) - first; },
+      name);
   addLocalPart(std::move(name), valueTypeOf<T>(), values.begin(), sizeof(T), local);
 }
 
@@ -568,8 +573,12 @@ void DealIIForest<dim>::addCellVector(std::string name,
                                       const dealii::PETScWrappers::MPI::Vector& values)
 {
   static_assert(sizeof(PetscScalar) == sizeof(double), "Canopy reads real PETSc vectors");
-  const auto local = localIndicesOf(static_cast<std::int64_t>(values.local_range().first),
-                                    values.locally_owned_elements(), name);
+  const auto first = static_cast<std::int64_t>(values.local_range().first);
+  const auto local = localIndicesOf(
+      values.locally_owned_elements(),
+      [first](dealii::types::global_dof_index global)
+      { return static_cast<std::int64_t>(global) - first; },
+      name);
   // The local part of a standard (VECMPI) vector is PETSc's own array: it stays
   // where it is between VecGetArrayRead and later reads, as every zero-copy
   // PETSc consumer relies on.
@@ -586,7 +595,17 @@ template <int dim>
 void DealIIForest<dim>::addCellVector(std::string name,
                                       const dealii::TrilinosWrappers::MPI::Vector& values)
 {
-  const auto local = localIndicesOf(-1, values.locally_owned_elements(), name);
+  // Epetra's map gives each entry's place in the local array, ghosted vectors included
+  // (whose owned entries need not come first).
+  const auto& map = values.trilinos_vector().Map();
+  const auto local = localIndicesOf(
+      values.locally_owned_elements(),
+      [&map](dealii::types::global_dof_index global)
+      {
+        return static_cast<std::int64_t>(
+            map.LID(static_cast<dealii::TrilinosWrappers::types::int_type>(global)));
+      },
+      name);
   addLocalPart(std::move(name), ValueType::Float64, values.begin(), sizeof(double), local);
 }
 #endif

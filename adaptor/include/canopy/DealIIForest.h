@@ -53,6 +53,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -133,8 +134,12 @@ public:
 private:
   void addLocalPart(std::string name, ValueType type, const void* localValues,
                     std::size_t valueBytes, const std::vector<std::uint32_t>& localIndexOfCell);
-  std::vector<std::uint32_t> localIndicesOf(std::int64_t first, const dealii::IndexSet& owned,
-                                            const std::string& name) const;
+  /// Each owned cell's place in a distributed vector's local array (`localOf` of
+  /// its global_active_cell_index), refusing cells outside the vector's `owned` set.
+  std::vector<std::uint32_t>
+  localIndicesOf(const dealii::IndexSet& owned,
+                 const std::function<std::int64_t(dealii::types::global_dof_index)>& localOf,
+                 const std::string& name) const;
 
   struct State;
   std::unique_ptr<State> Impl;
