@@ -32,10 +32,12 @@ packages=(
 )
 if ((tests)); then
   # The tests: GoogleTest, Google Benchmark, Fortran (the Fortran binding's test),
-  # p4est (Canopy::p4est and its example), h5py and friends (the checkers), valgrind,
-  # clang-14 (the fuzzers).
+  # p4est (Canopy::p4est and its example), deal.II (Canopy::dealii, its example and
+  # benchmark; ~240 packages, ~1.5 GB with PETSc and Trilinos, about 50 s here, so
+  # not for the main job), h5py and friends (the checkers), valgrind, clang-14 (the
+  # fuzzers).
   packages+=(
-    gfortran libgtest-dev libbenchmark-dev libp4est-dev
+    gfortran libgtest-dev libbenchmark-dev libp4est-dev libdeal.ii-dev
     python3-h5py python3-matplotlib python3-pandas valgrind
     clang-14 libclang-rt-14-dev
   )
