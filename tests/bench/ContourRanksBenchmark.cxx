@@ -7,6 +7,7 @@
 //   mpirun -np N canopy_bench_contour_ranks [--roots R] [--levels L] [--repetitions K]
 //
 // Defaults: 6^3 roots, 6 levels (refinement probability 0.5), 5 repetitions.
+#include "NodeCentreField.h"
 #include "RandomForest.h"
 #include "RankPart.h"
 
@@ -17,7 +18,6 @@
 #include <vtkDoubleArray.h>
 #include <vtkHyperTree.h>
 #include <vtkHyperTreeGrid.h>
-#include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
 #include <vtkMPIController.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
@@ -30,46 +30,6 @@
 #include <cstring>
 #include <functional>
 #include <limits>
-
-namespace
-{
-
-/// A blob's distance field at every node's centre.
-void addDistance(vtkHyperTreeGrid* htg, const double centre[3])
-{
-  vtkNew<vtkDoubleArray> values;
-  values->SetName("distance");
-  values->SetNumberOfTuples(htg->GetNumberOfCells());
-  values->Fill(0);
-  std::function<void(vtkHyperTreeGridNonOrientedGeometryCursor*)> walk =
-      [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
-  {
-    const double* o = cursor->GetOrigin();
-    const double* s = cursor->GetSize();
-    const double x = o[0] + s[0] / 2 - centre[0];
-    const double y = o[1] + s[1] / 2 - centre[1];
-    const double z = o[2] + s[2] / 2 - centre[2];
-    values->SetValue(cursor->GetGlobalNodeIndex(), std::sqrt(x * x + y * y + z * z));
-    for (unsigned c = 0; !cursor->IsLeaf() && c < cursor->GetNumberOfChildren(); ++c)
-    {
-      cursor->ToChild(c);
-      walk(cursor);
-      cursor->ToParent();
-    }
-  };
-  vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
-  htg->InitializeTreeIterator(it);
-  vtkIdType index = 0;
-  vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
-  while (it.GetNextTree(index))
-  {
-    htg->InitializeNonOrientedGeometryCursor(cursor, index);
-    walk(cursor);
-  }
-  htg->GetCellData()->AddArray(values);
-}
-
-} // namespace
 
 int main(int argc, char** argv)
 {
@@ -118,7 +78,13 @@ int main(int argc, char** argv)
   double high = 0;
   controller->AllReduce(bounds + 1, &high, 1, vtkCommunicator::MAX_OP);
   centre[0] = centre[1] = centre[2] = 0.5 * (centre[0] + high);
-  addDistance(grid, centre);
+  canopy::testing::addNodeCentreField(grid, "distance",
+                                      [&](const double* x)
+                                      {
+                                        const double d[3] = {x[0] - centre[0], x[1] - centre[1],
+                                                             x[2] - centre[2]};
+                                        return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                                      });
   // The whole forest's leaves (a rank's part also has other ranks' parts as
   // absent leaves).
   vtkIdType leaves = 0;

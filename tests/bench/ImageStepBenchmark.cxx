@@ -480,7 +480,8 @@ int main(int argc, char** argv)
     std::vector<std::string> forestNames{"synthetic-2d-1e5", "synthetic-2d-1e6",
                                          "synthetic-3d-1e6"};
     std::vector<std::string> miniAppSpecs;
-    std::vector<std::string> routeNames{"canopy", "canopy-slices", "paraview", "paraview-adaptive"};
+    std::vector<std::string> routeNames{"canopy", "canopy-slices", "canopy-slices-contour",
+                                        "paraview", "paraview-adaptive"};
     bool firstStep = false;
     for (int i = 1; i < argc; ++i)
     {
@@ -537,6 +538,10 @@ int main(int argc, char** argv)
       else if (name == "canopy-slices")
         routes.push_back(
             {name, "Canopy (slice_image.py: 3 slices + cut-away region)", false, true});
+      else if (name == "canopy-slices-contour")
+        routes.push_back(
+            {name, "Canopy (slice_image.py: 3 slices + cut-away region + isosurface)", false,
+             true});
       else if (name == "paraview")
         routes.push_back({name, "ParaView 'Surface' (vtkHyperTreeGridGeometry)", false});
       else if (name == "paraview-adaptive")
@@ -544,6 +549,12 @@ int main(int argc, char** argv)
       else
         throw std::invalid_argument("unknown route '" + name + "'");
     }
+
+    // InSitu loads a script once: the two slices routes both run slice_image.py.
+    if (std::count_if(routes.begin(), routes.end(),
+                      [](const Route& r) { return r.name.rfind("canopy-slices", 0) == 0; }) > 1)
+      throw std::invalid_argument(
+          "canopy-slices and canopy-slices-contour both run slice_image.py: one per run");
 
     // A full build with the shown field (median; the slowest rank's, as a step waits
     // for it): what a step pays when every tree changed. The driver's GridBuilder keeps
@@ -597,14 +608,21 @@ int main(int argc, char** argv)
           modules.push_back("surface_image");
           continue;
         }
-        if (routes[k].name == "canopy-slices")
+        if (routes[k].name == "canopy-slices" || routes[k].name == "canopy-slices-contour")
         {
           // The 3D default of the mini-app's slices, with the region drawn in the
-          // same image: scalar >= 3 (the front's shell) with an octant cut away.
+          // same image: scalar >= 3 (the front's shell) with an octant cut away;
+          // and the same with the front's isosurface at scalar = 3 (following the
+          // view, as the scripts' default).
           auto arguments = common;
           arguments.insert(arguments.end(),
                            {"--start=" + std::to_string(k), "--pixel-threshold=3",
                             "--select-field=scalar", "--select-range=3,1e30", "--cut-away=octant"});
+          if (routes[k].name == "canopy-slices-contour")
+          {
+            arguments.insert(arguments.end(), {"--contour-field=scalar", "--contour-values=3",
+                                               "--file-prefix=slices_contour"});
+          }
           options.scripts.push_back({pipelines + "/slice_image.py", arguments});
           modules.push_back("slice_image");
           continue;

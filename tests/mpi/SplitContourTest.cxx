@@ -10,6 +10,8 @@
 // a maximum level. Run with mpirun -np 1, 2 and 4.
 #include "GatherPieces.h"
 #include "RandomForest.h"
+#include "NodeCentreField.h"
+#include "RankForestPart.h"
 #include "RankPart.h"
 
 #include <canopy/HtgBuilder.h>
@@ -19,7 +21,6 @@
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkHyperTreeGrid.h>
-#include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
 #include <vtkMultiProcessController.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
@@ -46,73 +47,11 @@ vtkMultiProcessController* world()
 
 using Field = std::function<double(const double*)>;
 
-/// Adds `name`, the field at every node's centre (inner, masked and absent
-/// nodes too), walked with VTK's own cursor.
-void addField(vtkHyperTreeGrid* htg, const char* name, const Field& f)
-{
-  vtkNew<vtkDoubleArray> values;
-  values->SetName(name);
-  values->SetNumberOfTuples(htg->GetNumberOfCells());
-  values->Fill(0);
-  std::function<void(vtkHyperTreeGridNonOrientedGeometryCursor*)> walk =
-      [&](vtkHyperTreeGridNonOrientedGeometryCursor* cursor)
-  {
-    double* origin = cursor->GetOrigin();
-    double* size = cursor->GetSize();
-    const double centre[3] = {origin[0] + size[0] / 2, origin[1] + size[1] / 2,
-                              origin[2] + size[2] / 2};
-    values->SetValue(cursor->GetGlobalNodeIndex(), f(centre));
-    if (cursor->IsLeaf())
-    {
-      return;
-    }
-    for (unsigned c = 0; c < cursor->GetNumberOfChildren(); ++c)
-    {
-      cursor->ToChild(c);
-      walk(cursor);
-      cursor->ToParent();
-    }
-  };
-  vtkHyperTreeGrid::vtkHyperTreeGridIterator it;
-  htg->InitializeTreeIterator(it);
-  vtkIdType index = 0;
-  vtkNew<vtkHyperTreeGridNonOrientedGeometryCursor> cursor;
-  while (it.GetNextTree(index))
-  {
-    htg->InitializeNonOrientedGeometryCursor(cursor, index);
-    walk(cursor);
-  }
-  htg->GetCellData()->AddArray(values);
-}
-
-/// This rank's part of `whole`: trees cut between ranks or whole trees dealt
-/// out in turn. `keep` holds what the grid borrows.
 vtkSmartPointer<vtkHyperTreeGrid> partOf(const ForestDescription& whole, bool splitTrees,
                                          std::shared_ptr<void>& keep)
 {
-  const int rank = world()->GetLocalProcessId();
-  const int ranks = world()->GetNumberOfProcesses();
-  if (splitTrees)
-  {
-    auto part = std::make_shared<RankPart>(whole, rank, ranks, rank % 2 == 1);
-    keep = part;
-    return buildHyperTreeGrid(part->description);
-  }
-  auto mine = std::make_shared<ForestDescription>();
-  mine->dimension = whole.dimension;
-  mine->branchFactor = whole.branchFactor;
-  mine->maxLevels = whole.maxLevels;
-  mine->rootGrid = whole.rootGrid;
-  mine->missingTreesAreElsewhere = true;
-  for (std::size_t t = 0; t < whole.trees.size(); ++t)
-  {
-    if (static_cast<int>(t % static_cast<std::size_t>(ranks)) == rank)
-    {
-      mine->trees.push_back(whole.trees[t]);
-    }
-  }
-  keep = mine;
-  return buildHyperTreeGrid(*mine);
+  return rankForestPart(whole, splitTrees, world()->GetLocalProcessId(),
+                        world()->GetNumberOfProcesses(), keep);
 }
 
 vtkSmartPointer<vtkPolyData> contourOf(vtkHyperTreeGrid* htg, const char* field, double value,
@@ -258,14 +197,14 @@ TEST(SplitContour, RanksTogetherDrawTheWholeForestsContourOnce)
     {
       std::shared_ptr<void> keep;
       auto part = partOf(whole.description(), splitTrees, keep);
-      addField(part, "linear", linear);
-      addField(part, "wavy", wavy);
+      addNodeCentreField(part, "linear", linear);
+      addNodeCentreField(part, "wavy", wavy);
       vtkSmartPointer<vtkHyperTreeGrid> reference;
       if (root)
       {
         reference = buildHyperTreeGrid(whole.description());
-        addField(reference, "linear", linear);
-        addField(reference, "wavy", wavy);
+        addNodeCentreField(reference, "linear", linear);
+        addNodeCentreField(reference, "wavy", wavy);
       }
       for (const char* field : {"linear", "wavy"})
       {

@@ -10,6 +10,7 @@
 #include "GatherPieces.h"
 #include "LevelJumpForest.h"
 #include "RandomForest.h"
+#include "RankForestPart.h"
 #include "RankPart.h"
 
 #include <canopy/HtgBuilder.h>
@@ -37,34 +38,12 @@ vtkMultiProcessController* world()
   return vtkMultiProcessController::GetGlobalController();
 }
 
-/// This rank's part of `whole`: trees cut between ranks (p4est's partition) or
-/// whole trees dealt out in turn. `keep` holds what the grid borrows.
+/// This rank's part of `whole` (RankForestPart.h).
 vtkSmartPointer<vtkHyperTreeGrid> partOf(const ForestDescription& whole, bool splitTrees,
                                          std::shared_ptr<void>& keep)
 {
-  const int rank = world()->GetLocalProcessId();
-  const int ranks = world()->GetNumberOfProcesses();
-  if (splitTrees)
-  {
-    auto part = std::make_shared<RankPart>(whole, rank, ranks, rank % 2 == 1);
-    keep = part;
-    return buildHyperTreeGrid(part->description);
-  }
-  auto mine = std::make_shared<ForestDescription>();
-  mine->dimension = whole.dimension;
-  mine->branchFactor = whole.branchFactor;
-  mine->maxLevels = whole.maxLevels;
-  mine->rootGrid = whole.rootGrid;
-  mine->missingTreesAreElsewhere = true;
-  for (std::size_t t = 0; t < whole.trees.size(); ++t)
-  {
-    if (static_cast<int>(t % static_cast<std::size_t>(ranks)) == rank)
-    {
-      mine->trees.push_back(whole.trees[t]);
-    }
-  }
-  keep = mine;
-  return buildHyperTreeGrid(*mine);
+  return rankForestPart(whole, splitTrees, world()->GetLocalProcessId(),
+                        world()->GetNumberOfProcesses(), keep);
 }
 
 /// The whole forest's bounds (every rank's: a rank's part may not reach them).
