@@ -25,7 +25,7 @@
 //    the same selection inverted on the masked grid (the pipelines' chain).
 //  - vtkCanopyContour (2D, 3D) of a linear field read from the input, in full and with the
 //    view's level of detail: every point away from the boundary on the field's plane,
-//    none inside a masked cell at full resolution,
+//    none inside a masked cell at full resolution over equal cubic roots,
 //    no cell twice, and without masks or missing trees watertight (every edge or segment
 //    end off the domain's boundary used exactly twice).
 //  - split forests (masked too: each rank masks what the whole forest masks): every
@@ -2578,6 +2578,18 @@ void checkContour(const GridTruth& g, const View& view, const std::array<double,
   g.htg->GetCellData()->AddArray(linear);
   const double value = low + (high - low) * fraction;
   const double slope = std::abs(a[0]) + std::abs(a[1]) + std::abs(a[2]);
+  // Whether every root cell is the same square or cube.
+  bool equalRoots = true;
+  double side = -1;
+  for (int k : g.active)
+  {
+    const auto& x = g.coords[static_cast<std::size_t>(k)];
+    for (std::size_t i = 1; i < x.size(); ++i)
+    {
+      side = side < 0 ? x[i] - x[i - 1] : side;
+      equalRoots = equalRoots && x[i] - x[i - 1] == side;
+    }
+  }
   double rootHalf = 0;
   for (int k : g.active)
   {
@@ -2618,8 +2630,10 @@ void checkContour(const GridTruth& g, const View& view, const std::array<double,
         fail(Stage + ": a point off the plane: f = " + str(f) + ", the value " + str(value));
       }
       // With level of detail a node of a pixel or less holding masked cells is
-      // contoured as one coarse leaf (docs/filters.md): full resolution only.
-      for (std::size_t id = 0; fullResolution && id < g.nodes.size(); ++id)
+      // contoured as one coarse leaf, and where root cells of other shapes meet an
+      // edge between two leaves' centres can cut the corner of a third leaf
+      // (docs/filters.md): full resolution over equal cubic roots only.
+      for (std::size_t id = 0; fullResolution && equalRoots && id < g.nodes.size(); ++id)
       {
         const NodeTruth& n = g.nodes[id];
         if (!n.reached || !n.masked)
