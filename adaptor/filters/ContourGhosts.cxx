@@ -210,7 +210,6 @@ ContourGhosts::ContourGhosts(const HyperTreeAccess& grid,
         continue; // an ancestor two ranks share
       }
       Leaf.push_back(static_cast<unsigned char>(r[5]));
-      Owner.push_back(static_cast<int>(rank));
       Values.push_back(r[6]);
       std::size_t offset = RecordHeader + 1;
       for (std::size_t f = 0; f < components.size(); ++f)

@@ -93,7 +93,6 @@ public:
   bool isLeaf(std::int64_t ghost) const { return Leaf[static_cast<std::size_t>(ghost)] == 1; }
   /// An inner node with parts of several ranks below (never a coarse leaf).
   bool mixed(std::int64_t ghost) const { return Leaf[static_cast<std::size_t>(ghost)] == 2; }
-  int owner(std::int64_t ghost) const { return Owner[static_cast<std::size_t>(ghost)]; }
   /// The contoured value, and each interpolated field's components.
   const std::vector<double>& values() const { return Values; }
   double interpolated(std::size_t field, std::int64_t ghost, int component) const
@@ -142,7 +141,6 @@ private:
   std::unordered_map<std::int64_t, std::size_t> Elsewhere;
   std::deque<TreeAccess> Stand; ///< stable addresses: DualNode points to them
   std::vector<unsigned char> Leaf;
-  std::vector<int> Owner;
   std::vector<double> Values;
   std::vector<int> Components;
   std::vector<std::vector<double>> Fields;

@@ -20,9 +20,10 @@
 // roots meet across faces, edges and vertices). Boundary: the root grid is
 // ringed by Outside nodes, so the vertices on the domain's boundary get dual
 // cells too; an Outside slot is later replaced by the boundary dual vertex of
-// the leaf it mirrors (DualCellContour.h). Masked nodes, other ranks' parts and
-// root cells without a tree are Hidden: never descended, and a dual cell with a
-// Hidden slot is not contoured.
+// the leaf it mirrors (DualCellContour.h). Masked nodes and root cells without a
+// tree are Hidden: never descended, and a dual cell with a Hidden slot is not
+// contoured. Other ranks' parts are seen through their ghosts (ContourGhosts.h)
+// when the traversal has them, else Hidden too.
 //
 // The work is split into tasks, one per cell of the ringed root grid: task P
 // runs every top-level group whose lowest cell is P. Tasks are independent (they
@@ -58,7 +59,7 @@ struct DualNode
     Outside ///< beyond the domain's boundary
   };
   const TreeAccess* tree;
-  vtkIdType node; ///< local index in `tree`
+  vtkIdType node; ///< local index in `tree` (a ghost: its index in ContourGhosts)
   int level;
   std::array<std::int64_t, 3> ijk; ///< integer position at `level`
   Kind kind;
@@ -101,8 +102,6 @@ public:
   {
     return n.remote ? Grid.numberOfCells() + n.node : n.tree->globalIndex(n.node);
   }
-  /// The rank a visible node belongs to (`self` for a local one).
-  int ownerOf(const DualNode& n, int self) const { return n.remote ? Ghosts->owner(n.node) : self; }
 
   /// The root node of root cell (i, j, k) (3D indices, inside the root grid),
   /// classified as the traversal classifies it.
