@@ -78,13 +78,13 @@ int main(int argc, char** argv)
   double high = 0;
   controller->AllReduce(bounds + 1, &high, 1, vtkCommunicator::MAX_OP);
   centre[0] = centre[1] = centre[2] = 0.5 * (centre[0] + high);
-  canopy::testing::addNodeCentreField(grid, "distance",
-                                      [&](const double* x)
-                                      {
-                                        const double d[3] = {x[0] - centre[0], x[1] - centre[1],
-                                                             x[2] - centre[2]};
-                                        return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-                                      });
+  canopy::testing::addNodeCentreField(
+      grid, "distance",
+      [&](const double* x)
+      {
+        const double d[3] = {x[0] - centre[0], x[1] - centre[1], x[2] - centre[2]};
+        return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      });
   // The whole forest's leaves (a rank's part also has other ranks' parts as
   // absent leaves).
   vtkIdType leaves = 0;
@@ -129,8 +129,8 @@ int main(int argc, char** argv)
   if (rank == 0)
   {
     std::printf("| %d | %lld | %lld | %.3f | %.3f (%.0f%%) | %.2f |\n", ranks,
-                static_cast<long long>(leaves), static_cast<long long>(triangles), best[0],
-                best[1], 100 * best[1] / best[0], bytes / 1e6);
+                static_cast<long long>(leaves), static_cast<long long>(triangles), best[0], best[1],
+                100 * best[1] / best[0], bytes / 1e6);
   }
   vtkMultiProcessController::SetGlobalController(nullptr);
   controller->Finalize();

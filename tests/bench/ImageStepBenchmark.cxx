@@ -539,9 +539,8 @@ int main(int argc, char** argv)
         routes.push_back(
             {name, "Canopy (slice_image.py: 3 slices + cut-away region)", false, true});
       else if (name == "canopy-slices-contour")
-        routes.push_back(
-            {name, "Canopy (slice_image.py: 3 slices + cut-away region + isosurface)", false,
-             true});
+        routes.push_back({name, "Canopy (slice_image.py: 3 slices + cut-away region + isosurface)",
+                          false, true});
       else if (name == "paraview")
         routes.push_back({name, "ParaView 'Surface' (vtkHyperTreeGridGeometry)", false});
       else if (name == "paraview-adaptive")

@@ -87,16 +87,16 @@
 #include <vtkBitArray.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
-#include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
-#include <vtkIdList.h>
 #include <vtkHyperTreeGrid.h>
 #include <vtkHyperTreeGridNonOrientedGeometryCursor.h>
+#include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkMatrix4x4.h>
@@ -2699,8 +2699,8 @@ void checkContour(const GridTruth& g, const View& view, const std::array<double,
       }
       if (!boundary && count != 2)
       {
-        fail(Stage + ": " + (g.dimension == 2 ? "a segment end" : "a triangle edge") +
-             " used by " + std::to_string(count) + " cells (a crack)");
+        fail(Stage + ": " + (g.dimension == 2 ? "a segment end" : "a triangle edge") + " used by " +
+             std::to_string(count) + " cells (a crack)");
       }
     }
   };
@@ -2769,8 +2769,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const double fraction = 0.05 + 0.9 * in.byte() / 255.0;
   const SurfaceRuns surfaces = checkSurfaces(whole, view, f, true, "whole forest");
   checkContour(whole, view, gradient, fraction,
-               spec.options.maskProbability > 0 || spec.options.skipEveryOtherRoot,
-               "whole forest");
+               spec.options.maskProbability > 0 || spec.options.skipEveryOtherRoot, "whole forest");
   const auto selected = checkSelection(whole, selection, true, "whole forest");
   if (spec.ranks > 1)
   {

@@ -9,8 +9,8 @@
 // (whose contour is also on its plane) and a wavy one; full resolution and
 // a maximum level. Run with mpirun -np 1, 2 and 4.
 #include "GatherPieces.h"
-#include "RandomForest.h"
 #include "NodeCentreField.h"
+#include "RandomForest.h"
 #include "RankForestPart.h"
 #include "RankPart.h"
 
