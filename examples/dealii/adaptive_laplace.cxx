@@ -191,8 +191,8 @@ void run(int cycles, int every, double errorAtLeast, const std::string& output)
   if (dim == 2)
     options.scripts = {{"surface_image.py", {frequency, "--color-by=u"}}};
   else
-    options.scripts = {{"slice_image.py",
-                        {frequency, "--color-by=u", "--contour-field=u", "--contour-count=1"}}};
+    options.scripts = {
+        {"slice_image.py", {frequency, "--color-by=u", "--contour-field=u", "--contour-count=1"}}};
   char range[64];
   std::snprintf(range, sizeof range, "--value-range=%.17g,1e30", errorAtLeast);
   options.scripts.push_back(
