@@ -12,7 +12,6 @@
 #include "NodeCentreField.h"
 #include "RandomForest.h"
 #include "RankForestPart.h"
-#include "RankPart.h"
 
 #include <canopy/HtgBuilder.h>
 #include <canopy/filters/vtkCanopyContour.h>

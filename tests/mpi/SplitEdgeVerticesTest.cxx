@@ -11,7 +11,6 @@
 #include "LevelJumpForest.h"
 #include "RandomForest.h"
 #include "RankForestPart.h"
-#include "RankPart.h"
 
 #include <canopy/HtgBuilder.h>
 #include <canopy/filters/vtkCanopyAdaptiveSlice.h>

@@ -13,7 +13,7 @@
 #include "ImageHoles.h"
 #include "LevelJumpForest.h"
 #include "OffscreenRenderer.h"
-#include "RankPart.h"
+#include "RankForestPart.h"
 
 #include <canopy/HtgBuilder.h>
 #include <canopy/filters/vtkCanopyAdaptiveSlice.h>
@@ -47,31 +47,12 @@ vtkMultiProcessController* world()
   return vtkMultiProcessController::GetGlobalController();
 }
 
-/// This rank's part of `whole` (RankPart: trees cut between ranks; else whole
-/// trees in turn); `keep` holds what the grid borrows.
+/// This rank's part of `whole` (RankForestPart.h), cut trees stored breadth-first.
 vtkSmartPointer<vtkHyperTreeGrid> partOf(const ForestDescription& whole, bool splitTrees,
                                          std::shared_ptr<void>& keep)
 {
-  const int rank = world()->GetLocalProcessId();
-  const int ranks = world()->GetNumberOfProcesses();
-  if (splitTrees)
-  {
-    auto part = std::make_shared<RankPart>(whole, rank, ranks, false);
-    keep = part;
-    return buildHyperTreeGrid(part->description);
-  }
-  auto mine = std::make_shared<ForestDescription>(whole);
-  mine->trees.clear();
-  mine->missingTreesAreElsewhere = true;
-  for (std::size_t t = 0; t < whole.trees.size(); ++t)
-  {
-    if (static_cast<int>(t % static_cast<std::size_t>(ranks)) == rank)
-    {
-      mine->trees.push_back(whole.trees[t]);
-    }
-  }
-  keep = mine;
-  return buildHyperTreeGrid(*mine);
+  return rankForestPart(whole, splitTrees, world()->GetLocalProcessId(),
+                        world()->GetNumberOfProcesses(), keep, false);
 }
 
 /// Oblique perspective, and oblique parallel, views of the point `focal`, `size` away.

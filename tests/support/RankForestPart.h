@@ -16,22 +16,22 @@ namespace canopy::testing
 {
 
 /// Rank `rank` of `ranks`'s part of `whole`; `keep` holds what the grid borrows
-/// (the grid reads it until it is rebuilt).
+/// (the grid reads it until it is rebuilt). Cut trees are stored depth-first on
+/// odd ranks when `depthFirstOnOddRanks` (a slot map), else breadth-first.
 inline vtkSmartPointer<vtkHyperTreeGrid> rankForestPart(const ForestDescription& whole,
                                                         bool splitTrees, int rank, int ranks,
-                                                        std::shared_ptr<void>& keep)
+                                                        std::shared_ptr<void>& keep,
+                                                        bool depthFirstOnOddRanks = true)
 {
   if (splitTrees)
   {
-    auto part = std::make_shared<RankPart>(whole, rank, ranks, rank % 2 == 1);
+    auto part =
+        std::make_shared<RankPart>(whole, rank, ranks, depthFirstOnOddRanks && rank % 2 == 1);
     keep = part;
     return buildHyperTreeGrid(part->description);
   }
-  auto mine = std::make_shared<ForestDescription>();
-  mine->dimension = whole.dimension;
-  mine->branchFactor = whole.branchFactor;
-  mine->maxLevels = whole.maxLevels;
-  mine->rootGrid = whole.rootGrid;
+  auto mine = std::make_shared<ForestDescription>(whole);
+  mine->trees.clear();
   mine->missingTreesAreElsewhere = true;
   for (std::size_t t = 0; t < whole.trees.size(); ++t)
   {

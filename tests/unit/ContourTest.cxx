@@ -733,6 +733,40 @@ TEST(Contour2D, LinearFieldIsExactUpToTheBoundary)
   }
 }
 
+/// VTK's own contour (vtkContourFilter) of an image of `dims` points, `h` apart
+/// from `origin` (a single layer: 2D), holding `f` at its points; `imageBox`
+/// receives the image's bounds. The oracle of the uniform-forest tests.
+vtkSmartPointer<vtkPolyData> vtkContourOfCentres(const std::array<int, 3>& dims, double h,
+                                                 const Point& origin, const Field& f,
+                                                 const std::vector<double>& values, Box& imageBox)
+{
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(dims.data());
+  image->SetSpacing(h, h, dims[2] > 1 ? h : 1);
+  image->SetOrigin(origin.data());
+  vtkNew<vtkDoubleArray> scalars;
+  scalars->SetName("f");
+  scalars->SetNumberOfTuples(image->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < image->GetNumberOfPoints(); ++p)
+  {
+    Point x;
+    image->GetPoint(p, x.data());
+    scalars->SetValue(p, f(x));
+  }
+  image->GetPointData()->SetScalars(scalars);
+  vtkNew<vtkContourFilter> reference;
+  reference->SetInputData(image);
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    reference->SetValue(static_cast<int>(i), values[i]);
+  }
+  reference->Update();
+  double ib[6];
+  image->GetBounds(ib);
+  imageBox = {{{ib[0], ib[2], ib[4]}}, {{ib[1], ib[3], ib[5]}}};
+  return reference->GetOutput();
+}
+
 TEST(Contour2D, UniformForestCrossesImageEdgesLikeVtk)
 {
   // Every leaf at one level: the leaf centres are an image. VTK's contour of
@@ -756,36 +790,15 @@ TEST(Contour2D, UniformForestCrossesImageEdgesLikeVtk)
 
     const int per = level == 4 ? 16 : 9;
     const double h = 1.0 / per;
-    vtkNew<vtkImageData> image;
-    image->SetDimensions(3 * per, 2 * per, 1);
-    image->SetSpacing(h, h, 1);
-    image->SetOrigin(grid.domain.lo[0] + h / 2, grid.domain.lo[1] + h / 2, grid.domain.lo[2]);
-    vtkNew<vtkDoubleArray> scalars;
-    scalars->SetName("f");
-    scalars->SetNumberOfTuples(image->GetNumberOfPoints());
-    for (vtkIdType p = 0; p < image->GetNumberOfPoints(); ++p)
-    {
-      Point x;
-      image->GetPoint(p, x.data());
-      scalars->SetValue(p, circle(x));
-    }
-    image->GetPointData()->SetScalars(scalars);
-    vtkNew<vtkContourFilter> reference;
-    reference->SetInputData(image);
-    for (std::size_t i = 0; i < values.size(); ++i)
-    {
-      reference->SetValue(static_cast<int>(i), values[i]);
-    }
-    reference->Update();
-    vtkPolyData* vtk = reference->GetOutput();
+    Box imageBox;
+    const vtkSmartPointer<vtkPolyData> vtk = vtkContourOfCentres(
+        {{3 * per, 2 * per, 1}}, h,
+        {{grid.domain.lo[0] + h / 2, grid.domain.lo[1] + h / 2, grid.domain.lo[2]}}, circle, values,
+        imageBox);
     ASSERT_GT(vtk->GetNumberOfPoints(), 50);
 
     // Our points on the image's edges: inside its box, one coordinate on a
     // row or column of centres.
-    Box imageBox;
-    double ib[6];
-    image->GetBounds(ib);
-    imageBox = {{{ib[0], ib[2], ib[4]}}, {{ib[1], ib[3], ib[5]}}};
     auto onLine = [&](double x, int axis)
     {
       const double i = (x - imageBox.lo[axis]) / h;
@@ -1071,34 +1084,12 @@ TEST(Contour3D, UniformForestCrossesImageEdgesLikeVtk)
 
     const int per = level == 3 ? 8 : 9;
     const double h = 1.0 / per;
-    vtkNew<vtkImageData> image;
-    image->SetDimensions(2 * per, 2 * per, 2 * per);
-    image->SetSpacing(h, h, h);
-    image->SetOrigin(grid.domain.lo[0] + h / 2, grid.domain.lo[1] + h / 2,
-                     grid.domain.lo[2] + h / 2);
-    vtkNew<vtkDoubleArray> scalars;
-    scalars->SetName("f");
-    scalars->SetNumberOfTuples(image->GetNumberOfPoints());
-    for (vtkIdType p = 0; p < image->GetNumberOfPoints(); ++p)
-    {
-      Point x;
-      image->GetPoint(p, x.data());
-      scalars->SetValue(p, sphere(x));
-    }
-    image->GetPointData()->SetScalars(scalars);
-    vtkNew<vtkContourFilter> reference;
-    reference->SetInputData(image);
-    for (std::size_t i = 0; i < values.size(); ++i)
-    {
-      reference->SetValue(static_cast<int>(i), values[i]);
-    }
-    reference->Update();
-    vtkPolyData* vtk = reference->GetOutput();
+    Box imageBox;
+    const vtkSmartPointer<vtkPolyData> vtk = vtkContourOfCentres(
+        {{2 * per, 2 * per, 2 * per}}, h,
+        {{grid.domain.lo[0] + h / 2, grid.domain.lo[1] + h / 2, grid.domain.lo[2] + h / 2}}, sphere,
+        values, imageBox);
     ASSERT_GT(vtk->GetNumberOfPoints(), 100);
-
-    double ib[6];
-    image->GetBounds(ib);
-    const Box imageBox{{{ib[0], ib[2], ib[4]}}, {{ib[1], ib[3], ib[5]}}};
     auto onLine = [&](double x, int axis)
     {
       const double i = (x - imageBox.lo[axis]) / h;
