@@ -42,41 +42,28 @@ execute_process(
 string(REGEX REPLACE "\n *Start +[0-9]+: [^\n]*" "" _output "${_output}")
 string(REGEX REPLACE "\n *[0-9]+/[0-9]+ Test +#[0-9]+: [^\n]* Passed [^\n]*" "" _output "${_output}")
 message("${_output}")
-if(NOT _result EQUAL 0)
-  # LeakSanitizer's own tracer (the thread that stops the others to scan their
-  # memory) sometimes dies at exit on this platform ("Tracer caught signal 11",
-  # "LeakSanitizer has encountered a fatal error"; GCC 12, about one job in a
-  # hundred under load): a failure of the tool, not a finding. Those tests, and
-  # only those, run once more; any other failure stands (docs/testing.md).
-  file(STRINGS "${BUILD}/Testing/Temporary/LastTest.log" _log_lines)
-  set(_current "")
-  set(_tool_crashed FALSE)
-  set(_other_failures "")
-  set(_rerun "")
-  foreach(_line IN LISTS _log_lines)
-    if(_line MATCHES "^[0-9]+/[0-9]+ Test: (.+)$")
-      set(_current "${CMAKE_MATCH_1}")
-      set(_tool_crashed FALSE)
-    elseif(_line MATCHES "LeakSanitizer has encountered a fatal error")
-      set(_tool_crashed TRUE)
-    elseif(_line MATCHES "^Test Failed")
-      if(_tool_crashed)
-        list(APPEND _rerun "${_current}")
-      else()
-        list(APPEND _other_failures "${_current}")
-      endif()
-    endif()
-  endforeach()
-  if(_rerun AND NOT _other_failures)
-    list(JOIN _rerun "|" _names)
-    string(REPLACE "." "\\." _names "${_names}")
-    message(STATUS "sanitizers: LeakSanitizer's tracer crashed in ${_rerun}; running again")
-    execute_process(
-      COMMAND ${CTEST} --test-dir "${BUILD}" -R "^(${_names})$" --output-on-failure
-        --no-tests=error
-      RESULT_VARIABLE _result)
+# LeakSanitizer's own tracer (the thread that stops the others to scan their
+# memory) sometimes dies at exit on this platform ("Tracer caught signal 11",
+# "LeakSanitizer has encountered a fatal error"; GCC 12, a few jobs in a thousand
+# under load): a failure of the tool, not a finding. Those tests, and only those,
+# run again, at most twice; any other failure stands (docs/testing.md).
+include("${CMAKE_CURRENT_LIST_DIR}/ToolCrashes.cmake")
+set(_attempt 0)
+while(NOT _result EQUAL 0 AND _attempt LESS 2)
+  canopy_sort_failures("${BUILD}/Testing/Temporary/LastTest.log" _rerun _other_failures)
+  if(_other_failures OR NOT _rerun)
+    break()
   endif()
-endif()
+  math(EXPR _attempt "${_attempt} + 1")
+  list(JOIN _rerun "|" _names)
+  string(REPLACE "." "\\." _names "${_names}")
+  message("sanitizers: LeakSanitizer's tracer crashed in ${_rerun}; running them again "
+    "(${_attempt} of 2)")
+  execute_process(
+    COMMAND ${CTEST} --test-dir "${BUILD}" -R "^(${_names})$" --output-on-failure
+      --no-tests=error
+    RESULT_VARIABLE _result)
+endwhile()
 if(NOT _result EQUAL 0)
   message(FATAL_ERROR "sanitizers: tests labelled '${LABEL}' failed in ${BUILD} (above: "
     "AddressSanitizer / UBSan / LeakSanitizer reports name the file and line)")
