@@ -28,7 +28,10 @@ ContourBuilder::ContourBuilder(const HyperTreeAccess& grid, const ContourField& 
 
 std::shared_ptr<const NodeRanges> ContourBuilder::ranges(const ProgressShare& progress) const
 {
-  return std::make_shared<const NodeRanges>(Grid, Dual, Field, progress);
+  // Over the forest without the view: the same ranges for every camera
+  // (DualCellContour::enter widens what a view's coarse leaves change).
+  const DualTraversal withoutView(Grid, Dual.maximumLevel());
+  return std::make_shared<const NodeRanges>(Grid, withoutView, Field, progress);
 }
 
 bool ContourBuilder::run(const ProgressShare& walk, const NodeRanges* ranges)

@@ -147,6 +147,8 @@ public:
            (View && LevelOfDetail && footprint(tree, level, ijk) <= PixelThreshold);
   }
   int maximumLevel() const { return MaximumLevel; }
+  /// Whether the view makes nodes leaves too (a view with level of detail).
+  bool levelOfDetail() const { return View && LevelOfDetail; }
   const ViewVolume* view() const { return View; }
   /// A node's box's extent on screen, in pixels.
   double footprint(const TreeAccess& tree, int level, const std::array<std::int64_t, 3>& ijk) const

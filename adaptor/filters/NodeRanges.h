@@ -2,8 +2,14 @@
 // the contour skip every part of the dual whose nodes' values all lie on one
 // side of every contour value (DualCellContour::enter).
 //
-// One pass over the nodes per execution (the field's values may change from
-// step to step), trees in parallel, each tree bottom-up. A hidden node (masked
+// One pass over the nodes when the field's values or the topology changed
+// (vtkCanopyContour keeps them otherwise), trees in parallel, each tree
+// bottom-up, over the forest without a view: a refined node's range holds its
+// own value too, so it covers whatever a view's level of detail draws below it
+// as a coarse leaf, and the ranges are kept across camera moves. Only boundary
+// vertices depend on the view (a coarse leaf's gradient): under level of
+// detail, DualCellContour::enter descends nodes touching the domain's boundary
+// whatever their ranges. A hidden node (masked
 // or absent) has an empty range: its cells are never contoured. A leaf on the
 // domain's boundary also covers its boundary vertices' extrapolated values
 // (its gradient computed as the contour computes it), so a group of nodes

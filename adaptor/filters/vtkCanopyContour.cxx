@@ -429,10 +429,10 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
     if (this->Pruning)
     {
       KeptRanges& kept = *this->Kept;
-      // With a view, which nodes are leaves depends on it: not kept. With
-      // other ranks' leaves, the boundary gradients along the rank borders
-      // depend on theirs: not kept either.
-      this->LastRangesKept = !options.view && !ghosts && kept.ranges && kept.access == access &&
+      // The ranges are the forest's without the view (ContourBuilder::ranges):
+      // kept across camera moves. With other ranks' leaves, the boundary
+      // gradients along the rank borders depend on theirs: not kept.
+      this->LastRangesKept = !ghosts && kept.ranges && kept.access == access &&
                              kept.array == array && kept.arrayTime == array->GetMTime() &&
                              kept.component == this->ArrayComponent &&
                              kept.maximumLevel == maximumLevel;

@@ -1844,6 +1844,76 @@ TEST(ContourView, LevelOfDetailCrackFreeAndExact)
   }
 }
 
+TEST(ContourView, RangesKeptAcrossCamerasSameOutputAsUnpruned)
+{
+  // The value ranges are the forest's, without the view: one pass, then kept
+  // while the camera moves. Under level of detail, pruning with them must
+  // still give the unpruned contour of the view's coarser forest, bit for bit,
+  // along the domain's boundary too, where a coarse leaf extrapolates its
+  // boundary vertices with its own gradient (a curved field, contour values
+  // that reach every side).
+  for (int dimension : {2, 3})
+  {
+    GridSpec spec = dimension == 2 ? randomSpec(2, 2, 6) : gradedSpec(3, 2, 6);
+    const auto refine = spec.refine;
+    const int uniform = dimension == 2 ? 5 : 3;
+    spec.refine = [refine, uniform](int level, const Box& b)
+    { return level < uniform || refine(level, b); };
+    TestGrid grid = makeGrid(spec, wavy3);
+    const Point mid{{0.5 * (grid.domain.lo[0] + grid.domain.hi[0]),
+                     0.5 * (grid.domain.lo[1] + grid.domain.hi[1]),
+                     0.5 * (grid.domain.lo[2] + grid.domain.hi[2])}};
+    const std::vector<double> values{-0.5, 0.0, 0.45};
+    auto configure = [&](vtkCanopyContour* f, bool prune)
+    {
+      f->SetInputData(grid.htg);
+      f->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "f");
+      for (std::size_t i = 0; i < values.size(); ++i)
+      {
+        f->SetValue(static_cast<int>(i), values[i]);
+      }
+      f->SetPruning(prune);
+      f->ViewDependentOn();
+      f->LevelOfDetailOn();
+      f->SetCameraViewUp(0, 1, 0);
+    };
+    vtkNew<vtkCanopyContour> kept;
+    configure(kept, true);
+    vtkIdType coarsest = std::numeric_limits<vtkIdType>::max();
+    for (int camera = 0; camera < 5; ++camera)
+    {
+      // Parallel and perspective, whole domain and close up, square and wide.
+      auto place = [&](vtkCanopyContour* f)
+      {
+        const double dx = dimension == 3 ? 4.0 - 2.0 * camera : 0.3 * camera;
+        const double dy = dimension == 3 ? -3.0 + camera : -0.2 * camera;
+        f->SetCameraFocalPoint(mid[0] + 0.2 * camera, mid[1] - 0.1 * camera, mid[2]);
+        f->SetCameraPosition(mid[0] + dx, mid[1] + dy, mid[2] + 8 - camera);
+        f->SetParallelProjection(camera % 2 == 0);
+        f->SetParallelScale(3.0 - 0.5 * camera);
+        f->SetViewportSize(dimension == 3 ? 12 + 6 * camera : 30 + 10 * camera,
+                           dimension == 3 ? 10 + 4 * camera : 24 + 8 * camera);
+        f->SetViewCulling(camera >= 3);
+      };
+      place(kept);
+      kept->Update();
+      const std::string what = std::to_string(dimension) + "D, camera " + std::to_string(camera);
+      EXPECT_EQ(kept->GetLastRangesKept(), camera > 0) << what;
+      EXPECT_GT(kept->GetLastPruned(), 0) << what;
+      vtkNew<vtkCanopyContour> unpruned;
+      configure(unpruned, false);
+      place(unpruned);
+      unpruned->Update();
+      EXPECT_GT(kept->GetOutput()->GetNumberOfCells(), 20) << what;
+      expectSameOutput(kept->GetOutput(), unpruned->GetOutput(), what);
+      std::cout << what << ": " << kept->GetOutput()->GetNumberOfCells() << " cells\n";
+      coarsest = std::min(coarsest, kept->GetOutput()->GetNumberOfCells());
+    }
+    // Level of detail is at work: views coarser than the forest.
+    EXPECT_LT(2 * coarsest, contour(grid.htg, values)->GetNumberOfCells()) << dimension << "D";
+  }
+}
+
 TEST(ContourView, CullingKeepsWhatTheViewSees)
 {
   // A 2D view on part of the domain, level of detail off: the contour's

@@ -149,7 +149,8 @@ public:
 
   /// Whether the last execution pruned with the value ranges of the execution
   /// before (the same grid topology, the same field array unmodified, the same
-  /// component: new contour values, say) rather than a new pass over the nodes.
+  /// component and maximum level: new contour values, a camera move) rather
+  /// than a new pass over the nodes. On one process only.
   vtkGetMacro(LastRangesKept, bool);
 
   /// What the last execution did: groups of nodes the dual traversal descended
