@@ -395,8 +395,10 @@ void setTopologyArrays(vtkHyperTreeGrid* htg, const ForestDescription& forest,
 }
 
 void setFields(vtkHyperTreeGrid* htg, const ForestDescription& forest, const ForestLayout& layout,
-               const std::vector<const FieldDescription*>& fields, FieldTables& tables)
+               const std::vector<const FieldDescription*>& fields, FieldTables& tables,
+               const std::vector<vtkDataArray*>& kept)
 {
+  auto keptAt = [&kept](std::size_t f) { return f < kept.size() ? kept[f] : nullptr; };
   vtkCellData* cells = htg->GetCellData();
   // Replace the previous step's fields (the ghost array is topology, kept).
   for (int a = cells->GetNumberOfArrays(); a-- > 0;)
@@ -413,9 +415,14 @@ void setFields(vtkHyperTreeGrid* htg, const ForestDescription& forest, const For
     {
       tables.blocks = indexBlocks(forest, layout);
     }
-    for (const FieldDescription* field : fields)
+    for (std::size_t f = 0; f < fields.size(); ++f)
     {
-      cells->AddArray(wrapBlockField(*field, tables.blocks));
+      if (vtkDataArray* same = keptAt(f))
+      {
+        cells->AddArray(same);
+        continue;
+      }
+      cells->AddArray(wrapBlockField(*fields[f], tables.blocks));
     }
     return;
   }
@@ -423,8 +430,14 @@ void setFields(vtkHyperTreeGrid* htg, const ForestDescription& forest, const For
   {
     tables.slots = CellSlots::build(forest, layout);
   }
-  for (const FieldDescription* field : fields)
+  for (std::size_t f = 0; f < fields.size(); ++f)
   {
+    const FieldDescription* field = fields[f];
+    if (vtkDataArray* same = keptAt(f))
+    {
+      cells->AddArray(same);
+      continue;
+    }
     vtkSmartPointer<vtkDataArray> array;
     if (field->centering == Centering::LeavesOnly)
     {

@@ -18,6 +18,7 @@
 #include <vector>
 
 class vtkBitArray;
+class vtkDataArray;
 class vtkHyperTreeGrid;
 class vtkUnsignedCharArray;
 
@@ -67,8 +68,11 @@ struct FieldTables
 };
 
 /// Replaces the grid's fields by `fields`, wrapped in place (leaves-only ones get
-/// their coarse averages computed now).
+/// their coarse averages computed now), or, where `kept[i]` is not null, by that
+/// array (the same object, as it was: its values are vouched unchanged). `kept`
+/// is empty or has one entry per field.
 void setFields(vtkHyperTreeGrid* htg, const ForestDescription& forest, const ForestLayout& layout,
-               const std::vector<const FieldDescription*>& fields, FieldTables& tables);
+               const std::vector<const FieldDescription*>& fields, FieldTables& tables,
+               const std::vector<vtkDataArray*>& kept = {});
 
 } // namespace canopy::assembly

@@ -5,6 +5,8 @@
 #include "TopologyStamp.h"
 #include "ValidatedTrees.h"
 
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
 #include <vtkHyperTreeGrid.h>
 
 #include <cstdint>
@@ -57,6 +59,21 @@ bool revisionHolds(const ForestDescription& forest, std::uint64_t lastRevision,
   return true;
 }
 
+/// Whether two descriptions of a field borrow the same memory the same way.
+bool sameBorrow(const FieldDescription& a, const FieldDescription& b)
+{
+  const BlockStrides& x = a.blockStrides;
+  const BlockStrides& y = b.blockStrides;
+  return a.name == b.name && a.type == b.type && a.components == b.components &&
+         a.layout == b.layout && a.centering == b.centering && a.data == b.data &&
+         a.componentData == b.componentData && a.tupleStrideBytes == b.tupleStrideBytes &&
+         a.tupleAddresses == b.tupleAddresses && a.numberOfTuples == b.numberOfTuples &&
+         a.numberOfBlocks == b.numberOfBlocks && x.cellBytes == y.cellBytes &&
+         x.componentBytes == y.componentBytes && x.ghostCells == y.ghostCells &&
+         a.blockAddresses == b.blockAddresses && a.blockStrideBytes == b.blockStrideBytes &&
+         a.componentBlockAddresses == b.componentBlockAddresses;
+}
+
 TreeKey keyOf(const TreeDescription& tree)
 {
   const std::size_t n = tree.numberOfNodes;
@@ -94,6 +111,14 @@ struct GridBuilder::State
   std::vector<TreeKey> trees;
   ForestLayout layout; ///< of the last build, for the trees that did not change
   assembly::FieldTables tables;
+  /// Fields of the last build with a nonzero valuesRevision, as described then,
+  /// and their arrays.
+  struct VouchedField
+  {
+    FieldDescription description;
+    vtkSmartPointer<vtkDataArray> array;
+  };
+  std::vector<VouchedField> vouchedFields;
   Reuse last;
 };
 
@@ -223,7 +248,36 @@ vtkSmartPointer<vtkHyperTreeGrid> GridBuilder::build(const ForestDescription& fo
   {
     assembly::setTopologyArrays(s.grid, forest, layout, s.tables.blocks.get());
   }
-  assembly::setFields(s.grid, forest, layout, fields, s.tables);
+  // A field the simulation vouches for keeps its array while the topology and
+  // its description hold (FieldDescription::valuesRevision); `previous` holds
+  // the arrays until they are in the grid again.
+  const std::vector<State::VouchedField> previous = std::move(s.vouchedFields);
+  s.vouchedFields.clear();
+  std::vector<vtkDataArray*> keptArrays(fields.size(), nullptr);
+  // The mask too: a leaves-only field's coarse averages are over visible leaves.
+  const bool sameTopology = !tablesChanged && !arraysChanged && reuse.treesRebuilt == 0;
+  for (std::size_t f = 0; sameTopology && f < fields.size(); ++f)
+  {
+    for (const State::VouchedField& before : previous)
+    {
+      if (fields[f]->valuesRevision != 0 &&
+          fields[f]->valuesRevision == before.description.valuesRevision &&
+          sameBorrow(*fields[f], before.description))
+      {
+        keptArrays[f] = before.array;
+        reuse.fieldsKept += 1;
+        break;
+      }
+    }
+  }
+  assembly::setFields(s.grid, forest, layout, fields, s.tables, keptArrays);
+  for (const FieldDescription* field : fields)
+  {
+    if (field->valuesRevision != 0)
+    {
+      s.vouchedFields.push_back({*field, s.grid->GetCellData()->GetArray(field->name.c_str())});
+    }
+  }
   s.arraysRevision = arraysChanged ? build : s.arraysRevision;
   StampRevisions stamp;
   stamp.builder = s.id;

@@ -7,6 +7,7 @@
 
 #include <canopy/GridBuilder.h>
 #include <canopy/filters/vtkCanopyAdaptiveSurface.h>
+#include <canopy/filters/vtkCanopyContour.h>
 
 #include <gtest/gtest.h>
 #include <vtkBitArray.h>
@@ -181,6 +182,90 @@ TEST(GridBuilder, AnInvalidDescriptionChangesNothing)
   EXPECT_EQ(grid->GetMTime(), time);
   builder.build(good);
   EXPECT_EQ(builder.lastBuild().treesRebuilt, 0u);
+}
+
+TEST(GridBuilder, VouchedValuesKeepTheirArrays)
+{
+  // FieldDescription::valuesRevision: the same nonzero revision, the same
+  // borrow and the same topology keep the array object, unmodified; anything
+  // else wraps the field anew.
+  ChangingForest forest(2, 9, false, 10);
+  GridBuilder builder;
+  ForestDescription d = forest.describe(0.0);
+  d.fields[0].valuesRevision = 5;
+  d.fields[1].valuesRevision = 5;
+  auto grid = builder.build(d);
+  EXPECT_EQ(builder.lastBuild().fieldsKept, 0u);
+  auto arrayOf = [&](const char* name) { return grid->GetCellData()->GetArray(name); };
+  vtkDataArray* value = arrayOf("value");
+  vtkDataArray* leafValue = arrayOf("leafValue");
+  const vtkMTimeType valueTime = value->GetMTime();
+  const vtkMTimeType leafTime = leafValue->GetMTime();
+
+  grid = builder.build(d);
+  EXPECT_EQ(builder.lastBuild().fieldsKept, 2u);
+  EXPECT_EQ(arrayOf("value"), value);
+  EXPECT_EQ(arrayOf("leafValue"), leafValue);
+  EXPECT_EQ(value->GetMTime(), valueTime);
+  EXPECT_EQ(leafValue->GetMTime(), leafTime);
+  expectSameGrid(grid, buildHyperTreeGrid(d));
+
+  d.fields[1].valuesRevision = 0; // no word: wrapped anew
+  grid = builder.build(d);
+  EXPECT_EQ(builder.lastBuild().fieldsKept, 1u);
+  EXPECT_EQ(arrayOf("value"), value);
+  EXPECT_NE(arrayOf("leafValue"), leafValue);
+
+  d.fields[0].valuesRevision = 6; // new values
+  grid = builder.build(d);
+  EXPECT_EQ(builder.lastBuild().fieldsKept, 0u);
+  EXPECT_NE(arrayOf("value"), value);
+  value = arrayOf("value");
+  grid = builder.build(d);
+  EXPECT_EQ(arrayOf("value"), value);
+
+  // The same revision, the field described otherwise (strided over the same memory).
+  const auto* data = static_cast<const double*>(d.fields[0].data);
+  d.fields[0] = FieldDescription::strided("value", data, sizeof(double), d.fields[0].numberOfTuples);
+  d.fields[0].valuesRevision = 6;
+  grid = builder.build(d);
+  EXPECT_EQ(builder.lastBuild().fieldsKept, 0u);
+  EXPECT_NE(arrayOf("value"), value);
+  value = arrayOf("value");
+
+  // The same revision and memory, a mask changed: wrapped anew.
+  forest.toggleMask(0);
+  grid = builder.build(d);
+  EXPECT_EQ(builder.lastBuild().fieldsKept, 0u);
+  EXPECT_NE(arrayOf("value"), value);
+  expectSameGrid(grid, buildHyperTreeGrid(d));
+}
+
+TEST(GridBuilder, VouchedValuesKeepTheContoursRanges)
+{
+  // Across builds whose values the simulation vouches for, the contour prunes
+  // with the value ranges of the build before (no pass over the nodes).
+  ChangingForest forest(2, 9, false, 11);
+  GridBuilder builder;
+  ForestDescription d = forest.describe(0.0);
+  d.fields[0].valuesRevision = 1;
+  vtkNew<vtkCanopyContour> contour;
+  contour->SetInputData(builder.build(d));
+  contour->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_CELLS, "value");
+  contour->SetValue(0, 20.25);
+  contour->Update();
+  const vtkIdType cells = contour->GetOutput()->GetNumberOfCells();
+  EXPECT_GT(cells, 0);
+  EXPECT_FALSE(contour->GetLastRangesKept());
+  contour->SetInputData(builder.build(d));
+  contour->Update();
+  EXPECT_TRUE(contour->GetLastRangesKept());
+  EXPECT_EQ(contour->GetOutput()->GetNumberOfCells(), cells);
+  d.fields[0].valuesRevision = 0;
+  contour->SetInputData(builder.build(d));
+  contour->Update();
+  EXPECT_FALSE(contour->GetLastRangesKept());
+  EXPECT_EQ(contour->GetOutput()->GetNumberOfCells(), cells);
 }
 
 } // namespace

@@ -13,7 +13,9 @@
 // the tables fields read through are kept as well. What changed is written into
 // the grid (its topology stamp, TopologyStamp.h), which the filters' memos read:
 // the one place that decides it. Fields are wrapped anew at every build (the simulation
-// may have moved them; leaves-only fields get their coarse averages again).
+// may have moved them; leaves-only fields get their coarse averages again), except
+// a field whose values the simulation vouches for (FieldDescription::valuesRevision):
+// its array object is kept, unmodified, while the topology and its description hold.
 // The same vtkHyperTreeGrid object is returned while the root grid's shape and
 // the set of trees stay the same, marked Modified() at every build so that
 // pipelines downstream run again; a new one otherwise. A grid shallow-copied
@@ -54,6 +56,8 @@ public:
     std::size_t treesKept = 0;    ///< trees whose topology was unchanged
     /// ForestDescription::revision vouched for every tree: no tree's bytes were read.
     bool revisionTrusted = false;
+    /// Fields whose array was kept from the build before (valuesRevision).
+    std::size_t fieldsKept = 0;
   };
   const Reuse& lastBuild() const;
 
