@@ -28,6 +28,12 @@ ContourBuilder::ContourBuilder(const HyperTreeAccess& grid, const ContourField& 
 
 std::shared_ptr<const NodeRanges> ContourBuilder::ranges(const ProgressShare& progress) const
 {
+  if (Dual.ghosts())
+  {
+    // Other ranks' leaves, as the view made them (ContourGhosts::collect):
+    // over the traversal's own forest, ghosts included, never kept.
+    return std::make_shared<const NodeRanges>(Grid, Dual, Field, progress);
+  }
   // Over the forest without the view: the same ranges for every camera
   // (DualCellContour::enter widens what a view's coarse leaves change).
   const DualTraversal withoutView(Grid, Dual.maximumLevel());
