@@ -9,7 +9,9 @@
 // as a coarse leaf, and the ranges are kept across camera moves. Only boundary
 // vertices depend on the view (a coarse leaf's gradient): under level of
 // detail, DualCellContour::enter descends nodes touching the domain's boundary
-// whatever their ranges. A hidden node (masked
+// whatever their ranges. With other ranks' leaves (ContourGhosts.h, sent as the
+// view made them), the ranges are over the traversal's own forest, ghosts
+// included, and are not kept (ContourBuilder::ranges). A hidden node (masked
 // or absent) has an empty range: its cells are never contoured. A leaf on the
 // domain's boundary also covers its boundary vertices' extrapolated values
 // (its gradient computed as the contour computes it), so a group of nodes
