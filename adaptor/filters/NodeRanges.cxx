@@ -21,20 +21,130 @@ struct Pending
   bool childrenDone;
 };
 
+/// Whether a node's box touches a side of the domain along an active axis.
+bool touchesDomain(const HyperTreeAccess& grid, const DualTraversal& dual, const TreeAccess& tree,
+                   int level, const std::array<std::int64_t, 3>& ijk)
+{
+  const std::int64_t last = grid.cellsPerRootAt(level) - 1;
+  for (int i = 0; i < dual.dimension(); ++i)
+  {
+    const std::size_t a = static_cast<std::size_t>(dual.axis(i));
+    const auto lastRoot = static_cast<long>(grid.rootCells()[a]) - 1;
+    if ((tree.rootIJK[a] == 0 && ijk[a] == 0) ||
+        (static_cast<long>(tree.rootIJK[a]) == lastRoot && ijk[a] == last))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
 } // namespace
 
+bool NodeRanges::rangesInReverse(const HyperTreeAccess& grid, const ContourField& field,
+                                 const TreeAccess& tree, std::vector<ValueRange>& ranges)
+{
+  const int children = grid.childrenPerNode();
+  for (vtkIdType v = tree.numberOfVertices; v-- > 0;)
+  {
+    const vtkIdType global = tree.globalIndex(v);
+    if (grid.isMasked(global) || grid.isAbsent(global))
+    {
+      continue; // hidden: empty (its descendants' ranges are never read)
+    }
+    ValueRange& range = ranges[static_cast<std::size_t>(v)];
+    const double own = field(global);
+    range.low = range.high = own;
+    if (tree.isLeaf(v))
+    {
+      continue;
+    }
+    const vtkIdType first = tree.firstChild(v);
+    if (first <= v)
+    {
+      return false; // children before their parent: not VTK's usual numbering
+    }
+    for (int c = 0; c < children; ++c)
+    {
+      range.add(ranges[static_cast<std::size_t>(first + c)]);
+    }
+  }
+  return true;
+}
+
+void NodeRanges::widenAlongBoundary(const HyperTreeAccess& grid, const DualTraversal& dual,
+                                    const ContourField& field, const LeafGradient& gradient,
+                                    const TreeAccess& tree, std::vector<ValueRange>& ranges)
+{
+  std::vector<Pending> stack{{0, 0, {{0, 0, 0}}, false}};
+  while (!stack.empty())
+  {
+    const Pending p = stack.back();
+    stack.pop_back();
+    const vtkIdType global = tree.globalIndex(p.node);
+    if (grid.isMasked(global) || grid.isAbsent(global) ||
+        !touchesDomain(grid, dual, tree, p.level, p.ijk))
+    {
+      continue; // hidden, or inside: as the reverse pass left it
+    }
+    ValueRange& range = ranges[static_cast<std::size_t>(p.node)];
+    if (tree.isLeaf(p.node))
+    {
+      widenAtBoundary(grid, dual, gradient, tree, p.node, p.level, p.ijk, range);
+      continue;
+    }
+    const vtkIdType first = tree.firstChild(p.node);
+    if (p.childrenDone)
+    {
+      const double own = field(global);
+      range = ValueRange{own, own};
+      for (int c = 0; c < grid.childrenPerNode(); ++c)
+      {
+        range.add(ranges[static_cast<std::size_t>(first + c)]);
+      }
+      continue;
+    }
+    stack.push_back({p.node, p.level, p.ijk, true});
+    for (int c = 0; c < grid.childrenPerNode(); ++c)
+    {
+      stack.push_back({first + c, p.level + 1, grid.childPosition(p.ijk, c), false});
+    }
+  }
+}
+
 NodeRanges::NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual,
-                       const ContourField& field, const ProgressShare& progress)
+                       const ContourField& field, const ProgressShare& progress,
+                       bool reverseWhenPossible)
     : Ranges(grid.trees().size())
 {
   const auto& trees = grid.trees();
   const LeafGradient gradient(grid, dual, field);
+  // Without a maximum level, a view's level of detail or other ranks' leaves,
+  // a node is a leaf exactly when its tree says so: each tree's nodes from the
+  // last to the first (children after parents), then its leaves on the
+  // domain's boundary widened. Otherwise, a walk from the root.
+  const bool reverse = reverseWhenPossible && dual.maximumLevel() < 0 &&
+                       !dual.levelOfDetail() && !dual.ghosts();
   forEachTree(progress, static_cast<vtkIdType>(trees.size()),
               [&](vtkIdType t)
               {
                 const TreeAccess& tree = trees[static_cast<std::size_t>(t)];
                 auto& ranges = Ranges[static_cast<std::size_t>(t)];
                 ranges.assign(static_cast<std::size_t>(tree.numberOfVertices), ValueRange{});
+                if (reverse)
+                {
+                  // The forest as it is: no node is a leaf but the tree's own,
+                  // so no level or position is needed but along the boundary.
+                  if (rangesInReverse(grid, field, tree, ranges))
+                  {
+                    if (touchesDomain(grid, dual, tree, 0, {{0, 0, 0}}))
+                    {
+                      widenAlongBoundary(grid, dual, field, gradient, tree, ranges);
+                    }
+                    return;
+                  }
+                  ranges.assign(static_cast<std::size_t>(tree.numberOfVertices), ValueRange{});
+                }
                 // Post-order without recursion: a node's range once its children's are
                 // known (VTK's numbering is not relied on).
                 std::vector<Pending> stack{{0, 0, {{0, 0, 0}}, false}};

@@ -52,9 +52,10 @@ class NodeRanges
 {
 public:
   /// `grid`, `dual` and `field` are borrowed (only during the construction).
-  /// Stopped by `progress`, it leaves ranges that prune nothing.
+  /// Stopped by `progress`, it leaves ranges that prune nothing. `reverseWhenPossible`
+  /// false: always the walk from the root (the test's reference).
   NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual, const ContourField& field,
-             const ProgressShare& progress);
+             const ProgressShare& progress, bool reverseWhenPossible = true);
 
   /// The range below `node` of the tree at position `tree` in grid.trees().
   const ValueRange& at(std::size_t tree, vtkIdType node) const
@@ -63,6 +64,15 @@ public:
   }
 
 private:
+  /// Each node's range from the last node to the first (children after their
+  /// parent in VTK's numbering); false, and partial, when a node's children
+  /// come before it.
+  static bool rangesInReverse(const HyperTreeAccess& grid, const ContourField& field,
+                              const TreeAccess& tree, std::vector<ValueRange>& ranges);
+  /// The leaves on the domain's boundary widened, and their ancestors' ranges again.
+  static void widenAlongBoundary(const HyperTreeAccess& grid, const DualTraversal& dual,
+                                 const ContourField& field, const LeafGradient& gradient,
+                                 const TreeAccess& tree, std::vector<ValueRange>& ranges);
   static void widenAtBoundary(const HyperTreeAccess& grid, const DualTraversal& dual,
                               const LeafGradient& gradient, const TreeAccess& tree, vtkIdType node,
                               int level, const std::array<std::int64_t, 3>& ijk, ValueRange& range);

@@ -9,7 +9,11 @@
 // leaf centres.
 #include <canopy/filters/vtkCanopyContour.h>
 
+#include "ContourField.h"
+#include "DualTraversal.h"
 #include "ErrorMessages.h"
+#include "HyperTreeAccess.h"
+#include "NodeRanges.h"
 #include "LevelJumpForest.h"
 #include "RandomForest.h"
 #include "RankPart.h"
@@ -1556,6 +1560,66 @@ TEST(ContourSplit, EachRankDrawsItsOwnPartNoOverlap)
       EXPECT_LT(compared, eligible) << dimension << "D, " << ranks << " ranks";
     }
   }
+}
+
+TEST(ContourPruning, RangesInReverseEqualTheWalkFromTheRoot)
+{
+  // NodeRanges' pass over each tree's nodes from the last to the first (then
+  // along the domain's boundary) against its walk from the root, node by
+  // node, on every node the contour can reach: 2D and 3D, binary and ternary,
+  // masks and missing trees, a field whose contours reach the boundary.
+  std::size_t compared = 0;
+  std::size_t widened = 0;
+  for (int dimension : {2, 3})
+  {
+    for (int branch : {2, 3})
+    {
+      for (std::uint64_t seed = 1; seed <= 3; ++seed)
+      {
+        GridSpec spec = randomSpec(dimension, branch, seed);
+        spec.mask = [seed](int level, const Box& b)
+        { return level > 0 && coin(seed + 7, level, b) < 0.08; };
+        spec.missingTrees = {static_cast<vtkIdType>(seed % 4)};
+        TestGrid grid = makeGrid(spec, wavy3);
+        const std::string what = std::to_string(dimension) + "D, branch factor " +
+                                 std::to_string(branch) + ", seed " + std::to_string(seed);
+        canopy::HyperTreeAccess access(grid.htg, true, false);
+        const canopy::DualTraversal dual(access);
+        const canopy::ContourField field(grid.htg->GetCellData()->GetArray("f"), 0);
+        const canopy::NodeRanges reverse(access, dual, field, {});
+        const canopy::NodeRanges walk(access, dual, field, {}, false);
+        for (std::size_t t = 0; t < access.trees().size(); ++t)
+        {
+          const canopy::TreeAccess& tree = access.trees()[t];
+          std::vector<vtkIdType> stack{0};
+          while (!stack.empty())
+          {
+            const vtkIdType node = stack.back();
+            stack.pop_back();
+            const vtkIdType global = tree.globalIndex(node);
+            if (access.isMasked(global) || access.isAbsent(global))
+            {
+              continue;
+            }
+            const canopy::ValueRange& a = reverse.at(t, node);
+            const canopy::ValueRange& b = walk.at(t, node);
+            ASSERT_EQ(a.low, b.low) << what << ", tree " << t << ", node " << node;
+            ASSERT_EQ(a.high, b.high) << what << ", tree " << t << ", node " << node;
+            ++compared;
+            const double own = field(global);
+            widened += (a.low < own || a.high > own) && tree.isLeaf(node) ? 1 : 0;
+            for (int c = 0; !tree.isLeaf(node) && c < access.childrenPerNode(); ++c)
+            {
+              stack.push_back(tree.firstChild(node) + c);
+            }
+          }
+        }
+      }
+    }
+  }
+  std::cout << compared << " nodes compared, " << widened << " boundary leaves widened\n";
+  EXPECT_GT(compared, 20000u);
+  EXPECT_GT(widened, 500u);
 }
 
 TEST(ContourPruning, RangesKeptWhileTopologyAndFieldHold)
