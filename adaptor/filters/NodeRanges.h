@@ -4,7 +4,10 @@
 //
 // One pass over the nodes when the field's values or the topology changed
 // (vtkCanopyContour keeps them otherwise), trees in parallel, each tree
-// bottom-up, over the forest without a view: a refined node's range holds its
+// bottom-up (over the forest as it is: from its last node to its first, VTK
+// numbering children after their parent, then along the domain's boundary for
+// the leaves there; with a maximum level or ghosts: a walk from the root),
+// over the forest without a view: a refined node's range holds its
 // own value too, so it covers whatever a view's level of detail draws below it
 // as a coarse leaf, and the ranges are kept across camera moves. Only boundary
 // vertices depend on the view (a coarse leaf's gradient): under level of
@@ -18,7 +21,8 @@
 // along the boundary is pruned like any other.
 //
 // Tested by ContourPruning.SameOutputLessWorkOnASphere (tests/unit/ContourTest.cxx):
-// the same output bit for bit with and without, far fewer groups descended.
+// the same output bit for bit with and without, far fewer groups descended;
+// ContourPruning.RangesInReverseEqualTheWalkFromTheRoot: both passes alike.
 #pragma once
 
 #include "ContourField.h"
