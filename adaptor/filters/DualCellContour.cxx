@@ -78,7 +78,7 @@ bool DualCellContour::enter(const DualGroup& group, unsigned axes)
               {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
           continue;
         }
-        if (Dual.levelOfDetail() && touchesDomainBoundary(n))
+        if (Dual.levelOfDetail() && Dual.touchesDomainBoundary(*n.tree, n.level, n.ijk))
         {
           // The ranges are the forest's without the view (NodeRanges.h). A
           // coarse leaf of the view holds its own value, which they cover,
@@ -101,22 +101,6 @@ bool DualCellContour::enter(const DualGroup& group, unsigned axes)
   }
   ++Visited;
   return true;
-}
-
-bool DualCellContour::touchesDomainBoundary(const DualNode& n) const
-{
-  const std::int64_t last = Grid.cellsPerRootAt(n.level) - 1;
-  for (int i = 0; i < Dual.dimension(); ++i)
-  {
-    const std::size_t a = static_cast<std::size_t>(Dual.axis(i));
-    const auto lastRoot = static_cast<long>(Grid.rootCells()[a]) - 1;
-    if ((n.tree->rootIJK[a] == 0 && n.ijk[a] == 0) ||
-        (static_cast<long>(n.tree->rootIJK[a]) == lastRoot && n.ijk[a] == last))
-    {
-      return true;
-    }
-  }
-  return false;
 }
 
 bool DualCellContour::insideItsTree(const DualNode& leaf) const

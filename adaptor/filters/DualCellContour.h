@@ -92,8 +92,6 @@ public:
 private:
   /// Whether a leaf touches no side of its tree (ContourPiece.h: DualVertex::own).
   bool insideItsTree(const DualNode& leaf) const;
-  /// Whether a node's box touches the domain's boundary (it has boundary vertices).
-  bool touchesDomainBoundary(const DualNode& n) const;
   /// Slot s's dual vertex; false when the cell is not contoured (Hidden).
   bool vertex(const DualGroup& group, unsigned s, DualVertex& v);
   void triangle(const DualVertex& a, const DualVertex& b, const DualVertex& c);

@@ -149,6 +149,24 @@ public:
   int maximumLevel() const { return MaximumLevel; }
   /// Whether the view makes nodes leaves too (a view with level of detail).
   bool levelOfDetail() const { return View && LevelOfDetail; }
+  /// Whether a node's box touches a side of the domain along an active axis
+  /// (it has boundary vertices).
+  bool touchesDomainBoundary(const TreeAccess& tree, int level,
+                             const std::array<std::int64_t, 3>& ijk) const
+  {
+    const std::int64_t last = Grid.cellsPerRootAt(level) - 1;
+    for (int i = 0; i < D; ++i)
+    {
+      const std::size_t a = static_cast<std::size_t>(Axes[static_cast<std::size_t>(i)]);
+      const auto lastRoot = static_cast<long>(Grid.rootCells()[a]) - 1;
+      if ((tree.rootIJK[a] == 0 && ijk[a] == 0) ||
+          (static_cast<long>(tree.rootIJK[a]) == lastRoot && ijk[a] == last))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
   const ViewVolume* view() const { return View; }
   /// A node's box's extent on screen, in pixels.
   double footprint(const TreeAccess& tree, int level, const std::array<std::int64_t, 3>& ijk) const

@@ -21,24 +21,6 @@ struct Pending
   bool childrenDone;
 };
 
-/// Whether a node's box touches a side of the domain along an active axis.
-bool touchesDomain(const HyperTreeAccess& grid, const DualTraversal& dual, const TreeAccess& tree,
-                   int level, const std::array<std::int64_t, 3>& ijk)
-{
-  const std::int64_t last = grid.cellsPerRootAt(level) - 1;
-  for (int i = 0; i < dual.dimension(); ++i)
-  {
-    const std::size_t a = static_cast<std::size_t>(dual.axis(i));
-    const auto lastRoot = static_cast<long>(grid.rootCells()[a]) - 1;
-    if ((tree.rootIJK[a] == 0 && ijk[a] == 0) ||
-        (static_cast<long>(tree.rootIJK[a]) == lastRoot && ijk[a] == last))
-    {
-      return true;
-    }
-  }
-  return false;
-}
-
 } // namespace
 
 bool NodeRanges::rangesInReverse(const HyperTreeAccess& grid, const ContourField& field,
@@ -83,7 +65,7 @@ void NodeRanges::widenAlongBoundary(const HyperTreeAccess& grid, const DualTrave
     stack.pop_back();
     const vtkIdType global = tree.globalIndex(p.node);
     if (grid.isMasked(global) || grid.isAbsent(global) ||
-        !touchesDomain(grid, dual, tree, p.level, p.ijk))
+        !dual.touchesDomainBoundary(tree, p.level, p.ijk))
     {
       continue; // hidden, or inside: as the reverse pass left it
     }
@@ -123,8 +105,8 @@ NodeRanges::NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual,
   // a node is a leaf exactly when its tree says so: each tree's nodes from the
   // last to the first (children after parents), then its leaves on the
   // domain's boundary widened. Otherwise, a walk from the root.
-  const bool reverse = reverseWhenPossible && dual.maximumLevel() < 0 &&
-                       !dual.levelOfDetail() && !dual.ghosts();
+  const bool reverse =
+      reverseWhenPossible && dual.maximumLevel() < 0 && !dual.levelOfDetail() && !dual.ghosts();
   forEachTree(progress, static_cast<vtkIdType>(trees.size()),
               [&](vtkIdType t)
               {
@@ -137,7 +119,7 @@ NodeRanges::NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual,
                   // so no level or position is needed but along the boundary.
                   if (rangesInReverse(grid, field, tree, ranges))
                   {
-                    if (touchesDomain(grid, dual, tree, 0, {{0, 0, 0}}))
+                    if (dual.touchesDomainBoundary(tree, 0, {{0, 0, 0}}))
                     {
                       widenAlongBoundary(grid, dual, field, gradient, tree, ranges);
                     }

@@ -440,7 +440,7 @@ int vtkCanopyContour::ProcessTrees(vtkHyperTreeGrid* input, vtkDataObject* outpu
       {
         kept = KeptRanges{};
         ranges = builder.ranges(share.part(0, 0.3));
-        if (!share.stopped())
+        if (!share.stopped() && !ghosts)
         {
           kept = {access, array, array->GetMTime(), this->ArrayComponent, maximumLevel, ranges};
         }

@@ -48,8 +48,8 @@ public:
     Description.dimension = 3;
     Description.branchFactor = 2;
     Description.maxLevels = options.bandLevel + 1;
-    Description.rootGrid = {Axis.data(), Axis.data(), Axis.data(), Axis.size(), Axis.size(),
-                            Axis.size()};
+    Description.rootGrid = {Axis.data(), Axis.data(), Axis.data(),
+                            Axis.size(), Axis.size(), Axis.size()};
     Refinement.resize(static_cast<std::size_t>(Roots * Roots * Roots));
     for (int root = 0; root < Roots * Roots * Roots; ++root)
     {
@@ -115,8 +115,9 @@ private:
         for (int k = 0; k < 2; ++k)
           for (int j = 0; j < 2; ++j)
             for (int i = 0; i < 2; ++i)
-              next.push_back({node.level + 1,
-                              {2 * node.index[0] + i, 2 * node.index[1] + j, 2 * node.index[2] + k}});
+              next.push_back(
+                  {node.level + 1,
+                   {2 * node.index[0] + i, 2 * node.index[1] + j, 2 * node.index[2] + k}});
       }
       level.swap(next);
     }

@@ -177,7 +177,8 @@ int main(int argc, char** argv)
   const double perPixelAtUnitDistance = 2 * std::tan(ViewAngle / 2 * M_PI / 180) / Size;
   for (double across : acrossList)
   {
-    const double distance = 2 * canopy::bench::BlobForest::Radius / (across * perPixelAtUnitDistance);
+    const double distance =
+        2 * canopy::bench::BlobForest::Radius / (across * perPixelAtUnitDistance);
     place(renderer.camera(), distance);
     renderer.resize(Size * Supersampling, Size * Supersampling);
     const Image truth = canopy::testing::downsample(
@@ -192,7 +193,8 @@ int main(int argc, char** argv)
       const auto error = canopy::testing::compare(image, truth, 8);
       std::printf("| %.0f | %s | %lld | %zu | %.1f | %.3f | %.3f | %.2f | %.2f%% |\n", across,
                   what.c_str(), static_cast<long long>(triangles), covered,
-                  static_cast<double>(triangles) / static_cast<double>(std::max<std::size_t>(covered, 1)),
+                  static_cast<double>(triangles) /
+                      static_cast<double>(std::max<std::size_t>(covered, 1)),
                   contourSeconds, rendered, error.rmse, 100 * error.shareOff);
       std::fflush(stdout);
     };
@@ -216,8 +218,8 @@ int main(int argc, char** argv)
       }
       const Image image =
           renderer.render(adaptive->GetOutput(), "none", 0, 1, true, false, &renderSeconds);
-      row(std::to_string(static_cast<int>(threshold)) + " px", adaptive->GetOutput()->GetNumberOfCells(),
-          median(times), image, renderSeconds);
+      row(std::to_string(static_cast<int>(threshold)) + " px",
+          adaptive->GetOutput()->GetNumberOfCells(), median(times), image, renderSeconds);
       if (across == 300.0 && threshold == 1.0)
       {
         canopy::testing::writePng(truth, (output / "truth_300px.png").string());

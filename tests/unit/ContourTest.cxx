@@ -13,8 +13,8 @@
 #include "DualTraversal.h"
 #include "ErrorMessages.h"
 #include "HyperTreeAccess.h"
-#include "NodeRanges.h"
 #include "LevelJumpForest.h"
+#include "NodeRanges.h"
 #include "RandomForest.h"
 #include "RankPart.h"
 #include <canopy/HtgBuilder.h>

@@ -226,7 +226,8 @@ TEST(GridBuilder, VouchedValuesKeepTheirArrays)
 
   // The same revision, the field described otherwise (strided over the same memory).
   const auto* data = static_cast<const double*>(d.fields[0].data);
-  d.fields[0] = FieldDescription::strided("value", data, sizeof(double), d.fields[0].numberOfTuples);
+  d.fields[0] =
+      FieldDescription::strided("value", data, sizeof(double), d.fields[0].numberOfTuples);
   d.fields[0].valuesRevision = 6;
   grid = builder.build(d);
   EXPECT_EQ(builder.lastBuild().fieldsKept, 0u);

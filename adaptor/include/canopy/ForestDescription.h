@@ -145,8 +145,8 @@ struct FieldDescription
   /// one: 0 (the default), none: the values may have changed at every build.
   /// Nonzero and the same as at a GridBuilder's last build, with the field
   /// described alike (the same memory, layout and strides) and the topology
-  /// (trees, masks, absent parts, slot maps) unchanged: the simulation promises the values did not change since, and the
-  /// builder keeps the field's array object, unmodified, so that what filters
+  /// (trees, masks, absent parts, slot maps) unchanged: the simulation promises the values did not
+  /// change since, and the builder keeps the field's array object, unmodified, so that what filters
   /// derived from its values is kept too (the contour's value ranges; a
   /// leaves-only field's coarse averages are not computed again). A value
   /// changed under the same revision is then not seen.
