@@ -26,7 +26,14 @@ endif()
 # Stop at the first error (UBSan too: the build has -fno-sanitize-recover=undefined),
 # with stack traces. Leaks are reported, except ParaView's and Python's own, which
 # SUPPRESSIONS lists with the reason for each.
-set(ENV{ASAN_OPTIONS} "detect_leaks=1:check_initialization_order=1:halt_on_error=1")
+# intercept_tls_get_addr=0: GCC 12's LeakSanitizer records the blocks of dynamic
+# thread-local storage through __tls_get_addr and, at exit, scans one with a bogus
+# address in 4-rank in-situ runs under load ("DTLS 38 at 0x00000003771d-..." with
+# verbosity=1, then "Tracer caught signal 11": 3 of 3 runs of
+# insitu.mpi.np4_split_trees_moving_2d with two busy cores here, 0 of 3 with this).
+# Not scanning dynamic TLS can only report more leaks, not fewer; none appeared.
+set(ENV{ASAN_OPTIONS}
+  "detect_leaks=1:check_initialization_order=1:halt_on_error=1:intercept_tls_get_addr=0")
 set(ENV{LSAN_OPTIONS} "suppressions=${SUPPRESSIONS}:print_suppressions=0")
 set(ENV{UBSAN_OPTIONS} "print_stacktrace=1:halt_on_error=1")
 # Python's objects in malloc'd memory, which LeakSanitizer scans (its own arenas
