@@ -36,9 +36,9 @@ bool NodeRanges::rangesInReverse(const HyperTreeAccess& grid, const ContourField
     }
     ValueRange& range = ranges[static_cast<std::size_t>(v)];
     const double own = field(global);
-    range.low = range.high = own;
     if (tree.isLeaf(v))
     {
+      range.low = range.high = own;
       continue;
     }
     const vtkIdType first = tree.firstChild(v);
@@ -50,6 +50,9 @@ bool NodeRanges::rangesInReverse(const HyperTreeAccess& grid, const ContourField
     {
       range.add(ranges[static_cast<std::size_t>(first + c)]);
     }
+    // Its own value last, as the walk adds it: a NaN coarse value (an average
+    // over a NaN leaf) then leaves the children's range as it is.
+    range.add({own, own});
   }
   return true;
 }
@@ -78,12 +81,13 @@ void NodeRanges::widenAlongBoundary(const HyperTreeAccess& grid, const DualTrave
     const vtkIdType first = tree.firstChild(p.node);
     if (p.childrenDone)
     {
-      const double own = field(global);
-      range = ValueRange{own, own};
+      range = ValueRange{};
       for (int c = 0; c < grid.childrenPerNode(); ++c)
       {
         range.add(ranges[static_cast<std::size_t>(first + c)]);
       }
+      const double own = field(global);
+      range.add({own, own});
       continue;
     }
     stack.push_back({p.node, p.level, p.ijk, true});

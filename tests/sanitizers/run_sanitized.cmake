@@ -3,6 +3,7 @@
 # Without LABEL: checks that BUILD is a sanitizer build and brings it up to date
 # (sanitizers.build). With LABEL: runs that build's tests with the label under the
 # sanitizers' options (sanitizers.unit, .insitu, .miniapp). docs/testing.md.
+cmake_minimum_required(VERSION 3.16)
 if(NOT EXISTS "${BUILD}/CMakeCache.txt" OR NOT EXISTS "${BUILD}/CTestTestfile.cmake")
   message(FATAL_ERROR "sanitizers: there is no sanitizer build in ${BUILD}. scripts/setup.sh --tests "
     "configures and builds it (cmake -S <source> -B ${BUILD} -DCMAKE_BUILD_TYPE=Release "
@@ -64,8 +65,8 @@ while(NOT _result EQUAL 0 AND _attempt LESS 2)
   math(EXPR _attempt "${_attempt} + 1")
   list(JOIN _rerun "|" _names)
   string(REPLACE "." "\\." _names "${_names}")
-  message("sanitizers: LeakSanitizer's tracer crashed in ${_rerun}; running them again "
-    "(${_attempt} of 2)")
+  message("sanitizers: running ${_rerun} again (${_attempt} of 2): LeakSanitizer's tracer "
+    "crashed in them, or in the fixture they need")
   execute_process(
     COMMAND ${CTEST} --test-dir "${BUILD}" -R "^(${_names})$" --output-on-failure
       --no-tests=error

@@ -1,8 +1,11 @@
 # cmake -P tool_crashes_test.cmake: canopy_sort_failures (ToolCrashes.cmake) on ctest
 # logs whose outputs hold what broke the earlier line-by-line reading (CI, 2026-11-28:
 # a tracer crash was not run again): a lone '[', a ';', a '\'.
+cmake_minimum_required(VERSION 3.16)
 include("${CMAKE_CURRENT_LIST_DIR}/ToolCrashes.cmake")
-set(_log "${CMAKE_CURRENT_BINARY_DIR}/tool_crashes_test.log")
+set(_log "${CMAKE_CURRENT_BINARY_DIR}/tool_crashes_test/LastTest.log")
+set(_failed "${CMAKE_CURRENT_BINARY_DIR}/tool_crashes_test/LastTestsFailed.log")
+file(REMOVE "${_failed}")
 set(_failures 0)
 function(expect what actual expected)
   if(NOT "${actual}" STREQUAL "${expected}")
@@ -57,3 +60,24 @@ file(WRITE "${_log}" "${_text}")
 canopy_sort_failures("${_log}" _crashed _other)
 expect("tool crashes alone" "${_crashed}" "insitu.only_crash")
 expect("no other failure" "${_other}" "")
+
+# A fixture's setup crashed: the test requiring it was not run, logged as passed,
+# listed in LastTestsFailed.log. Both run again.
+set(_text "")
+log_block(_text 1 insitu.setup_crash "${_lsan_crash}" Failed)
+log_block(_text 2 insitu.needs_the_setup "" Passed)
+log_block(_text 3 unit.passes "fine" Passed)
+file(WRITE "${_log}" "${_text}")
+file(WRITE "${_failed}" "1:insitu.setup_crash\n2:insitu.needs_the_setup\n")
+canopy_sort_failures("${_log}" _crashed _other)
+expect("a crashed setup and the test not run" "${_crashed}"
+  "insitu.setup_crash;insitu.needs_the_setup")
+expect("no other failure with a setup crash" "${_other}" "")
+# A setup that really failed: the test not run is not run again either.
+set(_text "")
+log_block(_text 1 insitu.setup_fails "==1==ERROR: AddressSanitizer: heap-use-after-free" Failed)
+log_block(_text 2 insitu.needs_the_setup "" Passed)
+file(WRITE "${_log}" "${_text}")
+file(WRITE "${_failed}" "1:insitu.setup_fails\n2:insitu.needs_the_setup\n")
+canopy_sort_failures("${_log}" _crashed _other)
+expect("a failed setup" "${_other}" "insitu.setup_fails")
