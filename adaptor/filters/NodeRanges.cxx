@@ -57,10 +57,12 @@ bool NodeRanges::rangesInReverse(const HyperTreeAccess& grid, const ContourField
   return true;
 }
 
-void NodeRanges::widenAlongBoundary(const HyperTreeAccess& grid, const DualTraversal& dual,
-                                    const ContourField& field, const LeafGradient& gradient,
-                                    const TreeAccess& tree, std::vector<ValueRange>& ranges)
+void NodeRanges::walkFromRoot(const HyperTreeAccess& grid, const DualTraversal& dual,
+                              const ContourField& field, const LeafGradient& gradient,
+                              const TreeAccess& tree, bool boundaryOnly,
+                              std::vector<ValueRange>& ranges)
 {
+  // Post-order without recursion: a node's range once its children's are known.
   std::vector<Pending> stack{{0, 0, {{0, 0, 0}}, false}};
   while (!stack.empty())
   {
@@ -68,13 +70,14 @@ void NodeRanges::widenAlongBoundary(const HyperTreeAccess& grid, const DualTrave
     stack.pop_back();
     const vtkIdType global = tree.globalIndex(p.node);
     if (grid.isMasked(global) || grid.isAbsent(global) ||
-        !dual.touchesDomainBoundary(tree, p.level, p.ijk))
+        (boundaryOnly && !dual.touchesDomainBoundary(tree, p.level, p.ijk)))
     {
-      continue; // hidden, or inside: as the reverse pass left it
+      continue; // hidden: empty; or inside, as the reverse pass left it
     }
     ValueRange& range = ranges[static_cast<std::size_t>(p.node)];
-    if (tree.isLeaf(p.node))
+    if (dual.isLeaf(tree, p.node, p.level, p.ijk))
     {
+      range.low = range.high = field(global);
       widenAtBoundary(grid, dual, gradient, tree, p.node, p.level, p.ijk, range);
       continue;
     }
@@ -86,6 +89,9 @@ void NodeRanges::widenAlongBoundary(const HyperTreeAccess& grid, const DualTrave
       {
         range.add(ranges[static_cast<std::size_t>(first + c)]);
       }
+      // Its own value too, last (a NaN one then changes nothing): with level
+      // of detail a node may be drawn as a leaf, and a simulation's coarse
+      // value need not lie within its leaves' range.
       const double own = field(global);
       range.add({own, own});
       continue;
@@ -123,53 +129,13 @@ NodeRanges::NodeRanges(const HyperTreeAccess& grid, const DualTraversal& dual,
                   // so no level or position is needed but along the boundary.
                   if (rangesInReverse(grid, field, tree, ranges))
                   {
-                    if (dual.touchesDomainBoundary(tree, 0, {{0, 0, 0}}))
-                    {
-                      widenAlongBoundary(grid, dual, field, gradient, tree, ranges);
-                    }
+                    // Then the leaves on the domain's boundary, and their ancestors.
+                    walkFromRoot(grid, dual, field, gradient, tree, true, ranges);
                     return;
                   }
                   ranges.assign(static_cast<std::size_t>(tree.numberOfVertices), ValueRange{});
                 }
-                // Post-order without recursion: a node's range once its children's are
-                // known (VTK's numbering is not relied on).
-                std::vector<Pending> stack{{0, 0, {{0, 0, 0}}, false}};
-                while (!stack.empty())
-                {
-                  const Pending p = stack.back();
-                  stack.pop_back();
-                  const vtkIdType global = tree.globalIndex(p.node);
-                  if (grid.isMasked(global) || grid.isAbsent(global))
-                  {
-                    continue; // hidden: empty
-                  }
-                  ValueRange& range = ranges[static_cast<std::size_t>(p.node)];
-                  if (dual.isLeaf(tree, p.node, p.level, p.ijk))
-                  {
-                    range.low = range.high = field(global);
-                    widenAtBoundary(grid, dual, gradient, tree, p.node, p.level, p.ijk, range);
-                    continue;
-                  }
-                  const vtkIdType first = tree.firstChild(p.node);
-                  if (p.childrenDone)
-                  {
-                    for (int c = 0; c < grid.childrenPerNode(); ++c)
-                    {
-                      range.add(ranges[static_cast<std::size_t>(first + c)]);
-                    }
-                    // Its own value too: with level of detail a node may be
-                    // drawn as a leaf, and a simulation's coarse value need
-                    // not lie within its leaves' range.
-                    const double own = field(global);
-                    range.add({own, own});
-                    continue;
-                  }
-                  stack.push_back({p.node, p.level, p.ijk, true});
-                  for (int c = 0; c < grid.childrenPerNode(); ++c)
-                  {
-                    stack.push_back({first + c, p.level + 1, grid.childPosition(p.ijk, c), false});
-                  }
-                }
+                walkFromRoot(grid, dual, field, gradient, tree, false, ranges);
               });
   if (progress.stopped())
   {

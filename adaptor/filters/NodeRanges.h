@@ -73,10 +73,13 @@ private:
   /// come before it.
   static bool rangesInReverse(const HyperTreeAccess& grid, const ContourField& field,
                               const TreeAccess& tree, std::vector<ValueRange>& ranges);
-  /// The leaves on the domain's boundary widened, and their ancestors' ranges again.
-  static void widenAlongBoundary(const HyperTreeAccess& grid, const DualTraversal& dual,
-                                 const ContourField& field, const LeafGradient& gradient,
-                                 const TreeAccess& tree, std::vector<ValueRange>& ranges);
+  /// Each visible node's range from the root down, post-order (VTK's numbering
+  /// not relied on). `boundaryOnly`: only the nodes touching the domain's
+  /// boundary, after rangesInReverse: its leaves widened, their ancestors again.
+  static void walkFromRoot(const HyperTreeAccess& grid, const DualTraversal& dual,
+                           const ContourField& field, const LeafGradient& gradient,
+                           const TreeAccess& tree, bool boundaryOnly,
+                           std::vector<ValueRange>& ranges);
   static void widenAtBoundary(const HyperTreeAccess& grid, const DualTraversal& dual,
                               const LeafGradient& gradient, const TreeAccess& tree, vtkIdType node,
                               int level, const std::array<std::int64_t, 3>& ijk, ValueRange& range);

@@ -372,6 +372,26 @@ GridSpec gradedSpec(int dimension, int branchFactor, std::uint64_t seed)
   return spec;
 }
 
+/// Refined everywhere to a level, more in places: many leaves below a pixel of
+/// the level-of-detail tests' small viewports.
+GridSpec belowPixelSpec(int dimension)
+{
+  GridSpec spec = dimension == 2 ? randomSpec(2, 2, 6) : gradedSpec(3, 2, 6);
+  const auto refine = spec.refine;
+  const int uniform = dimension == 2 ? 5 : 3;
+  spec.refine = [refine, uniform](int level, const Box& b)
+  { return level < uniform || refine(level, b); };
+  return spec;
+}
+
+/// The middle of the grid's domain.
+Point middleOf(const TestGrid& grid)
+{
+  return {{0.5 * (grid.domain.lo[0] + grid.domain.hi[0]),
+           0.5 * (grid.domain.lo[1] + grid.domain.hi[1]),
+           0.5 * (grid.domain.lo[2] + grid.domain.hi[2])}};
+}
+
 vtkSmartPointer<vtkPolyData> contour(vtkHyperTreeGrid* htg, const std::vector<double>& values,
                                      const std::vector<std::string>& interpolate = {})
 {
@@ -1771,9 +1791,7 @@ TEST(Contour3D, LinearFieldAcrossChosenLevelJumps)
       TestGrid grid;
       grid.htg = buildHyperTreeGrid(forest.description());
       describe(grid, linear);
-      const double c = linear({{0.5 * (grid.domain.lo[0] + grid.domain.hi[0]),
-                                0.5 * (grid.domain.lo[1] + grid.domain.hi[1]),
-                                0.5 * (grid.domain.lo[2] + grid.domain.hi[2])}});
+      const double c = linear(middleOf(grid));
       auto out = contour(grid.htg, {c});
       const std::string what =
           "jump " + std::to_string(jump) + (dyadic ? ", dyadic roots" : ", irregular roots");
@@ -1807,9 +1825,7 @@ TEST(ContourMaximumLevel, CoarserForestsCrackFreeAlike)
     {
       GridSpec spec = dimension == 2 ? randomSpec(2, branch, 5) : gradedSpec(3, branch, 5);
       TestGrid grid = makeGrid(spec, linear);
-      const double c = linear({{0.5 * (grid.domain.lo[0] + grid.domain.hi[0]),
-                                0.5 * (grid.domain.lo[1] + grid.domain.hi[1]),
-                                0.5 * (grid.domain.lo[2] + grid.domain.hi[2])}});
+      const double c = linear(middleOf(grid));
       auto contourAt = [&](int level)
       {
         vtkNew<vtkCanopyContour> filter;
@@ -1868,16 +1884,8 @@ TEST(ContourView, LevelOfDetailCrackFreeAndExact)
   auto linear = [&](const Point& x) { return a[0] * x[0] + a[1] * x[1] + a[2] * x[2]; };
   for (int dimension : {2, 3})
   {
-    // Refined everywhere to a level, more in places: many leaves below a pixel.
-    GridSpec spec = dimension == 2 ? randomSpec(2, 2, 6) : gradedSpec(3, 2, 6);
-    const auto refine = spec.refine;
-    const int uniform = dimension == 2 ? 5 : 3;
-    spec.refine = [refine, uniform](int level, const Box& b)
-    { return level < uniform || refine(level, b); };
-    TestGrid grid = makeGrid(spec, linear);
-    const Point mid{{0.5 * (grid.domain.lo[0] + grid.domain.hi[0]),
-                     0.5 * (grid.domain.lo[1] + grid.domain.hi[1]),
-                     0.5 * (grid.domain.lo[2] + grid.domain.hi[2])}};
+    TestGrid grid = makeGrid(belowPixelSpec(dimension), linear);
+    const Point mid = middleOf(grid);
     const double c = linear(mid);
     vtkNew<vtkCanopyContour> filter;
     filter->SetInputData(grid.htg);
@@ -1932,15 +1940,8 @@ TEST(ContourView, RangesKeptAcrossCamerasSameOutputAsUnpruned)
   // that reach every side).
   for (int dimension : {2, 3})
   {
-    GridSpec spec = dimension == 2 ? randomSpec(2, 2, 6) : gradedSpec(3, 2, 6);
-    const auto refine = spec.refine;
-    const int uniform = dimension == 2 ? 5 : 3;
-    spec.refine = [refine, uniform](int level, const Box& b)
-    { return level < uniform || refine(level, b); };
-    TestGrid grid = makeGrid(spec, wavy3);
-    const Point mid{{0.5 * (grid.domain.lo[0] + grid.domain.hi[0]),
-                     0.5 * (grid.domain.lo[1] + grid.domain.hi[1]),
-                     0.5 * (grid.domain.lo[2] + grid.domain.hi[2])}};
+    TestGrid grid = makeGrid(belowPixelSpec(dimension), wavy3);
+    const Point mid = middleOf(grid);
     const std::vector<double> values{-0.5, 0.0, 0.45};
     auto configure = [&](vtkCanopyContour* f, bool prune)
     {
